@@ -1,0 +1,156 @@
+// kerfab command line: flags -> options, run the pipeline, write outputs, map errors to exit
+// codes (shared/OUTPUTS.md). No geometry here.
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/io/run_output.h"
+#include "kerfab/pipeline.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+enum ExitCode { kOk = 0, kInvalid = 1, kIo = 2, kSolver = 3, kInternal = 4 };
+
+struct RunFlags {
+  std::string target, quad, guidance, out;
+  std::optional<double> size;
+  std::string stop_after;
+  bool dump = false;
+  bool quiet = false;
+  kerfab::PipelineOptions options;
+};
+
+void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
+  auto& in = f.options.input;
+  auto& b = f.options.bending;
+  cmd.add_option("--size", f.size,
+                 "Scale the model so its largest bounding-box side is this many mm [mm]; "
+                 "without it, inputs are millimetres and must measure 10 mm .. 10 m")
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--subdivide", in.subdivide,
+                 "Catmull-Clark steps applied to the quad mesh first; any polygon mesh is all "
+                 "quads after one [count, 0..4]")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 4));
+  cmd.add_option("--max-quad-distance", in.max_quad_distance,
+                 "Refuse a quad mesh with a vertex farther from the target than this fraction of "
+                 "the target's bbox diagonal [ratio]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--alignment", b.alignment,
+                 "Alignment bias c: w0 = c * max edge weight is added to every edge weight; "
+                 "larger c gives fewer, longer strips (paper Sec. 3.1) [ratio, >= 0]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--edge-samples", b.edge_samples,
+                 "Signed-distance samples per quad edge for its weight (variance) [count, >= 2]")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 4096));
+  cmd.add_option("--ilp-time-limit", b.time_limit_s,
+                 "Time limit of the bending integer program; the best selection found is used "
+                 "and the report says so [s]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--ilp-gap", b.relative_gap,
+                 "Accepted relative optimality gap of the bending integer program [ratio, >= 0]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_flag("--dump", f.dump, "Also write intermediate stages to OUT/stages/");
+  cmd.add_flag("--quiet", f.quiet, "No progress lines on stderr");
+  std::string stages;
+  for (const auto& s : kerfab::stage_names()) stages += (stages.empty() ? "" : "|") + s;
+  cmd.add_option("--stop-after", f.stop_after, "End the run after this stage (" + stages + ")")
+      ->check(CLI::IsMember(kerfab::stage_names()));
+}
+
+int run(const kerfab::RunInputs& inputs, RunFlags& f) {
+  const fs::path out = f.out;
+  kerfab::PipelineOptions options = f.options;
+  options.input.size = f.size;
+  if (!f.stop_after.empty()) options.stop_after = f.stop_after;
+  bool dir_ready = false;
+  auto fail = [&](int code, const char* kind, const std::string& message) {
+    std::cerr << "kerfab: error: " << message << "\n";
+    if (dir_ready) kerfab::write_failure(out, code, kind, message);
+    return code;
+  };
+  try {
+    kerfab::prepare_output_dir(out);
+    dir_ready = true;
+    kerfab::Progress progress;
+    if (!f.quiet) progress = [](std::string_view line) { std::cerr << line << "\n"; };
+    const kerfab::RunResult result = kerfab::run_pipeline(inputs, options, progress);
+    kerfab::write_run(result, out, f.dump);
+    for (const auto& w : result.warnings) std::cerr << "kerfab: warning: " << w << "\n";
+    if (!f.quiet)
+      std::cerr << "done in " << result.total_seconds << " s; report: "
+                << (out / "report.json").string() << "\n";
+    return kOk;
+  } catch (const kerfab::InvalidInput& e) {
+    return fail(kInvalid, "invalid_input", e.what());
+  } catch (const kerfab::IoError& e) {
+    return fail(kIo, "io", e.what());
+  } catch (const kerfab::SolverError& e) {
+    return fail(kSolver, "solver", e.what());
+  } catch (const std::exception& e) {
+    return fail(kInternal, "internal", std::string("internal error: ") + e.what());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "kerfab " KERFAB_VERSION
+      ": turns a 3D shape into laser-cut, kerfed parts of stiff sheet material.\n"
+      "Lengths are millimetres, angles degrees on the command line."};
+  app.require_subcommand(1);
+
+  RunFlags run_flags;
+  std::string quad_help =
+      "Quad (or any polygon, with --subdivide) mesh on the target, same frame and units; "
+      "without it the target itself is used and must not be triangles only";
+  CLI::App* run_cmd = app.add_subcommand("run", "Run the pipeline on a target and a quad mesh");
+  run_cmd->add_option("--target", run_flags.target, "Target mesh (.obj .off .ply .stl)")
+      ->required();
+  run_cmd->add_option("--quad", run_flags.quad, quad_help);
+  run_cmd->add_option("--guidance", run_flags.guidance,
+                      "JSON file {\"bendable\": [[v0,v1],...], \"stiff\": [[v0,v1],...]} forcing "
+                      "quad-mesh edges (vertex indices of the quad mesh as used)");
+  run_cmd->add_option("--out", run_flags.out, "Output directory")->required();
+  add_pipeline_options(*run_cmd, run_flags);
+
+  RunFlags demo_flags;
+  demo_flags.options.input.subdivide = 1;
+  demo_flags.dump = true;
+  CLI::App* demo_cmd = app.add_subcommand(
+      "demo", "Run the bundled example: Spot (public domain) at 250 mm, control mesh with one "
+              "Catmull-Clark step");
+  demo_cmd->add_option("--out", demo_flags.out, "Output directory")->capture_default_str();
+  demo_flags.out = "out/demo";
+  add_pipeline_options(*demo_cmd, demo_flags);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kOk : kInvalid;
+  }
+
+  if (*run_cmd) {
+    kerfab::RunInputs inputs{.target = run_flags.target};
+    if (!run_flags.quad.empty()) inputs.quad = run_flags.quad;
+    if (!run_flags.guidance.empty()) inputs.guidance = run_flags.guidance;
+    return run(inputs, run_flags);
+  }
+  const fs::path examples = KERFAB_EXAMPLE_DIR;
+  kerfab::RunInputs inputs{.target = examples / "spot" / "spot_triangulated.obj",
+                           .quad = examples / "spot" / "spot_control_mesh.obj"};
+  if (!demo_flags.size) demo_flags.size = 250.0;
+  return run(inputs, demo_flags);
+}

@@ -1,0 +1,46 @@
+#pragma once
+/// \file Weighted binary packing program  max sum w_i x_i  s.t.  x_a + x_b <= 1 for listed
+/// conflict pairs, x_i in {0,1}, some x_i fixed. Solved by COIN-OR CBC behind this interface.
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace kerfab {
+
+struct PackingProblem {
+  std::vector<double> weights;                  ///< objective coefficient per variable (any sign)
+  std::vector<std::pair<int, int>> conflicts;   ///< pairs that may not both be 1
+  std::vector<std::optional<bool>> fixed;       ///< per variable: unset = free; empty = all free
+};
+
+struct PackingOptions {
+  double time_limit_s = 60.0;  ///< wall-clock limit of the branch and bound [s], > 0
+  double relative_gap = 0.0;   ///< stop when (bound - objective) / |objective| <= this [-], >= 0
+  bool log = false;            ///< let CBC print its own log to stdout
+};
+
+enum class PackingStatus {
+  kOptimal,        ///< proven optimal (within relative_gap, see gap)
+  kTimeLimit,      ///< time limit reached; best feasible selection returned
+  kStopped,        ///< solver stopped for another reason; best feasible selection returned
+};
+
+std::string to_string(PackingStatus status);
+
+struct PackingResult {
+  std::vector<char> x;          ///< 0/1 per variable, feasible
+  double objective = 0;         ///< sum w_i x_i of x
+  double bound = 0;             ///< proven upper bound on the optimum (>= objective)
+  PackingStatus status = PackingStatus::kStopped;
+  double seconds = 0;           ///< solve time [s]
+};
+
+/// Solves the packing program. A greedy selection is handed to CBC as a start, so a feasible
+/// answer exists even when the time limit stops the search early.
+/// \throw InvalidInput a conflict names a variable out of range, or two variables fixed to 1
+///        conflict (the program is infeasible).
+/// \throw SolverError CBC failed outright.
+PackingResult solve_packing(const PackingProblem& problem, const PackingOptions& options);
+
+}  // namespace kerfab

@@ -1,0 +1,73 @@
+#pragma once
+/// \file Mesh types shared by all stages: an OpenMesh polygon mesh in double precision,
+/// a plain indexed triangle mesh for queries, and small geometry helpers.
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include <Eigen/Geometry>
+#include <array>
+#include <vector>
+
+namespace kerfab {
+
+struct MeshTraits : public OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+  VertexAttributes(OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Status);
+  EdgeAttributes(OpenMesh::Attributes::Status);
+  HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
+};
+
+/// Polygon mesh (halfedge structure), coordinates in millimetres once prepared.
+using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<MeshTraits>;
+
+using Vec3 = Eigen::Vector3d;
+
+inline Vec3 to_eigen(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
+inline OpenMesh::Vec3d to_openmesh(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+
+/// Indexed triangle mesh, the form the closest-point and distance queries take.
+struct TriangleMesh {
+  std::vector<Vec3> vertices;
+  std::vector<std::array<int, 3>> triangles;
+};
+
+/// Axis-aligned bounding box.
+struct BoundingBox {
+  Vec3 min = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 max = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  Vec3 size() const { return (max - min).cwiseMax(0.0); }
+  double diagonal() const { return size().norm(); }
+  double largest_side() const { return size().maxCoeff(); }
+};
+
+/// Bounding box of the vertices referenced by faces (isolated vertices are ignored).
+BoundingBox bounding_box(const PolyMesh& mesh);
+
+/// Bounding box of a triangle mesh's vertices.
+BoundingBox bounding_box(const TriangleMesh& mesh);
+
+/// Triangulates every face of \p mesh (fan from the face's first vertex, which is exact for the
+/// convex polygons meshes are made of). Vertex indices are those of \p mesh.
+TriangleMesh triangulate(const PolyMesh& mesh);
+
+/// Counts of faces by their number of sides, e.g. {3: 4, 4: 160, 5: 16}.
+std::vector<std::pair<int, int>> face_size_histogram(const PolyMesh& mesh);
+
+/// True when every face has exactly four sides (and there is at least one face).
+bool is_all_quads(const PolyMesh& mesh);
+
+/// True when every face has exactly three sides (and there is at least one face).
+bool is_all_triangles(const PolyMesh& mesh);
+
+/// Number of boundary loops.
+int boundary_loop_count(const PolyMesh& mesh);
+
+/// The four edges of quad \p f, in order, starting from the face's first halfedge.
+/// Edge k joins local corners k and k+1; edges k and k+2 are opposite. \pre f is a quad.
+std::array<int, 4> quad_edges(const PolyMesh& mesh, OpenMesh::FaceHandle f);
+
+/// The four vertices of quad \p f, corner k being the start of local edge k. \pre f is a quad.
+std::array<int, 4> quad_vertices(const PolyMesh& mesh, OpenMesh::FaceHandle f);
+
+}  // namespace kerfab

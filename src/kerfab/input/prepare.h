@@ -1,0 +1,58 @@
+#pragma once
+/// \file Input stage: validation, Catmull-Clark subdivision of the quad mesh, units and scale,
+/// and the query structure on the target.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kerfab/adapters/target_surface.h"
+#include "kerfab/core/mesh.h"
+
+namespace kerfab {
+
+struct InputOptions {
+  std::optional<double> size;      ///< scale so the target's largest bbox side is this [mm],
+                                   ///< in [min_model_mm, max_model_mm]; unset: input is in mm
+  int subdivide = 0;               ///< Catmull-Clark steps applied to the quad mesh [-], 0..4
+  double min_model_mm = 10.0;      ///< smallest accepted largest bbox side [mm]
+  double max_model_mm = 10000.0;   ///< largest accepted largest bbox side [mm]
+  double max_quad_distance = 0.1;  ///< quad vertices farther from the target than this
+                                   ///< fraction of the target's bbox diagonal are an error [-]
+};
+
+/// Summary of one mesh as used.
+struct MeshSummary {
+  int vertices = 0;
+  int faces = 0;
+  int edges = 0;
+  int boundary_loops = 0;
+  int euler_characteristic = 0;
+  std::vector<std::pair<int, int>> face_sizes;  ///< (sides, count)
+  BoundingBox bbox;                             ///< after scaling [mm]
+};
+
+struct PreparedInput {
+  PolyMesh target;                  ///< target as read, scaled [mm]
+  PolyMesh quads;                   ///< all-quad mesh (after subdivision), scaled [mm]
+  TargetSurface surface;            ///< queries on the triangulated target
+  double scale = 1.0;               ///< factor applied to both input meshes [-]
+  bool quads_from_target = false;   ///< the target itself served as the quad mesh
+  MeshSummary target_summary;
+  MeshSummary quad_summary;
+  double quad_max_distance = 0;     ///< max distance of a quad vertex to the target [mm]
+  double quad_mean_distance = 0;    ///< mean distance of the quad vertices to the target [mm]
+  std::vector<std::string> warnings;
+};
+
+/// Validates and prepares the inputs. Without \p quad, the target must itself be a polygon mesh
+/// that is all quads (or becomes so with subdivide >= 1).
+/// \throw InvalidInput empty mesh, NaN/inf coordinates, zero-area faces, non-quad faces without
+///        subdivision, a triangle-only target without a quad mesh, a model outside the accepted
+///        size range without `size`, or a quad mesh far from the target (distance named).
+PreparedInput prepare_input(const PolyMesh& target, const std::optional<PolyMesh>& quad,
+                            const InputOptions& options);
+
+/// Catmull-Clark subdivision, \p steps times (OpenMesh's subdivider).
+PolyMesh catmull_clark(const PolyMesh& mesh, int steps);
+
+}  // namespace kerfab

@@ -1,0 +1,125 @@
+#include "kerfab/io/report.h"
+
+namespace kerfab {
+namespace {
+
+nlohmann::json to_json(const Vec3& v) { return nlohmann::json::array({v.x(), v.y(), v.z()}); }
+
+nlohmann::json options_json(const RunResult& run) {
+  const PipelineOptions& o = run.options;
+  nlohmann::json j;
+  j["size_mm"] = o.input.size ? nlohmann::json(*o.input.size) : nlohmann::json(nullptr);
+  j["subdivide"] = o.input.subdivide;
+  j["max_quad_distance_rel"] = o.input.max_quad_distance;
+  j["alignment"] = o.bending.alignment;
+  j["edge_samples"] = o.bending.edge_samples;
+  j["ilp_time_limit_s"] = o.bending.time_limit_s;
+  j["ilp_gap"] = o.bending.relative_gap;
+  j["guidance"] = run.inputs.guidance ? nlohmann::json(run.inputs.guidance->string())
+                                      : nlohmann::json(nullptr);
+  j["guidance_edges"] = o.bending.guidance.size();
+  j["stop_after"] = o.stop_after ? nlohmann::json(*o.stop_after) : nlohmann::json(nullptr);
+  return j;
+}
+
+nlohmann::json summary_json(const MeshSummary& s) {
+  nlohmann::json sizes = nlohmann::json::object();
+  for (auto [sides, count] : s.face_sizes) sizes[std::to_string(sides)] = count;
+  return {{"vertices", s.vertices},
+          {"faces", s.faces},
+          {"edges", s.edges},
+          {"face_sizes", sizes},
+          {"boundary_loops", s.boundary_loops},
+          {"euler_characteristic", s.euler_characteristic},
+          {"bbox_mm", to_json(s.bbox.size())}};
+}
+
+}  // namespace
+
+nlohmann::json make_report(const RunResult& run) {
+  nlohmann::json r;
+  r["version"] = 1;
+  r["status"] = "ok";
+  r["units"] = "mm";
+  nlohmann::json input;
+  input["target"] = run.inputs.target.string();
+  input["quad"] = run.inputs.quad ? run.inputs.quad->string() : run.inputs.target.string();
+  if (run.input) {
+    const PreparedInput& in = *run.input;
+    input["quads"] = in.quad_summary.faces;
+    input["bbox_mm"] = to_json(in.target_summary.bbox.size());
+    input["scale"] = in.scale;
+    input["quads_from_target"] = in.quads_from_target;
+    input["target_mesh"] = summary_json(in.target_summary);
+    input["quad_mesh"] = summary_json(in.quad_summary);
+    input["quad_max_distance_mm"] = in.quad_max_distance;
+    input["quad_mean_distance_mm"] = in.quad_mean_distance;
+  }
+  r["input"] = input;
+  r["options"] = options_json(run);
+  if (run.bending) {
+    const BendingResult& b = *run.bending;
+    int kinds[3] = {0, 0, 0};
+    for (const auto& q : b.quads) ++kinds[static_cast<int>(q.kind)];
+    const double w_max = run.options.bending.alignment > 0
+                             ? b.w0 / run.options.bending.alignment
+                             : 0.0;
+    r["bending"] = {{"edges", b.bendable.size()},
+                    {"bendable", b.bendable_count},
+                    {"objective", b.objective},
+                    {"bound", b.bound},
+                    {"status", to_string(b.status)},
+                    {"solve_seconds", b.solve_seconds},
+                    {"w0", b.w0},
+                    {"w0_rel", run.options.bending.alignment},
+                    {"w_max", w_max},
+                    {"interior_edges", b.interior_edges},
+                    {"aligned_edges", b.aligned_edges},
+                    {"aligned_fraction", b.aligned_fraction},
+                    {"quads_bending", kinds[static_cast<int>(QuadKind::kBending)]},
+                    {"quads_one_sided", kinds[static_cast<int>(QuadKind::kOneSided)]},
+                    {"quads_rigid", kinds[static_cast<int>(QuadKind::kRigid)]}};
+  }
+  nlohmann::json timings = nlohmann::json::object();
+  for (const auto& t : run.timings) timings[t.stage] = t.seconds;
+  timings["total"] = run.total_seconds;
+  r["timings_s"] = timings;
+  r["warnings"] = run.warnings;
+  return r;
+}
+
+nlohmann::json make_failure_report(int exit_code, const std::string& kind,
+                                   const std::string& message) {
+  return {{"version", 1},
+          {"status", "failed"},
+          {"error", {{"exit_code", exit_code}, {"kind", kind}, {"message", message}}}};
+}
+
+nlohmann::json make_bending_dump(const PolyMesh& quads, const BendingResult& b) {
+  nlohmann::json j;
+  nlohmann::json vertices = nlohmann::json::array();
+  for (auto v : quads.vertices()) vertices.push_back(to_json(to_eigen(quads.point(v))));
+  nlohmann::json faces = nlohmann::json::array();
+  for (auto f : quads.faces()) faces.push_back(quad_vertices(quads, f));
+  nlohmann::json edges = nlohmann::json::array();
+  for (auto e : quads.edges()) {
+    const auto h = quads.halfedge_handle(e, 0);
+    edges.push_back({{"v", {quads.from_vertex_handle(h).idx(), quads.to_vertex_handle(h).idx()}},
+                     {"weight", b.variance[e.idx()] + b.w0},
+                     {"variance", b.variance[e.idx()]},
+                     {"bendable", b.bendable[e.idx()] != 0}});
+  }
+  nlohmann::json quad_classes = nlohmann::json::array();
+  for (const auto& q : b.quads) quad_classes.push_back({{"kind", to_string(q.kind)}, {"axis", q.axis}});
+  j["vertices"] = vertices;
+  j["quads"] = faces;
+  j["edges"] = edges;
+  j["quad_bending"] = quad_classes;
+  j["w0"] = b.w0;
+  j["objective"] = b.objective;
+  j["bound"] = b.bound;
+  j["status"] = to_string(b.status);
+  return j;
+}
+
+}  // namespace kerfab

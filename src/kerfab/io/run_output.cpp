@@ -1,0 +1,74 @@
+#include "kerfab/io/run_output.h"
+
+#include <fstream>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/io/mesh_io.h"
+#include "kerfab/io/report.h"
+
+namespace kerfab {
+namespace fs = std::filesystem;
+namespace {
+
+// Everything a run may write; only these are ever removed.
+const char* const kOutputs[] = {"report.json", "report.json.tmp", "model", "stages", "cut"};
+
+void write_json(const nlohmann::json& j, const fs::path& path) {
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw IoError("cannot write " + tmp.string());
+    out << j.dump(2) << "\n";
+    if (!out) throw IoError("cannot write " + tmp.string());
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw IoError("cannot write " + path.string() + ": " + ec.message());
+}
+
+void make_dirs(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw IoError("cannot create directory " + dir.string() + ": " + ec.message());
+}
+
+}  // namespace
+
+void prepare_output_dir(const fs::path& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec)) {
+    if (!fs::is_directory(dir, ec)) throw IoError("output path is not a directory: " + dir.string());
+    const bool empty = fs::is_empty(dir, ec);
+    if (!empty && !fs::exists(dir / "report.json", ec))
+      throw IoError("output directory " + dir.string() +
+                    " is not empty and holds no kerfab report.json; choose another --out");
+    for (const char* name : kOutputs) fs::remove_all(dir / name, ec);
+    if (ec) throw IoError("cannot clear old outputs in " + dir.string() + ": " + ec.message());
+  }
+  make_dirs(dir);
+}
+
+void write_run(const RunResult& run, const fs::path& dir, bool dump) {
+  if (run.input) {
+    make_dirs(dir / "model");
+    write_mesh(run.input->target, dir / "model" / "target.obj");
+  }
+  if (dump && run.bending && run.input) {
+    make_dirs(dir / "stages");
+    write_json(make_bending_dump(run.input->quads, *run.bending), dir / "stages" / "bending.json");
+  }
+  write_json(make_report(run), dir / "report.json");
+}
+
+void write_failure(const fs::path& dir, int exit_code, const std::string& kind,
+                   const std::string& message) noexcept {
+  try {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) return;
+    for (const char* name : kOutputs) fs::remove_all(dir / name, ec);
+    write_json(make_failure_report(exit_code, kind, message), dir / "report.json");
+  } catch (...) {
+  }
+}
+
+}  // namespace kerfab

@@ -1,0 +1,113 @@
+#include "kerfab/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/io/guidance.h"
+#include "kerfab/io/mesh_io.h"
+
+namespace kerfab {
+namespace {
+
+class StageClock {
+ public:
+  StageClock(RunResult& run, const Progress& progress) : run_(run), progress_(progress) {}
+  template <class F>
+  void stage(const std::string& name, F&& body) {
+    if (progress_) progress_("[" + name + "] ...");
+    const auto t0 = std::chrono::steady_clock::now();
+    body();
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    run_.timings.push_back({name, s});
+  }
+
+ private:
+  RunResult& run_;
+  const Progress& progress_;
+};
+
+std::string summary_line(const std::string& what, const MeshSummary& s) {
+  std::ostringstream os;
+  os.precision(4);
+  os << what << ": " << s.vertices << " vertices, " << s.faces << " faces (";
+  for (std::size_t i = 0; i < s.face_sizes.size(); ++i)
+    os << (i ? ", " : "") << s.face_sizes[i].second << "x" << s.face_sizes[i].first << "-gon";
+  const Vec3 size = s.bbox.size();
+  os << "), " << s.boundary_loops << " boundary loop(s), Euler characteristic "
+     << s.euler_characteristic << ", bbox " << size.x() << " x " << size.y() << " x "
+     << size.z() << " mm";
+  return os.str();
+}
+
+}  // namespace
+
+RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
+                       const Progress& progress) {
+  const auto t_start = std::chrono::steady_clock::now();
+  if (options.stop_after) {
+    const auto& names = stage_names();
+    if (std::find(names.begin(), names.end(), *options.stop_after) == names.end())
+      throw InvalidInput("--stop-after: unknown stage '" + *options.stop_after + "'");
+  }
+  RunResult run;
+  run.inputs = inputs;
+  run.options = options;
+  StageClock clock(run, progress);
+  auto say = [&](const std::string& line) {
+    if (progress) progress("  " + line);
+  };
+  auto done_after = [&](const std::string& stage) {
+    return options.stop_after && *options.stop_after == stage;
+  };
+  auto finish = [&]() -> RunResult {
+    run.total_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+    return std::move(run);
+  };
+
+  PolyMesh target;
+  std::optional<PolyMesh> quad;
+  clock.stage("load", [&] {
+    target = read_mesh(inputs.target);
+    if (inputs.quad) quad = read_mesh(*inputs.quad);
+    if (inputs.guidance) run.options.bending.guidance = read_guidance(*inputs.guidance);
+  });
+  if (done_after("load")) return finish();
+
+  clock.stage("prepare", [&] {
+    run.input = prepare_input(target, quad, options.input);
+    const PreparedInput& in = *run.input;
+    say(summary_line("target", in.target_summary));
+    say(summary_line(in.quads_from_target ? "quads (from target)" : "quads", in.quad_summary));
+    std::ostringstream os;
+    os.precision(4);
+    os << "scale " << in.scale << ", quad vertices to target: max " << in.quad_max_distance
+       << " mm, mean " << in.quad_mean_distance << " mm";
+    say(os.str());
+    for (const auto& w : in.warnings) run.warnings.push_back(w);
+  });
+  if (done_after("prepare")) return finish();
+
+  clock.stage("bending", [&] {
+    run.bending = choose_bending_edges(run.input->quads, run.input->surface, run.options.bending);
+    const BendingResult& b = *run.bending;
+    std::ostringstream os;
+    os.precision(4);
+    os << b.bendable_count << " of " << b.bendable.size() << " edges bendable, objective "
+       << b.objective << " (bound " << b.bound << ", " << to_string(b.status) << ", "
+       << b.solve_seconds << " s), aligned " << 100.0 * b.aligned_fraction << "%";
+    say(os.str());
+    if (b.status != PackingStatus::kOptimal) {
+      std::ostringstream w;
+      w.precision(4);
+      w << "bending program not proven optimal (" << to_string(b.status)
+        << "): objective " << b.objective << ", bound " << b.bound;
+      run.warnings.push_back(w.str());
+    }
+  });
+  return finish();
+}
+
+}  // namespace kerfab

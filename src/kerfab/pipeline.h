@@ -1,0 +1,57 @@
+#pragma once
+/// \file The pipeline: runs the stages in order, times them, reports progress and collects
+/// their results. No file output here (see io/run_output.h).
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "kerfab/bending/bending.h"
+#include "kerfab/input/prepare.h"
+
+namespace kerfab {
+
+/// Where the inputs come from.
+struct RunInputs {
+  std::filesystem::path target;                 ///< target mesh file
+  std::optional<std::filesystem::path> quad;    ///< quad (polygon) mesh file
+  std::optional<std::filesystem::path> guidance;  ///< guidance JSON (forced edges)
+};
+
+/// The stages, in order. `stop_after` ends the run after the named one.
+inline const std::vector<std::string>& stage_names() {
+  static const std::vector<std::string> names = {"load", "prepare", "bending"};
+  return names;
+}
+
+struct PipelineOptions {
+  InputOptions input;
+  BendingOptions bending;               ///< guidance is filled from RunInputs::guidance
+  std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
+};
+
+struct StageTiming {
+  std::string stage;
+  double seconds = 0;
+};
+
+struct RunResult {
+  RunInputs inputs;
+  PipelineOptions options;  ///< the options as used (guidance resolved)
+  std::optional<PreparedInput> input;
+  std::optional<BendingResult> bending;
+  std::vector<StageTiming> timings;
+  double total_seconds = 0;
+  std::vector<std::string> warnings;
+};
+
+/// Progress sink: one human-readable line per call (the CLI prints them on stderr).
+using Progress = std::function<void(std::string_view)>;
+
+/// Runs the pipeline. \throw InvalidInput, IoError, SolverError as the stages do.
+RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
+                       const Progress& progress);
+
+}  // namespace kerfab

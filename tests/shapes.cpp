@@ -1,0 +1,118 @@
+#include "shapes.h"
+
+#include <cmath>
+#include <map>
+#include <numbers>
+
+namespace kerfab::test {
+namespace {
+constexpr double kPi = std::numbers::pi;
+}
+
+PolyMesh grid_mesh(int nu, int nv, bool periodic_u, bool periodic_v,
+                   const std::function<Vec3(double, double)>& f) {
+  PolyMesh mesh;
+  const int cu = periodic_u ? nu : nu + 1;
+  const int cv = periodic_v ? nv : nv + 1;
+  std::vector<PolyMesh::VertexHandle> vh(cu * cv);
+  for (int j = 0; j < cv; ++j)
+    for (int i = 0; i < cu; ++i)
+      vh[j * cu + i] = mesh.add_vertex(to_openmesh(f(double(i) / nu, double(j) / nv)));
+  auto at = [&](int i, int j) { return vh[(j % cv) * cu + (i % cu)]; };
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i)
+      mesh.add_face(at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+  return mesh;
+}
+
+PolyMesh cube_grid_mesh(int n, const std::function<Vec3(const Vec3&)>& f) {
+  PolyMesh mesh;
+  std::map<std::array<int, 3>, PolyMesh::VertexHandle> index;
+  auto vertex = [&](std::array<int, 3> g) -> PolyMesh::VertexHandle {
+    auto it = index.find(g);
+    if (it != index.end()) return it->second;
+    const Vec3 p(2.0 * g[0] / n - 1.0, 2.0 * g[1] / n - 1.0, 2.0 * g[2] / n - 1.0);
+    auto h = mesh.add_vertex(to_openmesh(f(p)));
+    index.emplace(g, h);
+    return h;
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = 0; side <= 1; ++side) {
+      const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+          std::array<PolyMesh::VertexHandle, 4> q;
+          const int di[4] = {0, 1, 1, 0}, dj[4] = {0, 0, 1, 1};
+          for (int k = 0; k < 4; ++k) {
+            std::array<int, 3> g{};
+            g[axis] = side * n;
+            g[a] = i + di[k];
+            g[b] = j + dj[k];
+            q[k] = vertex(g);
+          }
+          // Orientation: (a, b, axis) is right-handed, so this order faces +axis.
+          if (side == 1)
+            mesh.add_face(q[0], q[1], q[2], q[3]);
+          else
+            mesh.add_face(q[3], q[2], q[1], q[0]);
+        }
+      }
+    }
+  }
+  return mesh;
+}
+
+Shape quad_plane(double size, int n, int refine) {
+  auto f = [size](double u, double v) { return Vec3(size * u, size * v, 0.0); };
+  return {"plane", grid_mesh(n, n, false, false, f),
+          triangulate(grid_mesh(n * refine, n * refine, false, false, f)),
+          [](const Vec3& p) { return p.z(); }};
+}
+
+Shape open_cylinder(double r, double height, int around, int along, int refine) {
+  auto f = [=](double u, double v) {
+    return Vec3(r * std::cos(2 * kPi * u), r * std::sin(2 * kPi * u), height * v);
+  };
+  return {"open_cylinder", grid_mesh(around, along, true, false, f),
+          triangulate(grid_mesh(around * refine, along * refine, true, false, f)),
+          [r](const Vec3& p) { return std::hypot(p.x(), p.y()) - r; }};
+}
+
+namespace {
+// Square [-1,1]^2 -> unit disk (elliptical grid mapping); the square's border maps onto the circle.
+Vec3 square_to_cylinder(const Vec3& p, double r, double height) {
+  const double x = p.x(), y = p.y();
+  const double u = x * std::sqrt(1.0 - y * y / 2.0), v = y * std::sqrt(1.0 - x * x / 2.0);
+  return {r * u, r * v, 0.5 * height * p.z()};
+}
+}  // namespace
+
+Shape closed_cylinder(double r, double height, int n, int refine) {
+  auto f = [=](const Vec3& p) { return square_to_cylinder(p, r, height); };
+  return {"closed_cylinder", cube_grid_mesh(n, f), triangulate(cube_grid_mesh(n * refine, f)),
+          [=](const Vec3& p) {
+            const double dr = std::hypot(p.x(), p.y()) - r;
+            const double dz = std::abs(p.z()) - 0.5 * height;
+            const double outside = std::hypot(std::max(dr, 0.0), std::max(dz, 0.0));
+            return outside + std::min(std::max(dr, dz), 0.0);
+          }};
+}
+
+Shape sphere(double r, int n, int refine) {
+  auto f = [r](const Vec3& p) { return Vec3(r * p.normalized()); };
+  return {"sphere", cube_grid_mesh(n, f), triangulate(cube_grid_mesh(n * refine, f)),
+          [r](const Vec3& p) { return p.norm() - r; }};
+}
+
+Shape torus(double R, double r, int nu, int nv, int refine) {
+  auto f = [=](double u, double v) {
+    const double a = 2 * kPi * u, b = 2 * kPi * v;
+    return Vec3((R + r * std::cos(b)) * std::cos(a), (R + r * std::cos(b)) * std::sin(a),
+                r * std::sin(b));
+  };
+  return {"torus", grid_mesh(nu, nv, true, true, f),
+          triangulate(grid_mesh(nu * refine, nv * refine, true, true, f)),
+          [=](const Vec3& p) { return std::hypot(std::hypot(p.x(), p.y()) - R, p.z()) - r; }};
+}
+
+}  // namespace kerfab::test

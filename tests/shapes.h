@@ -1,0 +1,43 @@
+#pragma once
+// Test shapes generated in code, each with a coarse quad mesh on the surface, a fine
+// triangulation of the same surface as target, and the exact analytic signed distance.
+#include <functional>
+#include <string>
+
+#include "kerfab/core/mesh.h"
+
+namespace kerfab::test {
+
+struct Shape {
+  std::string name;
+  PolyMesh quads;       ///< coarse all-quad mesh, vertices on the surface [mm]
+  TriangleMesh target;  ///< fine triangulation of the same surface [mm]
+  std::function<double(const Vec3&)> signed_distance;  ///< analytic, positive outside [mm]
+};
+
+/// Square [0, size]^2 in the plane z = 0, n x n quads, normal +z. Open.
+Shape quad_plane(double size, int n, int target_refine = 4);
+
+/// Open cylinder (ring) of radius r around the z axis, z in [0, height]; `around` quads around
+/// the axis, `along` quads along it. Outward normals.
+Shape open_cylinder(double r, double height, int around, int along, int target_refine = 8);
+
+/// Closed cylinder (caps included) of radius r, z in [-height/2, height/2], all quads
+/// (a cube grid mapped onto the cylinder), n cells per cube side.
+Shape closed_cylinder(double r, double height, int n, int target_refine = 8);
+
+/// Sphere of radius r about the origin from a cube grid with n cells per side.
+Shape sphere(double r, int n, int target_refine = 8);
+
+/// Torus around the z axis, major radius R, minor r; nu x nv quads.
+Shape torus(double R, double r, int nu, int nv, int target_refine = 6);
+
+/// Quad mesh of a (u, v) grid with nu x nv cells in [0,1]^2, optionally periodic, mapped by f.
+PolyMesh grid_mesh(int nu, int nv, bool periodic_u, bool periodic_v,
+                   const std::function<Vec3(double, double)>& f);
+
+/// Quad mesh of the surface of the cube [-1,1]^3 with n cells per side, mapped by f
+/// (faces oriented away from the origin after mapping).
+PolyMesh cube_grid_mesh(int n, const std::function<Vec3(const Vec3&)>& f);
+
+}  // namespace kerfab::test
