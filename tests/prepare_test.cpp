@@ -1,1 +1,137 @@
+#include "kerfab/input/prepare.h"
+
 #include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/io/mesh_io.h"
+#include "shapes.h"
+#include "test_util.h"
+
+namespace kerfab {
+namespace {
+
+PolyMesh to_poly(const TriangleMesh& t) {
+  PolyMesh m;
+  for (const auto& p : t.vertices) m.add_vertex(to_openmesh(p));
+  for (const auto& f : t.triangles)
+    m.add_face(m.vertex_handle(f[0]), m.vertex_handle(f[1]), m.vertex_handle(f[2]));
+  return m;
+}
+
+TEST(Prepare, ScalesBothMeshesIdenticallyToRequestedSize) {
+  const auto shape = test::sphere(1.0, 4);  // unit sphere: 2 mm across, too small without --size
+  InputOptions opt;
+  opt.size = 250.0;
+  const PreparedInput in = prepare_input(to_poly(shape.target), shape.quads, opt);
+  EXPECT_NEAR(in.target_summary.bbox.largest_side(), 250.0, 1e-9);
+  EXPECT_NEAR(in.scale, 125.0, 1e-9);
+  // Quad vertices lie on the sphere of radius 125 mm after scaling.
+  for (auto v : in.quads.vertices()) EXPECT_NEAR(in.quads.point(v).norm(), 125.0, 1e-9);
+  EXPECT_EQ(in.quad_summary.faces, 6 * 16);
+  EXPECT_LT(in.quad_max_distance, 1e-9);
+}
+
+TEST(Prepare, RefusesModelsOutsideMillimetreRangeWithoutSize) {
+  const auto small = test::sphere(1.0, 2);
+  try {
+    prepare_input(to_poly(small.target), small.quads, {});
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("--size"), std::string::npos) << e.what();
+  }
+  const auto huge = test::sphere(6000.0, 2);  // 12 m
+  EXPECT_THROW(prepare_input(to_poly(huge.target), huge.quads, {}), InvalidInput);
+  const auto ok = test::sphere(100.0, 2);
+  EXPECT_NO_THROW(prepare_input(to_poly(ok.target), ok.quads, {}));
+  InputOptions bad;
+  bad.size = 5.0;
+  EXPECT_THROW(prepare_input(to_poly(ok.target), ok.quads, bad), InvalidInput);
+}
+
+TEST(Prepare, NanCoordinatesAndZeroAreaFacesAreRejected) {
+  auto shape = test::sphere(100.0, 2);
+  PolyMesh target = to_poly(shape.target);
+  PolyMesh nan_quads = shape.quads;
+  nan_quads.set_point(nan_quads.vertex_handle(3), {std::nan(""), 0, 0});
+  EXPECT_THROW(prepare_input(target, nan_quads, {}), InvalidInput);
+  PolyMesh inf_target = target;
+  inf_target.set_point(inf_target.vertex_handle(0), {INFINITY, 0, 0});
+  EXPECT_THROW(prepare_input(inf_target, shape.quads, {}), InvalidInput);
+  PolyMesh squashed = shape.quads;  // collapse one quad onto a point
+  const auto f = *squashed.faces_begin();
+  const auto p = squashed.point(*squashed.fv_begin(f));
+  for (auto v : squashed.fv_range(f)) squashed.set_point(v, p);
+  EXPECT_THROW(prepare_input(target, squashed, {}), InvalidInput);
+}
+
+TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetNeedsQuadMesh) {
+  const auto dir = test::fresh_dir();
+  const PolyMesh cage = read_mesh(test::shared_meshes() / "spot_control_mesh.obj");
+  const PolyMesh target = read_mesh(test::shared_meshes() / "spot_triangulated.obj");
+  InputOptions opt;
+  opt.size = 250.0;
+  try {
+    prepare_input(target, cage, opt);
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("--subdivide"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(prepare_input(target, std::nullopt, opt), InvalidInput);
+  opt.subdivide = 1;
+  const PreparedInput in = prepare_input(target, cage, opt);
+  // One Catmull-Clark step: every n-gon becomes n quads: 160*4 + 16*5 + 4*3 = 732.
+  EXPECT_EQ(in.quad_summary.faces, 732);
+  EXPECT_EQ(in.quad_summary.face_sizes, (std::vector<std::pair<int, int>>{{4, 732}}));
+  EXPECT_EQ(in.quad_summary.euler_characteristic, 2);
+  EXPECT_LT(in.quad_max_distance, 0.03 * in.target_summary.bbox.diagonal());
+}
+
+TEST(Prepare, QuadMeshFarFromTargetIsRefusedWithItsDistance) {
+  // AmO: the quad mesh is translated by about (73, 16, 39) relative to its target.
+  const PolyMesh target = read_mesh(test::shared_meshes() / "amo_adaptive.off");
+  const PolyMesh quads = read_mesh(test::shared_meshes() / "amo_quad.off");
+  try {
+    prepare_input(target, quads, {});
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("far from the target"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(" mm away"), std::string::npos) << msg;
+  }
+}
+
+TEST(Prepare, QuadTargetServesAsItsOwnQuadMesh) {
+  const PolyMesh fandisk = read_mesh(test::shared_meshes() / "fandisk_quads.off");
+  InputOptions opt;
+  opt.size = 200.0;
+  const PreparedInput in = prepare_input(fandisk, std::nullopt, opt);
+  EXPECT_TRUE(in.quads_from_target);
+  EXPECT_EQ(in.quad_summary.faces, 764);
+  EXPECT_LT(in.quad_max_distance, 1e-9);
+}
+
+TEST(Prepare, InwardFacingClosedTargetIsFlippedForSignedDistance) {
+  auto shape = test::sphere(100.0, 3);
+  PolyMesh inward;
+  for (const auto& p : shape.target.vertices) inward.add_vertex(to_openmesh(p));
+  for (const auto& f : shape.target.triangles)
+    inward.add_face(inward.vertex_handle(f[0]), inward.vertex_handle(f[2]),
+                    inward.vertex_handle(f[1]));
+  const PreparedInput in = prepare_input(inward, shape.quads, {});
+  EXPECT_EQ(in.warnings.size(), 1u);
+  EXPECT_GT(in.surface.signed_distance({0, 0, 150}), 0.0);
+  EXPECT_LT(in.surface.signed_distance({0, 0, 50}), 0.0);
+}
+
+TEST(Prepare, CatmullClarkOfOpenGridStaysAllQuads) {
+  const auto plane = test::quad_plane(100.0, 3);
+  const PolyMesh sub = catmull_clark(plane.quads, 2);
+  EXPECT_TRUE(is_all_quads(sub));
+  EXPECT_EQ(sub.n_faces(), 9u * 16u);
+  EXPECT_EQ(boundary_loop_count(sub), 1);
+}
+
+}  // namespace
+}  // namespace kerfab

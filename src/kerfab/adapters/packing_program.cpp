@@ -85,12 +85,24 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
     return result;
   }
 
-  // Column-wise matrix: one row per conflict, two nonzeros per row.
-  const int m = static_cast<int>(problem.conflicts.size());
+  // Column-wise matrix: one row per conflict (two nonzeros), then one per set limit.
+  const int m_pairs = static_cast<int>(problem.conflicts.size());
+  const int m = m_pairs + static_cast<int>(problem.set_limits.size());
   std::vector<std::vector<int>> col_rows(n);
-  for (int r = 0; r < m; ++r) {
+  for (int r = 0; r < m_pairs; ++r) {
     col_rows[problem.conflicts[r].first].push_back(r);
     col_rows[problem.conflicts[r].second].push_back(r);
+  }
+  std::vector<double> row_ub(m, 1.0);
+  for (int k = 0; k < static_cast<int>(problem.set_limits.size()); ++k) {
+    const auto& [vars, limit] = problem.set_limits[k];
+    for (int i : vars) {
+      if (i < 0 || i >= n)
+        throw InvalidInput("packing program: set limit names variable " + std::to_string(i) +
+                           " out of range");
+      col_rows[i].push_back(m_pairs + k);
+    }
+    row_ub[m_pairs + k] = limit;
   }
   std::vector<int> start_idx(n + 1, 0), index;
   std::vector<double> value;
@@ -101,7 +113,7 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
       value.push_back(1.0);
     }
   }
-  std::vector<double> col_lb(n, 0.0), col_ub(n, 1.0), row_lb(m, -std::numeric_limits<double>::infinity()), row_ub(m, 1.0);
+  std::vector<double> col_lb(n, 0.0), col_ub(n, 1.0), row_lb(m, -std::numeric_limits<double>::infinity());
   for (int i = 0; i < n; ++i) {
     if (fixed_to(problem, i, true)) col_lb[i] = 1.0;
     if (fixed_to(problem, i, false)) col_ub[i] = 0.0;

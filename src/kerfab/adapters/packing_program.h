@@ -11,6 +11,9 @@ namespace kerfab {
 struct PackingProblem {
   std::vector<double> weights;                  ///< objective coefficient per variable (any sign)
   std::vector<std::pair<int, int>> conflicts;   ///< pairs that may not both be 1
+  /// Further inequalities "at most limit of these variables are 1". \pre each is implied by the
+  /// conflicts (e.g. an odd-cycle cut): they tighten the relaxation, never the feasible set.
+  std::vector<std::pair<std::vector<int>, int>> set_limits;
   std::vector<std::optional<bool>> fixed;       ///< per variable: unset = free; empty = all free
 };
 

@@ -82,9 +82,17 @@ BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& t
 
   BendingResult r;
   r.variance = edge_variances(quads, target, options.edge_samples);
+  // Deviations below a micrometre-scale floor (1e-6 of the model's diagonal) are round-off of
+  // the distance queries, not shape: count them as zero.
+  const double floor = std::pow(1e-6 * bounding_box(quads).diagonal(), 2);
+  for (double& w : r.variance)
+    if (w < floor) w = 0.0;
   const double w_max = r.variance.empty() ? 0.0
                                           : *std::max_element(r.variance.begin(), r.variance.end());
-  r.w0 = options.alignment * w_max;
+  // If no edge deviates from the target at all (a plane, or a quad mesh whose edges lie on the
+  // target's triangles), all weights tie; any positive scale then gives the same program, and
+  // the bias must stay positive so strips still form (paper Sec. 3.1).
+  r.w0 = options.alignment * (w_max > 0.0 ? w_max : 1.0);
 
   PackingProblem problem;
   problem.weights.resize(quads.n_edges());
@@ -92,6 +100,17 @@ BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& t
   for (auto f : quads.faces()) {
     const auto e = quad_edges(quads, f);
     for (int k = 0; k < 4; ++k) problem.conflicts.emplace_back(e[k], e[(k + 1) % 4]);
+  }
+  // Around an interior vertex of odd valence k its k edges form an odd cycle of conflicts
+  // (consecutive ones share a quad corner), so at most (k-1)/2 of them can bend. These cuts
+  // close most of the relaxation's gap, which sits at the quad mesh's singularities.
+  for (auto v : quads.vertices()) {
+    if (quads.is_boundary(v) || quads.is_isolated(v)) continue;
+    const int k = static_cast<int>(quads.valence(v));
+    if (k % 2 == 0) continue;
+    std::vector<int> around;
+    for (auto e : quads.ve_range(v)) around.push_back(e.idx());
+    problem.set_limits.emplace_back(std::move(around), (k - 1) / 2);
   }
   if (!options.guidance.empty()) {
     problem.fixed.assign(quads.n_edges(), std::nullopt);

@@ -41,8 +41,10 @@ struct QuadBending {
 };
 
 struct BendingResult {
-  std::vector<double> variance;   ///< w_e per edge: variance of the signed distance [mm^2]
-  double w0 = 0;                  ///< bias added to every weight [mm^2]
+  std::vector<double> variance;   ///< w_e per edge: variance of the signed distance, 0 below
+                                  ///< (1e-6 * bbox diagonal)^2 [mm^2]
+  double w0 = 0;                  ///< bias c * max w_e added to every weight (c * 1 mm^2 if
+                                  ///< every w_e is 0) [mm^2]
   std::vector<char> bendable;     ///< per edge: 1 = bendable
   std::vector<QuadBending> quads; ///< per face
   double objective = 0;           ///< sum over bendable edges of (w_e + w0) [mm^2]

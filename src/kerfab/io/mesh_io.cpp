@@ -17,7 +17,7 @@ class OpenMeshLogCapture {
  public:
   OpenMeshLogCapture() {
     ::omerr().disconnect(std::cerr);
-    ::omlog().disconnect(std::cerr);
+    ::omlog().disconnect(std::clog);
     ::omout().disconnect(std::cout);
     ::omerr().connect(log_);
     ::omlog().connect(log_);
@@ -29,7 +29,7 @@ class OpenMeshLogCapture {
     ::omlog().disconnect(log_);
     ::omout().disconnect(log_);
     ::omerr().connect(std::cerr);
-    ::omlog().connect(std::cerr);
+    ::omlog().connect(std::clog);
     ::omout().connect(std::cout);
   }
   OpenMeshLogCapture(const OpenMeshLogCapture&) = delete;
