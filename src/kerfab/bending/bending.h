@@ -19,7 +19,9 @@ struct EdgeGuidance {
 
 struct BendingOptions {
   double alignment = 0.3;     ///< c in w0 = c * max_e w_e, the alignment bias [-], >= 0
-  int edge_samples = 16;      ///< signed-distance samples per edge for its variance [-], >= 2
+  int edge_samples = 24;      ///< signed-distance samples per edge for its variance [-], >= 2;
+                              ///< 24 keeps every weight within 1% (of the largest) of the
+                              ///< value at 48 samples on spot (measured: 0.61%)
   double time_limit_s = 60;   ///< integer-program time limit [s], > 0
   double relative_gap = 0.0;  ///< accepted relative optimality gap [-], >= 0
   std::vector<EdgeGuidance> guidance;  ///< forced edges
