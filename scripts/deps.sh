@@ -6,7 +6,7 @@ packages=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev libopenmesh-dev coinor-libcbc-dev libpolyclipping-dev libcgal-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
-  librsvg2-bin
+  librsvg2-bin python3
 )
 missing=()
 for p in "${packages[@]}"; do
