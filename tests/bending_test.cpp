@@ -6,6 +6,7 @@
 
 #include "kerfab/core/errors.h"
 #include "kerfab/input/prepare.h"
+#include "kerfab/io/guidance.h"
 #include "kerfab/io/mesh_io.h"
 #include "shapes.h"
 #include "test_util.h"
@@ -204,6 +205,24 @@ TEST(Bending, GuidanceForcesEdgesAndRejectsBadReferences) {
   BendingOptions neg;
   neg.alignment = -0.1;
   EXPECT_THROW(choose_bending_edges(m, target, neg), InvalidInput);
+}
+
+TEST(Bending, GuidanceFileIsReadAndBadFilesAreNamed) {
+  const auto dir = test::fresh_dir();
+  const auto good = test::write_text(dir / "g.json",
+                                     R"({"bendable": [[1, 2], [3, 4]], "stiff": [[5, 6]]})");
+  const auto g = read_guidance(good);
+  ASSERT_EQ(g.size(), 3u);
+  int bendable = 0;
+  for (const auto& e : g) bendable += e.bendable ? 1 : 0;
+  EXPECT_EQ(bendable, 2);
+  EXPECT_THROW(read_guidance(dir / "missing.json"), IoError);
+  EXPECT_THROW(read_guidance(test::write_text(dir / "a.json", "{not json")), InvalidInput);
+  EXPECT_THROW(read_guidance(test::write_text(dir / "b.json", R"({"bend": [[1,2]]})")),
+               InvalidInput);
+  EXPECT_THROW(read_guidance(test::write_text(dir / "c.json", R"({"stiff": [[1,2,3]]})")),
+               InvalidInput);
+  EXPECT_THROW(read_guidance(test::write_text(dir / "d.json", R"([1, 2])")), InvalidInput);
 }
 
 TEST(Bending, ClassifiesQuadsFromTheirBendableEdges) {
