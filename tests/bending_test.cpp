@@ -135,7 +135,7 @@ TEST(Bending, IntegerProgramMatchesExhaustiveSearch) {
     double alignment;
   };
   std::vector<Case> cases;
-  cases.push_back({test::sphere(50.0, 1), 0.0});     // cube: 8 valence-3 vertices
+  cases.push_back({test::sphere(50.0, 1), 0.0});  // cube: 8 valence-3 vertices
   cases.push_back({test::sphere(50.0, 1), 0.3});
   cases.push_back({test::torus(60.0, 20.0, 3, 3), 0.1});  // 18 edges
   cases.push_back({test::open_cylinder(30.0, 40.0, 3, 2), 0.0});
@@ -209,8 +209,8 @@ TEST(Bending, GuidanceForcesEdgesAndRejectsBadReferences) {
 
 TEST(Bending, GuidanceFileIsReadAndBadFilesAreNamed) {
   const auto dir = test::fresh_dir();
-  const auto good = test::write_text(dir / "g.json",
-                                     R"({"bendable": [[1, 2], [3, 4]], "stiff": [[5, 6]]})");
+  const auto good =
+      test::write_text(dir / "g.json", R"({"bendable": [[1, 2], [3, 4]], "stiff": [[5, 6]]})");
   const auto g = read_guidance(good);
   ASSERT_EQ(g.size(), 3u);
   int bendable = 0;

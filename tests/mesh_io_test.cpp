@@ -53,8 +53,8 @@ TEST(MeshIo, PlyAndStlRoundTrip) {
     EXPECT_EQ(back.n_vertices(), tri.n_vertices()) << name;
     EXPECT_NEAR(bounding_box(back).diagonal(), bounding_box(tri).diagonal(), 1e-4) << name;
   }
-  // Binary variants through OpenMesh's writer options.
   // (The STL reader merges corner copies into shared vertices, as the counts above show.)
+  // Binary PLY and binary STL, written byte by byte as other tools write them.
   const auto bin_ply = write_text(dir / "bin.ply",
                                   "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
                                   "property float x\nproperty float y\nproperty float z\n"

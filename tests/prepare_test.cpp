@@ -67,7 +67,6 @@ TEST(Prepare, NanCoordinatesAndZeroAreaFacesAreRejected) {
 }
 
 TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetNeedsQuadMesh) {
-  const auto dir = test::fresh_dir();
   const PolyMesh cage = read_mesh(test::shared_meshes() / "spot_control_mesh.obj");
   const PolyMesh target = read_mesh(test::shared_meshes() / "spot_triangulated.obj");
   InputOptions opt;

@@ -41,7 +41,8 @@ TEST(TargetSurface, SphereSignedDistanceWithinChordalErrorAndSignCorrect) {
   double e_max = 0;
   for (const auto& t : shape.target.triangles)
     for (int k = 0; k < 3; ++k)
-      e_max = std::max(e_max, (shape.target.vertices[t[k]] - shape.target.vertices[t[(k + 1) % 3]]).norm());
+      e_max = std::max(
+          e_max, (shape.target.vertices[t[k]] - shape.target.vertices[t[(k + 1) % 3]]).norm());
   const double chord = e_max * e_max / (2.0 * r);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
