@@ -40,15 +40,19 @@ void BM_Bending(benchmark::State& state, const char* target, const char* quad, i
   }
 }
 BENCHMARK_CAPTURE(BM_Bending, spot_cc1, "spot_triangulated.obj", "spot_control_mesh.obj", 1)
-    ->Unit(benchmark::kMillisecond)->Iterations(1);
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK_CAPTURE(BM_Bending, spot_quadrangulated, "spot_triangulated.obj",
                   "spot_quadrangulated.obj", 0)
-    ->Unit(benchmark::kMillisecond)->Iterations(1);
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK_CAPTURE(BM_Bending, inspired_conjugate, "inspired_mesh.obj",
                   "inspired_mesh_quads_Conjugate.off", 0)
-    ->Unit(benchmark::kMillisecond)->Iterations(1);
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 BENCHMARK_CAPTURE(BM_Bending, fandisk_quads, "fandisk.obj", "fandisk_quads.off", 0)
-    ->Unit(benchmark::kMillisecond)->Iterations(1);
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 

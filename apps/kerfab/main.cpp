@@ -88,8 +88,8 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     kerfab::write_run(result, out, f.dump);
     for (const auto& w : result.warnings) std::cerr << "kerfab: warning: " << w << "\n";
     if (!f.quiet)
-      std::cerr << "done in " << result.total_seconds << " s; report: "
-                << (out / "report.json").string() << "\n";
+      std::cerr << "done in " << result.total_seconds
+                << " s; report: " << (out / "report.json").string() << "\n";
     return kOk;
   } catch (const kerfab::InvalidInput& e) {
     return fail(kInvalid, "invalid_input", e.what());
@@ -105,10 +105,9 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{
-      "kerfab " KERFAB_VERSION
-      ": turns a 3D shape into laser-cut, kerfed parts of stiff sheet material.\n"
-      "Lengths are millimetres, angles degrees on the command line."};
+  CLI::App app{"kerfab " KERFAB_VERSION
+               ": turns a 3D shape into laser-cut, kerfed parts of stiff sheet material.\n"
+               "Lengths are millimetres, angles degrees on the command line."};
   app.require_subcommand(1);
 
   RunFlags run_flags;
@@ -129,8 +128,9 @@ int main(int argc, char** argv) {
   demo_flags.options.input.subdivide = 1;
   demo_flags.dump = true;
   CLI::App* demo_cmd = app.add_subcommand(
-      "demo", "Run the bundled example: Spot (public domain) at 250 mm, control mesh with one "
-              "Catmull-Clark step");
+      "demo",
+      "Run the bundled example: Spot (public domain) at 250 mm, control mesh with one "
+      "Catmull-Clark step");
   demo_cmd->add_option("--out", demo_flags.out, "Output directory")->capture_default_str();
   demo_flags.out = "out/demo";
   add_pipeline_options(*demo_cmd, demo_flags);

@@ -36,8 +36,8 @@ std::string summary_line(const std::string& what, const MeshSummary& s) {
     os << (i ? ", " : "") << s.face_sizes[i].second << "x" << s.face_sizes[i].first << "-gon";
   const Vec3 size = s.bbox.size();
   os << "), " << s.boundary_loops << " boundary loop(s), Euler characteristic "
-     << s.euler_characteristic << ", bbox " << size.x() << " x " << size.y() << " x "
-     << size.z() << " mm";
+     << s.euler_characteristic << ", bbox " << size.x() << " x " << size.y() << " x " << size.z()
+     << " mm";
   return os.str();
 }
 
@@ -102,8 +102,8 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
     if (b.status != PackingStatus::kOptimal) {
       std::ostringstream w;
       w.precision(4);
-      w << "bending program not proven optimal (" << to_string(b.status)
-        << "): objective " << b.objective << ", bound " << b.bound;
+      w << "bending program not proven optimal (" << to_string(b.status) << "): objective "
+        << b.objective << ", bound " << b.bound;
       run.warnings.push_back(w.str());
     }
   });

@@ -15,8 +15,8 @@ namespace kerfab {
 
 /// Where the inputs come from.
 struct RunInputs {
-  std::filesystem::path target;                 ///< target mesh file
-  std::optional<std::filesystem::path> quad;    ///< quad (polygon) mesh file
+  std::filesystem::path target;                   ///< target mesh file
+  std::optional<std::filesystem::path> quad;      ///< quad (polygon) mesh file
   std::optional<std::filesystem::path> guidance;  ///< guidance JSON (forced edges)
 };
 
@@ -28,7 +28,7 @@ inline const std::vector<std::string>& stage_names() {
 
 struct PipelineOptions {
   InputOptions input;
-  BendingOptions bending;               ///< guidance is filled from RunInputs::guidance
+  BendingOptions bending;                 ///< guidance is filled from RunInputs::guidance
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
 };
 

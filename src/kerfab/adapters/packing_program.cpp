@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 
@@ -53,9 +53,12 @@ double objective_of(const PackingProblem& p, const std::vector<char>& x) {
 
 std::string to_string(PackingStatus status) {
   switch (status) {
-    case PackingStatus::kOptimal: return "optimal";
-    case PackingStatus::kTimeLimit: return "time_limit";
-    case PackingStatus::kStopped: return "stopped";
+    case PackingStatus::kOptimal:
+      return "optimal";
+    case PackingStatus::kTimeLimit:
+      return "time_limit";
+    case PackingStatus::kStopped:
+      return "stopped";
   }
   return "unknown";
 }
@@ -113,7 +116,8 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
       value.push_back(1.0);
     }
   }
-  std::vector<double> col_lb(n, 0.0), col_ub(n, 1.0), row_lb(m, -std::numeric_limits<double>::infinity());
+  std::vector<double> col_lb(n, 0.0), col_ub(n, 1.0),
+      row_lb(m, -std::numeric_limits<double>::infinity());
   for (int i = 0; i < n; ++i) {
     if (fixed_to(problem, i, true)) col_lb[i] = 1.0;
     if (fixed_to(problem, i, false)) col_ub[i] = 0.0;
@@ -125,8 +129,8 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
   std::unique_ptr<Cbc_Model, CbcDeleter> model(Cbc_newModel());
   if (!model) throw SolverError("CBC: could not create a model");
   Cbc_loadProblem(model.get(), n, m, start_idx.data(), index.empty() ? nullptr : index.data(),
-                  value.empty() ? nullptr : value.data(), col_lb.data(), col_ub.data(),
-                  cost.data(), m ? row_lb.data() : nullptr, m ? row_ub.data() : nullptr);
+                  value.empty() ? nullptr : value.data(), col_lb.data(), col_ub.data(), cost.data(),
+                  m ? row_lb.data() : nullptr, m ? row_ub.data() : nullptr);
   for (int i = 0; i < n; ++i) Cbc_setInteger(model.get(), i);
   Cbc_setObjSense(model.get(), 1.0);
   Cbc_setLogLevel(model.get(), options.log ? 1 : 0);
@@ -166,8 +170,7 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
     result.status = PackingStatus::kTimeLimit;
   else
     result.status = PackingStatus::kStopped;
-  result.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -9,12 +9,12 @@
 namespace kerfab {
 
 struct PackingProblem {
-  std::vector<double> weights;                  ///< objective coefficient per variable (any sign)
-  std::vector<std::pair<int, int>> conflicts;   ///< pairs that may not both be 1
+  std::vector<double> weights;                 ///< objective coefficient per variable (any sign)
+  std::vector<std::pair<int, int>> conflicts;  ///< pairs that may not both be 1
   /// Further inequalities "at most limit of these variables are 1". \pre each is implied by the
   /// conflicts (e.g. an odd-cycle cut): they tighten the relaxation, never the feasible set.
   std::vector<std::pair<std::vector<int>, int>> set_limits;
-  std::vector<std::optional<bool>> fixed;       ///< per variable: unset = free; empty = all free
+  std::vector<std::optional<bool>> fixed;  ///< per variable: unset = free; empty = all free
 };
 
 struct PackingOptions {
@@ -24,19 +24,19 @@ struct PackingOptions {
 };
 
 enum class PackingStatus {
-  kOptimal,        ///< proven optimal (within relative_gap, see gap)
-  kTimeLimit,      ///< time limit reached; best feasible selection returned
-  kStopped,        ///< solver stopped for another reason; best feasible selection returned
+  kOptimal,    ///< proven optimal (within relative_gap, see gap)
+  kTimeLimit,  ///< time limit reached; best feasible selection returned
+  kStopped,    ///< solver stopped for another reason; best feasible selection returned
 };
 
 std::string to_string(PackingStatus status);
 
 struct PackingResult {
-  std::vector<char> x;          ///< 0/1 per variable, feasible
-  double objective = 0;         ///< sum w_i x_i of x
-  double bound = 0;             ///< proven upper bound on the optimum (>= objective)
+  std::vector<char> x;   ///< 0/1 per variable, feasible
+  double objective = 0;  ///< sum w_i x_i of x
+  double bound = 0;      ///< proven upper bound on the optimum (>= objective)
   PackingStatus status = PackingStatus::kStopped;
-  double seconds = 0;           ///< solve time [s]
+  double seconds = 0;  ///< solve time [s]
 };
 
 /// Solves the packing program. A greedy selection is handed to CBC as a start, so a feasible

@@ -10,13 +10,13 @@ namespace kerfab {
 
 /// Answer of a closest-point query.
 struct SurfacePoint {
-  Vec3 point;              ///< closest point on the target [mm]
-  double distance = 0;     ///< |query - point| [mm], >= 0
+  Vec3 point;                  ///< closest point on the target [mm]
+  double distance = 0;         ///< |query - point| [mm], >= 0
   double signed_distance = 0;  ///< +distance outside (normal side), -distance inside [mm]
-  Vec3 normal;             ///< unit pseudo-normal at the closest point: the face normal inside a
-                           ///< face, the mean of adjacent face normals on an edge, the
-                           ///< angle-weighted normal at a vertex
-  int triangle = -1;       ///< index of the triangle that holds the closest point
+  Vec3 normal;        ///< unit pseudo-normal at the closest point: the face normal inside a
+                      ///< face, the mean of adjacent face normals on an edge, the
+                      ///< angle-weighted normal at a vertex
+  int triangle = -1;  ///< index of the triangle that holds the closest point
 };
 
 /// Answer of a ray query.
@@ -46,7 +46,7 @@ class TargetSurface {
   /// Intersection of the line origin + t * direction closest to the origin in |t|, with
   /// |t| <= max_distance. \pre direction has unit length.
   std::optional<RayHit> nearest_hit_along_line(const Vec3& origin, const Vec3& direction,
-                                                double max_distance) const;
+                                               double max_distance) const;
 
   /// Unit normal interpolated from area-weighted vertex normals (smooth shading normal).
   Vec3 smooth_normal(const SurfacePoint& at) const;

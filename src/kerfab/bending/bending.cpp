@@ -9,9 +9,12 @@ namespace kerfab {
 
 std::string to_string(QuadKind kind) {
   switch (kind) {
-    case QuadKind::kBending: return "bending";
-    case QuadKind::kOneSided: return "one_sided";
-    case QuadKind::kRigid: return "rigid";
+    case QuadKind::kBending:
+      return "bending";
+    case QuadKind::kOneSided:
+      return "one_sided";
+    case QuadKind::kRigid:
+      return "rigid";
   }
   return "unknown";
 }
@@ -87,8 +90,8 @@ BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& t
   const double floor = std::pow(1e-6 * bounding_box(quads).diagonal(), 2);
   for (double& w : r.variance)
     if (w < floor) w = 0.0;
-  const double w_max = r.variance.empty() ? 0.0
-                                          : *std::max_element(r.variance.begin(), r.variance.end());
+  const double w_max =
+      r.variance.empty() ? 0.0 : *std::max_element(r.variance.begin(), r.variance.end());
   // If no edge deviates from the target at all (a plane, or a quad mesh whose edges lie on the
   // target's triangles), all weights tie; any positive scale then gives the same program, and
   // the bias must stay positive so strips still form (paper Sec. 3.1).
@@ -142,9 +145,8 @@ BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& t
     }
   }
 
-  const PackingResult solved =
-      solve_packing(problem, {.time_limit_s = options.time_limit_s,
-                              .relative_gap = options.relative_gap});
+  const PackingResult solved = solve_packing(
+      problem, {.time_limit_s = options.time_limit_s, .relative_gap = options.relative_gap});
   r.bendable = solved.x;
   r.objective = solved.objective;
   r.bound = solved.bound;

@@ -43,26 +43,25 @@ struct QuadBending {
 };
 
 struct BendingResult {
-  std::vector<double> variance;   ///< w_e per edge: variance of the signed distance, 0 below
-                                  ///< (1e-6 * bbox diagonal)^2 [mm^2]
-  double w0 = 0;                  ///< bias c * max w_e added to every weight (c * 1 mm^2 if
-                                  ///< every w_e is 0) [mm^2]
-  std::vector<char> bendable;     ///< per edge: 1 = bendable
-  std::vector<QuadBending> quads; ///< per face
-  double objective = 0;           ///< sum over bendable edges of (w_e + w0) [mm^2]
-  double bound = 0;               ///< proven upper bound on the objective [mm^2]
+  std::vector<double> variance;    ///< w_e per edge: variance of the signed distance, 0 below
+                                   ///< (1e-6 * bbox diagonal)^2 [mm^2]
+  double w0 = 0;                   ///< bias c * max w_e added to every weight (c * 1 mm^2 if
+                                   ///< every w_e is 0) [mm^2]
+  std::vector<char> bendable;      ///< per edge: 1 = bendable
+  std::vector<QuadBending> quads;  ///< per face
+  double objective = 0;            ///< sum over bendable edges of (w_e + w0) [mm^2]
+  double bound = 0;                ///< proven upper bound on the objective [mm^2]
   PackingStatus status = PackingStatus::kStopped;
-  double solve_seconds = 0;       ///< integer-program time [s]
-  int interior_edges = 0;         ///< edges with a face on both sides
-  int aligned_edges = 0;          ///< interior edges whose two quads agree on bending direction
-  double aligned_fraction = 0;    ///< aligned_edges / interior_edges (paper n_aligned/|E|)
+  double solve_seconds = 0;     ///< integer-program time [s]
+  int interior_edges = 0;       ///< edges with a face on both sides
+  int aligned_edges = 0;        ///< interior edges whose two quads agree on bending direction
+  double aligned_fraction = 0;  ///< aligned_edges / interior_edges (paper n_aligned/|E|)
   int bendable_count = 0;
 };
 
 /// Variance of the signed distance to the target along each straight quad edge, sampled at
 /// \p samples midpoints of equal sub-segments [mm^2]. \pre samples >= 2.
-std::vector<double> edge_variances(const PolyMesh& quads, const TargetSurface& target,
-                                   int samples);
+std::vector<double> edge_variances(const PolyMesh& quads, const TargetSurface& target, int samples);
 
 /// Classifies every quad from a per-edge bendable flag.
 std::vector<QuadBending> classify_quads(const PolyMesh& quads, const std::vector<char>& bendable);

@@ -33,7 +33,8 @@ TriangleMesh triangulate(const PolyMesh& mesh) {
   for (auto f : mesh.faces()) {
     std::vector<int> ids;
     for (auto v : mesh.fv_range(f)) ids.push_back(v.idx());
-    for (std::size_t k = 1; k + 1 < ids.size(); ++k) tri.triangles.push_back({ids[0], ids[k], ids[k + 1]});
+    for (std::size_t k = 1; k + 1 < ids.size(); ++k)
+      tri.triangles.push_back({ids[0], ids[k], ids[k + 1]});
   }
   return tri;
 }

@@ -1,9 +1,8 @@
 #pragma once
 /// \file Mesh types shared by all stages: an OpenMesh polygon mesh in double precision,
 /// a plain indexed triangle mesh for queries, and small geometry helpers.
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
-
 #include <Eigen/Geometry>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <array>
 #include <vector>
 

@@ -22,9 +22,15 @@ std::string face_size_text(const PolyMesh& mesh) {
   for (auto [sides, count] : face_size_histogram(mesh)) {
     os << (first ? "" : ", ") << count << " ";
     switch (sides) {
-      case 3: os << "triangle" << (count > 1 ? "s" : ""); break;
-      case 4: os << "quad" << (count > 1 ? "s" : ""); break;
-      default: os << sides << "-gon" << (count > 1 ? "s" : ""); break;
+      case 3:
+        os << "triangle" << (count > 1 ? "s" : "");
+        break;
+      case 4:
+        os << "quad" << (count > 1 ? "s" : "");
+        break;
+      default:
+        os << sides << "-gon" << (count > 1 ? "s" : "");
+        break;
     }
     first = false;
   }
@@ -103,8 +109,7 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
   if (options.subdivide < 0 || options.subdivide > 4)
     throw InvalidInput("--subdivide must be between 0 and 4, got " +
                        std::to_string(options.subdivide));
-  if (!(options.max_quad_distance > 0.0))
-    throw InvalidInput("maximum quad distance must be > 0");
+  if (!(options.max_quad_distance > 0.0)) throw InvalidInput("maximum quad distance must be > 0");
   check_geometry(target_in, "target mesh");
   if (quad_in) {
     if (quad_in->n_faces() == 0) throw InvalidInput("quad mesh has no faces");
@@ -121,9 +126,8 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
                          fmt(options.max_model_mm) + " mm, got " + fmt(size));
     scale = size / side;
   } else if (side < options.min_model_mm || side > options.max_model_mm) {
-    throw InvalidInput("target's largest bounding-box side is " + fmt(side) +
-                       " mm, outside " + fmt(options.min_model_mm) + " mm .. " +
-                       fmt(options.max_model_mm / 1000.0) +
+    throw InvalidInput("target's largest bounding-box side is " + fmt(side) + " mm, outside " +
+                       fmt(options.min_model_mm) + " mm .. " + fmt(options.max_model_mm / 1000.0) +
                        " m; inputs are read as millimetres, so pass --size MM to scale the model");
   }
 
@@ -176,9 +180,8 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
   const double diag = out.target_summary.bbox.diagonal();
   if (max_d > options.max_quad_distance * diag)
     throw InvalidInput("quad mesh is far from the target: a vertex lies " + fmt(max_d) +
-                       " mm away (" + fmt(100.0 * max_d / diag) + "% of the target's " +
-                       fmt(diag) + " mm diagonal, limit " +
-                       fmt(100.0 * options.max_quad_distance) +
+                       " mm away (" + fmt(100.0 * max_d / diag) + "% of the target's " + fmt(diag) +
+                       " mm diagonal, limit " + fmt(100.0 * options.max_quad_distance) +
                        "%); are both meshes in the same frame and units?");
   return out;
 }

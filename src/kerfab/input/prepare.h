@@ -32,15 +32,15 @@ struct MeshSummary {
 };
 
 struct PreparedInput {
-  PolyMesh target;                  ///< target as read, scaled [mm]
-  PolyMesh quads;                   ///< all-quad mesh (after subdivision), scaled [mm]
-  TargetSurface surface;            ///< queries on the triangulated target
-  double scale = 1.0;               ///< factor applied to both input meshes [-]
-  bool quads_from_target = false;   ///< the target itself served as the quad mesh
+  PolyMesh target;                 ///< target as read, scaled [mm]
+  PolyMesh quads;                  ///< all-quad mesh (after subdivision), scaled [mm]
+  TargetSurface surface;           ///< queries on the triangulated target
+  double scale = 1.0;              ///< factor applied to both input meshes [-]
+  bool quads_from_target = false;  ///< the target itself served as the quad mesh
   MeshSummary target_summary;
   MeshSummary quad_summary;
-  double quad_max_distance = 0;     ///< max distance of a quad vertex to the target [mm]
-  double quad_mean_distance = 0;    ///< mean distance of the quad vertices to the target [mm]
+  double quad_max_distance = 0;   ///< max distance of a quad vertex to the target [mm]
+  double quad_mean_distance = 0;  ///< mean distance of the quad vertices to the target [mm]
   std::vector<std::string> warnings;
 };
 

@@ -25,8 +25,8 @@ std::vector<EdgeGuidance> read_guidance(const std::filesystem::path& path) {
       throw InvalidInput("guidance file has unknown key '" + key +
                          "' (expected 'bendable' or 'stiff'): " + path.string());
     if (!value.is_array())
-      throw InvalidInput("guidance '" + key + "' must be a list of [v0, v1] pairs: " +
-                         path.string());
+      throw InvalidInput("guidance '" + key +
+                         "' must be a list of [v0, v1] pairs: " + path.string());
     for (const auto& pair : value) {
       if (!pair.is_array() || pair.size() != 2 || !pair[0].is_number_integer() ||
           !pair[1].is_number_integer())

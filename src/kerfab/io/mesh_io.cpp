@@ -46,7 +46,8 @@ class OpenMeshLogCapture {
 
 int count_occurrences(const std::string& text, const std::string& needle) {
   int n = 0;
-  for (auto pos = text.find(needle); pos != std::string::npos; pos = text.find(needle, pos + 1)) ++n;
+  for (auto pos = text.find(needle); pos != std::string::npos; pos = text.find(needle, pos + 1))
+    ++n;
   return n;
 }
 
@@ -94,8 +95,9 @@ PolyMesh read_mesh(const std::filesystem::path& path) {
   for (auto f : mesh.faces())
     if (mesh.status(f).fixed_nonmanifold()) ++nonmanifold;
   if (nonmanifold > 0)
-    throw InvalidInput("mesh is not manifold (" + std::to_string(nonmanifold) +
-                       " face(s) on a non-manifold or inconsistently oriented edge/vertex): " + name);
+    throw InvalidInput(
+        "mesh is not manifold (" + std::to_string(nonmanifold) +
+        " face(s) on a non-manifold or inconsistently oriented edge/vertex): " + name);
   return mesh;
 }
 

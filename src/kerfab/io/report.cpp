@@ -15,8 +15,8 @@ nlohmann::json options_json(const RunResult& run) {
   j["edge_samples"] = o.bending.edge_samples;
   j["ilp_time_limit_s"] = o.bending.time_limit_s;
   j["ilp_gap"] = o.bending.relative_gap;
-  j["guidance"] = run.inputs.guidance ? nlohmann::json(run.inputs.guidance->string())
-                                      : nlohmann::json(nullptr);
+  j["guidance"] =
+      run.inputs.guidance ? nlohmann::json(run.inputs.guidance->string()) : nlohmann::json(nullptr);
   j["guidance_edges"] = o.bending.guidance.size();
   j["stop_after"] = o.stop_after ? nlohmann::json(*o.stop_after) : nlohmann::json(nullptr);
   return j;
@@ -61,9 +61,8 @@ nlohmann::json make_report(const RunResult& run) {
     const BendingResult& b = *run.bending;
     int kinds[3] = {0, 0, 0};
     for (const auto& q : b.quads) ++kinds[static_cast<int>(q.kind)];
-    const double w_max = run.options.bending.alignment > 0
-                             ? b.w0 / run.options.bending.alignment
-                             : 0.0;
+    const double w_max =
+        run.options.bending.alignment > 0 ? b.w0 / run.options.bending.alignment : 0.0;
     r["bending"] = {{"edges", b.bendable.size()},
                     {"bendable", b.bendable_count},
                     {"objective", b.objective},
@@ -110,7 +109,8 @@ nlohmann::json make_bending_dump(const PolyMesh& quads, const BendingResult& b) 
                      {"bendable", b.bendable[e.idx()] != 0}});
   }
   nlohmann::json quad_classes = nlohmann::json::array();
-  for (const auto& q : b.quads) quad_classes.push_back({{"kind", to_string(q.kind)}, {"axis", q.axis}});
+  for (const auto& q : b.quads)
+    quad_classes.push_back({{"kind", to_string(q.kind)}, {"axis", q.axis}});
   j["vertices"] = vertices;
   j["quads"] = faces;
   j["edges"] = edges;

@@ -37,7 +37,8 @@ void make_dirs(const fs::path& dir) {
 void prepare_output_dir(const fs::path& dir) {
   std::error_code ec;
   if (fs::exists(dir, ec)) {
-    if (!fs::is_directory(dir, ec)) throw IoError("output path is not a directory: " + dir.string());
+    if (!fs::is_directory(dir, ec))
+      throw IoError("output path is not a directory: " + dir.string());
     const bool empty = fs::is_empty(dir, ec);
     if (!empty && !fs::exists(dir / "report.json", ec))
       throw IoError("output directory " + dir.string() +
