@@ -20,6 +20,9 @@ struct RunFlags {
   std::string target, quad, guidance, out;
   std::optional<double> size;
   std::string stop_after;
+  double split_angle_deg = 60.0;
+  std::optional<double> features_deg;
+  std::string projection = "normal";
   bool dump = false;
   bool quiet = false;
   kerfab::PipelineOptions options;
@@ -60,6 +63,37 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "Accepted relative optimality gap of the bending integer program [ratio, >= 0]")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  auto& st = f.options.strips;
+  cmd.add_option("--rulings-per-quad", st.rulings_per_quad,
+                 "Segments each bending edge of a quad is split into, i.e. new rulings + 1 "
+                 "[count, 1..64]")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd.add_option("--max-ruling-spacing", st.max_ruling_spacing,
+                 "Largest distance between rulings along a bending edge; a long edge gets more "
+                 "segments than --rulings-per-quad (the larger count wins) [mm]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--projection", f.projection,
+                 "How new vertices reach the target: along the normal (ray, closest point as "
+                 "fallback) or to the closest point [normal|closest]")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"normal", "closest"}));
+  cmd.add_option("--split-angle", f.split_angle_deg,
+                 "Split a strip between two quads whose sector normals at an end of their shared "
+                 "ruling differ by more than this [deg, (0, 180]]")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 180.0));
+  cmd.add_option("--features", f.features_deg,
+                 "Feature-preserving projection: vertices on quad-mesh edges sharper than this "
+                 "dihedral angle (and on the boundary) go to the target's sharp edges and "
+                 "boundary; off by default [deg, (0, 180)]")
+      ->check(CLI::Range(1e-6, 179.999));
+  cmd.add_option("--quality-spacing", f.options.quality_sample_spacing,
+                 "Distance-sample spacing for the Hausdorff and mean distance, as a fraction of "
+                 "the target's bbox diagonal [ratio]")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-5, 0.1));
   cmd.add_flag("--dump", f.dump, "Also write intermediate stages to OUT/stages/");
   cmd.add_flag("--quiet", f.quiet, "No progress lines on stderr");
   std::string stages;
@@ -72,6 +106,10 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   const fs::path out = f.out;
   kerfab::PipelineOptions options = f.options;
   options.input.size = f.size;
+  options.strips.split_angle = f.split_angle_deg * M_PI / 180.0;
+  if (f.features_deg) options.strips.features = *f.features_deg * M_PI / 180.0;
+  options.strips.projection =
+      f.projection == "closest" ? kerfab::Projection::kClosest : kerfab::Projection::kNormal;
   if (!f.stop_after.empty()) options.stop_after = f.stop_after;
   bool dir_ready = false;
   auto fail = [&](int code, const char* kind, const std::string& message) {

@@ -107,6 +107,43 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
       run.warnings.push_back(w.str());
     }
   });
+  if (done_after("bending")) return finish();
+
+  clock.stage("strips", [&] {
+    run.strips =
+        build_strips(run.input->quads, *run.bending, run.input->surface, run.options.strips);
+    run.quad_rows = quad_rows(run.input->quads);
+    const Strips& s = *run.strips;
+    std::ostringstream os;
+    os.precision(4);
+    os << s.patches.size() << " strips from " << s.chains << " chains (" << s.closed_loops
+       << " closed loops cut, " << s.split_borders << " split at folds > "
+       << run.options.strips.split_angle * 180 / M_PI << " deg); " << s.faces.size()
+       << " sub-quads, " << s.vertices.size() << " vertices, " << s.t_junctions
+       << " T-junction vertices; quad mesh has " << run.quad_rows << " rows";
+    say(os.str());
+    if (s.ray_fallbacks > 0) {
+      std::ostringstream w;
+      w << s.ray_fallbacks << " vertices missed the target along their normal and went to the "
+        << "closest point instead";
+      say(w.str());
+    }
+  });
+  if (done_after("strips")) return finish();
+
+  clock.stage("quality", [&] {
+    run.target_diagonal = bounding_box(run.input->surface.mesh()).diagonal();
+    SurfaceDistanceOptions d;
+    d.sample_spacing = run.options.quality_sample_spacing * run.target_diagonal;
+    run.quality = surface_distance(triangulate(*run.strips), run.input->surface.mesh(), d);
+    const SurfaceDistance& q = *run.quality;
+    std::ostringstream os;
+    os.precision(4);
+    os << "strips vs target: Hausdorff " << q.hausdorff << " mm ("
+       << 100 * q.hausdorff / run.target_diagonal << "% of diagonal), mean " << q.mean << " mm ("
+       << 100 * q.mean / run.target_diagonal << "%), " << q.samples << " samples";
+    say(os.str());
+  });
   return finish();
 }
 

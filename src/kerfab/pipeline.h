@@ -9,7 +9,9 @@
 #include <vector>
 
 #include "kerfab/bending/bending.h"
+#include "kerfab/eval/surface_distance.h"
 #include "kerfab/input/prepare.h"
+#include "kerfab/strips/strips.h"
 
 namespace kerfab {
 
@@ -22,13 +24,16 @@ struct RunInputs {
 
 /// The stages, in order. `stop_after` ends the run after the named one.
 inline const std::vector<std::string>& stage_names() {
-  static const std::vector<std::string> names = {"load", "prepare", "bending"};
+  static const std::vector<std::string> names = {"load", "prepare", "bending", "strips", "quality"};
   return names;
 }
 
 struct PipelineOptions {
   InputOptions input;
-  BendingOptions bending;                 ///< guidance is filled from RunInputs::guidance
+  BendingOptions bending;  ///< guidance is filled from RunInputs::guidance
+  StripsOptions strips;
+  double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
+                                          ///< fraction of the target's bbox diagonal [-], > 0
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
 };
 
@@ -42,6 +47,10 @@ struct RunResult {
   PipelineOptions options;  ///< the options as used (guidance resolved)
   std::optional<PreparedInput> input;
   std::optional<BendingResult> bending;
+  std::optional<Strips> strips;
+  int quad_rows = 0;                       ///< dual chords of the quad mesh (see quad_rows())
+  std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
+  double target_diagonal = 0;              ///< target bbox diagonal [mm]
   std::vector<StageTiming> timings;
   double total_seconds = 0;
   std::vector<std::string> warnings;

@@ -18,6 +18,13 @@ nlohmann::json options_json(const RunResult& run) {
   j["guidance"] =
       run.inputs.guidance ? nlohmann::json(run.inputs.guidance->string()) : nlohmann::json(nullptr);
   j["guidance_edges"] = o.bending.guidance.size();
+  j["rulings_per_quad"] = o.strips.rulings_per_quad;
+  j["max_ruling_spacing_mm"] = o.strips.max_ruling_spacing;
+  j["projection"] = o.strips.projection == Projection::kNormal ? "normal" : "closest";
+  j["split_angle_deg"] = o.strips.split_angle * 180 / M_PI;
+  j["features_deg"] =
+      o.strips.features ? nlohmann::json(*o.strips.features * 180 / M_PI) : nlohmann::json(nullptr);
+  j["quality_sample_spacing_rel"] = o.quality_sample_spacing;
   j["stop_after"] = o.stop_after ? nlohmann::json(*o.stop_after) : nlohmann::json(nullptr);
   return j;
 }
@@ -78,6 +85,46 @@ nlohmann::json make_report(const RunResult& run) {
                     {"quads_bending", kinds[static_cast<int>(QuadKind::kBending)]},
                     {"quads_one_sided", kinds[static_cast<int>(QuadKind::kOneSided)]},
                     {"quads_rigid", kinds[static_cast<int>(QuadKind::kRigid)]}};
+  }
+  if (run.strips) {
+    const Strips& s = *run.strips;
+    int seg_min = s.quad_segments.empty() ? 0 : s.quad_segments.front(), seg_max = seg_min;
+    for (int k : s.quad_segments) seg_min = std::min(seg_min, k), seg_max = std::max(seg_max, k);
+    nlohmann::json patches = nlohmann::json::array();
+    for (const Patch& p : s.patches)
+      patches.push_back({{"quads", p.quads.size()},
+                         {"sub_quads", p.faces.size()},
+                         {"chain", p.chain},
+                         {"loop_cut", p.loop_cut}});
+    r["strips"] = {{"strips", s.patches.size()},
+                   {"patches", s.patches.size()},
+                   {"chains", s.chains},
+                   {"closed_loops_cut", s.closed_loops},
+                   {"split_borders", s.split_borders},
+                   {"quad_rows", run.quad_rows},
+                   {"sub_quads", s.faces.size()},
+                   {"vertices", s.vertices.size()},
+                   {"t_junction_vertices", s.t_junctions},
+                   {"segments_per_quad_min", seg_min},
+                   {"segments_per_quad_max", seg_max},
+                   {"ray_fallbacks", s.ray_fallbacks},
+                   {"feature_vertices", s.feature_vertices},
+                   {"max_fold_in_patch_deg", s.max_fold * 180 / M_PI},
+                   {"patch_list", patches}};
+  }
+  if (run.quality) {
+    const SurfaceDistance& q = *run.quality;
+    const double d = run.target_diagonal > 0 ? run.target_diagonal : 1.0;
+    r["quality"] = {{"hausdorff_rel", q.hausdorff / d},
+                    {"mean_distance_rel", q.mean / d},
+                    {"hausdorff_mm", q.hausdorff},
+                    {"mean_distance_mm", q.mean},
+                    {"strips_to_target_max_mm", q.a_to_b_max},
+                    {"strips_to_target_mean_mm", q.a_to_b_mean},
+                    {"target_to_strips_max_mm", q.b_to_a_max},
+                    {"target_to_strips_mean_mm", q.b_to_a_mean},
+                    {"target_diagonal_mm", run.target_diagonal},
+                    {"samples", q.samples}};
   }
   nlohmann::json timings = nlohmann::json::object();
   for (const auto& t : run.timings) timings[t.stage] = t.seconds;

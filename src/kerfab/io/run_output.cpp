@@ -1,10 +1,12 @@
 #include "kerfab/io/run_output.h"
 
+#include <cstdio>
 #include <fstream>
 
 #include "kerfab/core/errors.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/io/report.h"
+#include "kerfab/io/strip_files.h"
 
 namespace kerfab {
 namespace fs = std::filesystem;
@@ -54,9 +56,18 @@ void write_run(const RunResult& run, const fs::path& dir, bool dump) {
     make_dirs(dir / "model");
     write_mesh(run.input->target, dir / "model" / "target.obj");
   }
+  if (run.strips) write_strips_ply(*run.strips, dir / "model" / "strips.ply");
   if (dump && run.bending && run.input) {
     make_dirs(dir / "stages");
     write_json(make_bending_dump(run.input->quads, *run.bending), dir / "stages" / "bending.json");
+  }
+  if (dump && run.strips) {
+    make_dirs(dir / "stages" / "patches");
+    for (std::size_t p = 0; p < run.strips->patches.size(); ++p) {
+      char name[32];
+      std::snprintf(name, sizeof name, "%03zu_3d.obj", p);
+      write_patch_obj(*run.strips, static_cast<int>(p), dir / "stages" / "patches" / name);
+    }
   }
   write_json(make_report(run), dir / "report.json");
 }

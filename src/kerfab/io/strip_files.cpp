@@ -1,0 +1,87 @@
+#include "kerfab/io/strip_files.h"
+
+#include <cmath>
+#include <fstream>
+
+#include "kerfab/core/errors.h"
+
+namespace kerfab {
+namespace {
+
+std::ofstream open_for_writing(const std::filesystem::path& path) {
+  std::ofstream out(path);
+  if (!out) throw IoError("cannot write " + path.string());
+  out.precision(10);
+  return out;
+}
+
+void check_written(const std::ofstream& out, const std::filesystem::path& path) {
+  if (!out) throw IoError("cannot write " + path.string());
+}
+
+}  // namespace
+
+std::array<int, 3> strip_colour(int id) {
+  const double golden = 0.618033988749895;
+  const double h = std::fmod(0.11 + id * golden, 1.0) * 6.0;
+  const double s = id % 2 == 0 ? 0.65 : 0.45, v = id % 3 == 0 ? 0.95 : 0.85;
+  const int i = static_cast<int>(h);
+  const double f = h - i, p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  double r = v, g = t, b = p;
+  switch (i % 6) {
+    case 1:
+      r = q, g = v, b = p;
+      break;
+    case 2:
+      r = p, g = v, b = t;
+      break;
+    case 3:
+      r = p, g = q, b = v;
+      break;
+    case 4:
+      r = t, g = p, b = v;
+      break;
+    case 5:
+      r = v, g = p, b = q;
+      break;
+    default:
+      break;
+  }
+  return {static_cast<int>(std::lround(255 * r)), static_cast<int>(std::lround(255 * g)),
+          static_cast<int>(std::lround(255 * b))};
+}
+
+void write_strips_ply(const Strips& strips, const std::filesystem::path& path) {
+  auto out = open_for_writing(path);
+  out << "ply\nformat ascii 1.0\ncomment kerfab strip mesh, millimetres\n"
+      << "element vertex " << strips.vertices.size()
+      << "\nproperty double x\nproperty double y\nproperty double z\n"
+      << "element face " << strips.faces.size()
+      << "\nproperty list uchar int vertex_indices\nproperty int strip\n"
+      << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
+  for (const Vec3& v : strips.vertices) out << v.x() << " " << v.y() << " " << v.z() << "\n";
+  for (std::size_t f = 0; f < strips.faces.size(); ++f) {
+    const auto& q = strips.faces[f];
+    const int id = strips.face_patch[f];
+    const auto c = strip_colour(id);
+    out << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << " " << id << " " << c[0]
+        << " " << c[1] << " " << c[2] << "\n";
+  }
+  check_written(out, path);
+}
+
+void write_patch_obj(const Strips& strips, int patch, const std::filesystem::path& path) {
+  const Patch& p = strips.patches.at(patch);
+  auto out = open_for_writing(path);
+  out << "# kerfab patch " << patch << " in 3D (mm): vertex 2*i+r is ruling i, rail r\n";
+  for (const auto& r : p.rulings)
+    for (int rail = 0; rail < 2; ++rail) {
+      const Vec3& v = strips.vertices[r[rail]];
+      out << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
+    }
+  for (const auto& q : p.local_quads())
+    out << "f " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
+  check_written(out, path);
+}
+
+}  // namespace kerfab

@@ -1,0 +1,22 @@
+#pragma once
+/// \file Files of the strips stage: the coloured strip mesh (model/strips.ply) and one OBJ per
+/// patch (stages/patches/NNN_3d.obj).
+#include <array>
+#include <filesystem>
+
+#include "kerfab/strips/strips.h"
+
+namespace kerfab {
+
+/// A distinct, saturated colour for strip \p id (golden-ratio hue steps), RGB 0..255.
+std::array<int, 3> strip_colour(int id);
+
+/// ASCII PLY: vertices (mm), quads with per-face `int strip` and `uchar red green blue`.
+/// \throw IoError the file cannot be written.
+void write_strips_ply(const Strips& strips, const std::filesystem::path& path);
+
+/// OBJ of one patch over its own vertices 2 * ruling + rail (see Patch::local_quads).
+/// \throw IoError the file cannot be written.
+void write_patch_obj(const Strips& strips, int patch, const std::filesystem::path& path);
+
+}  // namespace kerfab

@@ -1,0 +1,597 @@
+#include "kerfab/strips/strips.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "kerfab/core/errors.h"
+
+namespace kerfab {
+namespace {
+
+constexpr int kNone = -1;
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b) { parent[find(a)] = find(b); }
+};
+
+/// Local index (0..3) of edge \p e in quad \p f, or kNone.
+int local_edge(const std::array<int, 4>& edges, int e) {
+  for (int k = 0; k < 4; ++k)
+    if (edges[k] == e) return k;
+  return kNone;
+}
+
+bool in_bending_pair(const QuadBending& q, int local) {
+  return q.axis >= 0 && (local % 2) == q.axis;
+}
+
+/// Angle between two unit vectors [rad].
+double angle_between(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+/// Unit normal of face \p f at its corner holding vertex \p v (sector normal), zero if degenerate.
+Vec3 sector_normal(const std::vector<Vec3>& pts, const std::array<int, 4>& f, int v) {
+  for (int j = 0; j < 4; ++j) {
+    if (f[j] != v) continue;
+    const Vec3& p = pts[v];
+    const Vec3 n = (pts[f[(j + 1) % 4]] - p).cross(pts[f[(j + 3) % 4]] - p);
+    const double len = n.norm();
+    return len > 0 ? Vec3(n / len) : Vec3::Zero();
+  }
+  return Vec3::Zero();
+}
+
+/// Largest angle between the sector normals of faces \p a and \p b at the two ends of the
+/// ruling (x, y) they share [rad].
+double fold_across(const std::vector<Vec3>& pts, const std::array<int, 4>& a,
+                   const std::array<int, 4>& b, int x, int y) {
+  double fold = 0;
+  for (int v : {x, y}) {
+    const Vec3 na = sector_normal(pts, a, v), nb = sector_normal(pts, b, v);
+    if (na.isZero() || nb.isZero()) continue;
+    fold = std::max(fold, angle_between(na, nb));
+  }
+  return fold;
+}
+
+/// Sharp feature curves of the target: edges whose dihedral angle exceeds a threshold, and
+/// boundary edges. Closest-point queries by brute force over a uniform grid of buckets.
+class FeatureCurves {
+ public:
+  FeatureCurves(const TriangleMesh& mesh, double angle) {
+    std::map<std::pair<int, int>, std::vector<int>> edge_faces;
+    std::vector<Vec3> normals;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto& tri = mesh.triangles[t];
+      const Vec3 n = (mesh.vertices[tri[1]] - mesh.vertices[tri[0]])
+                         .cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
+      normals.push_back(n.norm() > 0 ? Vec3(n.normalized()) : Vec3::Zero());
+      for (int k = 0; k < 3; ++k) {
+        const int a = tri[k], b = tri[(k + 1) % 3];
+        edge_faces[{std::min(a, b), std::max(a, b)}].push_back(static_cast<int>(t));
+      }
+    }
+    for (const auto& [key, faces] : edge_faces) {
+      const bool sharp =
+          faces.size() != 2 || angle_between(normals[faces[0]], normals[faces[1]]) > angle;
+      if (sharp) segments_.push_back({mesh.vertices[key.first], mesh.vertices[key.second]});
+    }
+  }
+  bool empty() const { return segments_.empty(); }
+  std::size_t size() const { return segments_.size(); }
+
+  Vec3 closest(const Vec3& p) const {
+    double best = std::numeric_limits<double>::infinity();
+    Vec3 out = p;
+    for (const auto& [a, b] : segments_) {
+      const Vec3 d = b - a;
+      const double len2 = d.squaredNorm();
+      const double t = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+      const Vec3 q = a + t * d;
+      const double dist = (p - q).squaredNorm();
+      if (dist < best) best = dist, out = q;
+    }
+    return out;
+  }
+
+ private:
+  std::vector<std::pair<Vec3, Vec3>> segments_;
+};
+
+class Builder {
+ public:
+  Builder(const PolyMesh& quads, const BendingResult& bending, const TargetSurface& target,
+          const StripsOptions& options)
+      : m_(quads), bending_(bending), target_(target), opt_(options) {}
+
+  Strips run() {
+    const int nf = static_cast<int>(m_.n_faces());
+    face_edges_.resize(nf);
+    face_verts_.resize(nf);
+    for (auto f : m_.faces()) {
+      face_edges_[f.idx()] = quad_edges(m_, f);
+      face_verts_[f.idx()] = quad_vertices(m_, f);
+    }
+    out_.quads = bending_.quads;
+    assign_rigid_axes();
+    choose_segment_counts();
+    project_corners();
+    make_edge_points();
+    make_sub_quads();
+    link_chains();
+    build_patches();
+    return std::move(out_);
+  }
+
+ private:
+  const PolyMesh& m_;
+  const BendingResult& bending_;
+  const TargetSurface& target_;
+  const StripsOptions& opt_;
+  Strips out_;
+  std::vector<std::array<int, 4>> face_edges_, face_verts_;
+  std::vector<Vec3> coarse_normals_;
+  std::optional<FeatureCurves> features_;
+  std::vector<char> feature_edge_;                // per coarse edge
+  std::vector<std::vector<int>> edge_points_;     // per coarse edge, from halfedge 0's start
+  std::vector<std::vector<int>> face_first_sub_;  // per coarse quad: its sub-quad ids
+  std::vector<std::array<int, 2>> ruling_side_neighbour_;  // per quad, side 0/1: neighbour
+  std::vector<std::array<int, 2>> ruling_side_entry_;      // side by which the neighbour is
+                                                           // entered
+
+  int other_face(int e, int f) const {
+    const auto eh = m_.edge_handle(e);
+    for (int s = 0; s < 2; ++s) {
+      const auto fh = m_.face_handle(m_.halfedge_handle(eh, s));
+      if (fh.is_valid() && fh.idx() != f) return fh.idx();
+    }
+    return kNone;
+  }
+
+  /// Local edge index of ruling side s (0: the edge before corner `axis`, 1: after `axis + 1`).
+  int ruling_local(int f, int side) const {
+    const int a = out_.quads[f].axis;
+    return side == 0 ? (a + 3) % 4 : (a + 1) % 4;
+  }
+
+  /// Rigid quads have no bending direction; give each the axis that lets the most neighbours
+  /// continue a strip through it (ties: axis 0). Repeated until stable so chains of rigid
+  /// quads line up.
+  void assign_rigid_axes() {
+    std::vector<int> rigid;
+    for (std::size_t f = 0; f < out_.quads.size(); ++f)
+      if (out_.quads[f].kind == QuadKind::kRigid) rigid.push_back(static_cast<int>(f));
+    for (int f : rigid) out_.quads[f].axis = kNone;
+    for (int round = 0; round < 8; ++round) {
+      bool changed = false;
+      for (int f : rigid) {
+        int best_axis = 0, best_score = -1;
+        for (int axis = 0; axis < 2; ++axis) {
+          int score = 0;
+          for (int k : {axis + 1, (axis + 3) % 4}) {
+            const int g = other_face(face_edges_[f][k], f);
+            if (g == kNone || out_.quads[g].axis < 0) continue;
+            const int lg = local_edge(face_edges_[g], face_edges_[f][k]);
+            score += in_bending_pair(out_.quads[g], lg) ? 0 : 1;
+          }
+          if (score > best_score) best_score = score, best_axis = axis;
+        }
+        if (out_.quads[f].axis != best_axis) changed = true;
+        out_.quads[f].axis = best_axis;
+      }
+      if (!changed) break;
+    }
+  }
+
+  /// Segment counts: each quad needs max(rulings_per_quad, ceil(longest bending edge /
+  /// max_ruling_spacing)); quads sharing an edge that both subdivide take the largest need of
+  /// their group, so the shared edge has one set of vertices.
+  void choose_segment_counts() {
+    const int nf = static_cast<int>(m_.n_faces());
+    UnionFind groups(nf);
+    std::vector<int> need(nf, 1);
+    for (int f = 0; f < nf; ++f) {
+      const int a = out_.quads[f].axis;
+      double longest = 0;
+      for (int k : {a, a + 2}) {
+        const auto h = m_.halfedge_handle(m_.edge_handle(face_edges_[f][k]), 0);
+        longest = std::max(
+            longest,
+            (m_.point(m_.to_vertex_handle(h)) - m_.point(m_.from_vertex_handle(h))).norm());
+        const int g = other_face(face_edges_[f][k], f);
+        if (g != kNone &&
+            in_bending_pair(out_.quads[g], local_edge(face_edges_[g], face_edges_[f][k])))
+          groups.unite(f, g);
+      }
+      need[f] = std::max(opt_.rulings_per_quad,
+                         static_cast<int>(std::ceil(longest / opt_.max_ruling_spacing - 1e-9)));
+    }
+    std::vector<int> group_need(nf, 1);
+    for (int f = 0; f < nf; ++f)
+      group_need[groups.find(f)] = std::max(group_need[groups.find(f)], need[f]);
+    out_.quad_segments.resize(nf);
+    for (int f = 0; f < nf; ++f) out_.quad_segments[f] = group_need[groups.find(f)];
+  }
+
+  /// Area-weighted vertex normals of the coarse quad mesh.
+  void compute_coarse_normals() {
+    coarse_normals_.assign(m_.n_vertices(), Vec3::Zero());
+    for (auto f : m_.faces()) {
+      const auto& v = face_verts_[f.idx()];
+      const Vec3 n =
+          (to_eigen(m_.point(m_.vertex_handle(v[2]))) - to_eigen(m_.point(m_.vertex_handle(v[0]))))
+              .cross(to_eigen(m_.point(m_.vertex_handle(v[3]))) -
+                     to_eigen(m_.point(m_.vertex_handle(v[1]))));
+      for (int c : v) coarse_normals_[c] += n;
+    }
+    for (auto& n : coarse_normals_)
+      if (n.norm() > 0) n.normalize();
+  }
+
+  /// Projects \p p onto the target along \p normal (or to the closest point).
+  Vec3 project(const Vec3& p, const Vec3& normal) {
+    const SurfacePoint c = target_.closest(p);
+    if (opt_.projection == Projection::kClosest || normal.isZero()) return c.point;
+    const double diag = bounding_box(target_.mesh()).diagonal();
+    const double reach = 3.0 * c.distance + 0.005 * diag;
+    const auto hit = target_.nearest_hit_along_line(p, normal, reach);
+    if (!hit) {
+      ++out_.ray_fallbacks;
+      return c.point;
+    }
+    return hit->point;
+  }
+
+  void mark_feature_edges() {
+    feature_edge_.assign(m_.n_edges(), 0);
+    if (!opt_.features) return;
+    features_.emplace(target_.mesh(), *opt_.features);
+    if (features_->empty()) return;
+    for (auto e : m_.edges()) {
+      if (m_.is_boundary(e)) {
+        feature_edge_[e.idx()] = 1;
+        continue;
+      }
+      const auto n0 = m_.calc_face_normal(m_.face_handle(m_.halfedge_handle(e, 0)));
+      const auto n1 = m_.calc_face_normal(m_.face_handle(m_.halfedge_handle(e, 1)));
+      if (angle_between(to_eigen(n0).normalized(), to_eigen(n1).normalized()) > *opt_.features)
+        feature_edge_[e.idx()] = 1;
+    }
+  }
+
+  void project_corners() {
+    compute_coarse_normals();
+    mark_feature_edges();
+    const int nv = static_cast<int>(m_.n_vertices());
+    out_.vertices.resize(nv);
+    out_.vertex_on_straight_edge.assign(nv, 0);
+    for (auto v : m_.vertices()) {
+      const Vec3 p = to_eigen(m_.point(v));
+      bool on_feature = false;
+      if (features_ && !features_->empty())
+        for (auto e : m_.ve_range(v)) on_feature = on_feature || feature_edge_[e.idx()];
+      if (on_feature) {
+        out_.vertices[v.idx()] = features_->closest(p);
+        ++out_.feature_vertices;
+      } else {
+        out_.vertices[v.idx()] = project(p, coarse_normals_[v.idx()]);
+      }
+    }
+  }
+
+  /// Vertices along every edge that a quad subdivides: projected on bendable edges, kept on the
+  /// straight edge otherwise (T-junctions and stiff edges of one-sided or rigid quads).
+  void make_edge_points() {
+    edge_points_.resize(m_.n_edges());
+    for (auto e : m_.edges()) {
+      const auto h = m_.halfedge_handle(e, 0);
+      const int a = m_.from_vertex_handle(h).idx(), b = m_.to_vertex_handle(h).idx();
+      int segments = 1, subdividing_sides = 0, sides = 0;
+      for (int s = 0; s < 2; ++s) {
+        const auto fh = m_.face_handle(m_.halfedge_handle(e, s));
+        if (!fh.is_valid()) continue;
+        ++sides;
+        const int f = fh.idx();
+        if (in_bending_pair(out_.quads[f], local_edge(face_edges_[f], e.idx()))) {
+          segments = out_.quad_segments[f];
+          ++subdividing_sides;
+        }
+      }
+      auto& pts = edge_points_[e.idx()];
+      pts.push_back(a);
+      if (subdividing_sides > 0) {
+        const bool bendable = bending_.bendable[e.idx()] != 0;
+        const Vec3 pa = out_.vertices[a], pb = out_.vertices[b];
+        for (int i = 1; i < segments; ++i) {
+          const double t = static_cast<double>(i) / segments;
+          const Vec3 p = (1 - t) * pa + t * pb;
+          Vec3 q = p;
+          bool straight = !bendable;
+          if (!straight && features_ && !features_->empty() && feature_edge_[e.idx()]) {
+            q = features_->closest(p);
+            ++out_.feature_vertices;
+          } else if (!straight) {
+            Vec3 n = (1 - t) * coarse_normals_[a] + t * coarse_normals_[b];
+            if (n.norm() > 0) n.normalize();
+            q = project(p, n);
+          }
+          pts.push_back(static_cast<int>(out_.vertices.size()));
+          out_.vertices.push_back(q);
+          out_.vertex_on_straight_edge.push_back(straight ? 1 : 0);
+        }
+        if (subdividing_sides < sides) out_.t_junctions += segments - 1;
+      }
+      pts.push_back(b);
+    }
+  }
+
+  /// Vertex ids along the edge from corner \p from to corner \p to.
+  std::vector<int> points_from(int e, int from) const {
+    std::vector<int> pts = edge_points_[e];
+    if (pts.front() != from) std::reverse(pts.begin(), pts.end());
+    return pts;
+  }
+
+  void make_sub_quads() {
+    const int nf = static_cast<int>(m_.n_faces());
+    face_first_sub_.resize(nf);
+    for (int f = 0; f < nf; ++f) {
+      const int a = out_.quads[f].axis, k = out_.quad_segments[f];
+      const auto& c = face_verts_[f];
+      const int c0 = c[a], c1 = c[(a + 1) % 4], c2 = c[(a + 2) % 4], c3 = c[(a + 3) % 4];
+      const auto p = points_from(face_edges_[f][a], c0);            // c0 -> c1
+      const auto q = points_from(face_edges_[f][(a + 2) % 4], c3);  // c3 -> c2
+      if (static_cast<int>(p.size()) != k + 1 || static_cast<int>(q.size()) != k + 1)
+        throw Error("strips: inconsistent subdivision of quad " + std::to_string(f));
+      for (int i = 0; i < k; ++i) {
+        face_first_sub_[f].push_back(static_cast<int>(out_.faces.size()));
+        out_.faces.push_back({p[i], p[i + 1], q[i + 1], q[i]});
+        out_.face_quad.push_back(f);
+      }
+      (void)c1;
+      (void)c2;
+    }
+  }
+
+  /// Neighbours across ruling sides: two quads continue one strip across an edge that is a
+  /// ruling of both.
+  void link_chains() {
+    const int nf = static_cast<int>(m_.n_faces());
+    ruling_side_neighbour_.assign(nf, {kNone, kNone});
+    ruling_side_entry_.assign(nf, {kNone, kNone});
+    for (int f = 0; f < nf; ++f)
+      for (int side = 0; side < 2; ++side) {
+        const int e = face_edges_[f][ruling_local(f, side)];
+        const int g = other_face(e, f);
+        if (g == kNone) continue;
+        const int lg = local_edge(face_edges_[g], e);
+        if (in_bending_pair(out_.quads[g], lg)) continue;
+        ruling_side_neighbour_[f][side] = g;
+        ruling_side_entry_[f][side] = lg == ruling_local(g, 0) ? 0 : 1;
+      }
+  }
+
+  struct ChainQuad {
+    int quad;
+    int entry;  // side by which the chain enters the quad
+  };
+
+  std::vector<std::vector<ChainQuad>> chains(std::vector<char>& closed) {
+    const int nf = static_cast<int>(m_.n_faces());
+    std::vector<char> seen(nf, 0);
+    std::vector<std::vector<ChainQuad>> out;
+    for (int f0 = 0; f0 < nf; ++f0) {
+      if (seen[f0]) continue;
+      // Walk backwards to the start of the chain, or around the loop.
+      int cur = f0, exit_side = 0;
+      bool loop = false;
+      for (;;) {
+        const int n = ruling_side_neighbour_[cur][exit_side];
+        if (n == kNone) break;
+        if (n == f0) {
+          loop = true;
+          break;
+        }
+        exit_side = 1 - ruling_side_entry_[cur][exit_side];
+        cur = n;
+      }
+      const int start = loop ? f0 : cur;
+      int entry = loop ? 0 : exit_side;
+      std::vector<ChainQuad> chain;
+      cur = start;
+      for (;;) {
+        chain.push_back({cur, entry});
+        seen[cur] = 1;
+        const int n = ruling_side_neighbour_[cur][1 - entry];
+        if (n == kNone || n == start) break;
+        entry = ruling_side_entry_[cur][1 - entry];
+        cur = n;
+      }
+      out.push_back(std::move(chain));
+      closed.push_back(loop ? 1 : 0);
+    }
+    return out;
+  }
+
+  /// Rulings and sub-quads of one quad, in chain order. \p rail0 is the vertex of the entry
+  /// ruling that continues rail 0 (kNone for the first quad of a patch).
+  void append_quad(Patch& patch, const ChainQuad& cq, bool first) {
+    const int f = cq.quad, a = out_.quads[f].axis, k = out_.quad_segments[f];
+    const auto& subs = face_first_sub_[f];
+    // Rulings of the quad in its own order: ruling i = (P_i, Q_i) = (face[i][0], face[i][3]).
+    std::vector<std::array<int, 2>> rul(k + 1);
+    for (int i = 0; i < k; ++i) rul[i] = {out_.faces[subs[i]][0], out_.faces[subs[i]][3]};
+    rul[k] = {out_.faces[subs[k - 1]][1], out_.faces[subs[k - 1]][2]};
+    const bool reversed = cq.entry == 1;
+    if (reversed) std::reverse(rul.begin(), rul.end());
+    bool swapped = false;
+    if (!first) {
+      const auto& last = patch.rulings.back();
+      swapped = rul[0][0] != last[0];
+      if (swapped && (rul[0][1] != last[0] || rul[0][0] != last[1]))
+        throw Error("strips: chain rulings do not match at quad " + std::to_string(f));
+    }
+    if (swapped)
+      for (auto& r : rul) std::swap(r[0], r[1]);
+    for (int i = first ? 0 : 1; i <= k; ++i) patch.rulings.push_back(rul[i]);
+    for (int i = 0; i < k; ++i) {
+      const int sub = subs[reversed ? k - 1 - i : i];
+      patch.faces.push_back(sub);
+      patch.face_flipped.push_back(reversed != swapped ? 1 : 0);
+    }
+    patch.quads.push_back(f);
+    (void)a;
+  }
+
+  void build_patches() {
+    std::vector<char> closed;
+    const auto all = chains(closed);
+    out_.chains = static_cast<int>(all.size());
+    out_.quad_patch.assign(m_.n_faces(), kNone);
+    for (std::size_t c = 0; c < all.size(); ++c) {
+      const auto& chain = all[c];
+      const int n = static_cast<int>(chain.size());
+      // fold[j]: fold across the junction after chain[j] (wrapping for loops).
+      std::vector<double> fold(n, 0.0);
+      const int junctions = closed[c] ? n : n - 1;
+      for (int j = 0; j < junctions; ++j) fold[j] = junction_fold(chain[j], chain[(j + 1) % n]);
+      std::vector<char> cut(n, 0);
+      int cuts = 0;
+      for (int j = 0; j < junctions; ++j)
+        if (fold[j] > opt_.split_angle) cut[j] = 1, ++cuts;
+      out_.split_borders += cuts;
+      int first = 0;
+      bool loop_cut = false;
+      if (closed[c]) {
+        ++out_.closed_loops;
+        int at = 0;
+        if (cuts == 0) {  // cut the loop where it folds most
+          at = static_cast<int>(std::max_element(fold.begin(), fold.end()) - fold.begin());
+          cut[at] = 1;
+          loop_cut = true;
+        } else {
+          at = static_cast<int>(std::find(cut.begin(), cut.end(), 1) - cut.begin());
+        }
+        first = (at + 1) % n;
+      }
+      // Walk the chain from `first`, starting a new patch after every cut.
+      Patch patch;
+      for (int s = 0; s < n; ++s) {
+        const int j = (first + s) % n;
+        append_quad(patch, chain[j], patch.quads.empty());
+        if (cut[j] || s == n - 1) {
+          patch.chain = static_cast<int>(c);
+          patch.loop_cut = loop_cut;
+          finish_patch(std::move(patch));
+          patch = Patch{};
+        }
+      }
+    }
+    // Largest fold kept inside a patch, over every junction of consecutive sub-quads.
+    for (const Patch& p : out_.patches)
+      for (std::size_t i = 1; i < p.faces.size(); ++i)
+        out_.max_fold = std::max(
+            out_.max_fold, fold_across(out_.vertices, out_.faces[p.faces[i - 1]],
+                                       out_.faces[p.faces[i]], p.rulings[i][0], p.rulings[i][1]));
+  }
+
+  double junction_fold(const ChainQuad& a, const ChainQuad& b) const {
+    const auto& sa = face_first_sub_[a.quad];
+    const auto& sb = face_first_sub_[b.quad];
+    const int fa = a.entry == 0 ? sa.back() : sa.front();  // sub-quad at a's exit
+    const int fb = b.entry == 0 ? sb.front() : sb.back();  // sub-quad at b's entry
+    const auto& qa = out_.faces[fa];
+    // The shared ruling: a's exit ruling.
+    const int x = a.entry == 0 ? qa[1] : qa[0];
+    const int y = a.entry == 0 ? qa[2] : qa[3];
+    return fold_across(out_.vertices, qa, out_.faces[fb], x, y);
+  }
+
+  void finish_patch(Patch&& p) {
+    const int id = static_cast<int>(out_.patches.size());
+    for (int q : p.quads) out_.quad_patch[q] = id;
+    out_.face_patch.resize(out_.faces.size(), kNone);
+    for (int f : p.faces) out_.face_patch[f] = id;
+    out_.patches.push_back(std::move(p));
+  }
+};
+
+}  // namespace
+
+std::vector<std::array<int, 4>> Patch::local_quads() const {
+  std::vector<std::array<int, 4>> out;
+  for (std::size_t i = 0; i < faces.size(); ++i) {
+    const int a0 = 2 * static_cast<int>(i), a1 = a0 + 2, b0 = a0 + 1, b1 = a0 + 3;
+    if (face_flipped[i])
+      out.push_back({a0, b0, b1, a1});
+    else
+      out.push_back({a0, a1, b1, b0});
+  }
+  return out;
+}
+
+Strips build_strips(const PolyMesh& quads, const BendingResult& bending,
+                    const TargetSurface& target, const StripsOptions& options) {
+  if (options.rulings_per_quad < 1 || options.rulings_per_quad > 64)
+    throw InvalidInput("--rulings-per-quad must be in 1..64, got " +
+                       std::to_string(options.rulings_per_quad));
+  if (!(options.max_ruling_spacing > 0) || !std::isfinite(options.max_ruling_spacing))
+    throw InvalidInput("--max-ruling-spacing must be a positive length in mm");
+  if (!(options.split_angle > 0) || options.split_angle > M_PI + 1e-12)
+    throw InvalidInput("--split-angle must be in (0, 180] degrees");
+  if (options.features && !(*options.features > 0 && *options.features < M_PI))
+    throw InvalidInput("--features must be in (0, 180) degrees");
+  if (!is_all_quads(quads)) throw InvalidInput("strips need an all-quad mesh");
+  if (bending.quads.size() != quads.n_faces() || bending.bendable.size() != quads.n_edges())
+    throw InvalidInput("strips: bending result does not belong to this quad mesh");
+  return Builder(quads, bending, target, options).run();
+}
+
+int quad_rows(const PolyMesh& quads) {
+  // Nodes (quad, pair); a row crosses a quad through one opposite pair of edges.
+  const int nf = static_cast<int>(quads.n_faces());
+  UnionFind rows(2 * nf);
+  for (auto f : quads.faces()) {
+    const auto e = quad_edges(quads, f);
+    for (int k = 0; k < 4; ++k) {
+      const auto eh = quads.edge_handle(e[k]);
+      for (int s = 0; s < 2; ++s) {
+        const auto g = quads.face_handle(quads.halfedge_handle(eh, s));
+        if (!g.is_valid() || g == f) continue;
+        const int lg = local_edge(quad_edges(quads, g), e[k]);
+        rows.unite(2 * f.idx() + k % 2, 2 * g.idx() + lg % 2);
+      }
+    }
+  }
+  int count = 0;
+  for (int i = 0; i < 2 * nf; ++i) count += rows.find(i) == i ? 1 : 0;
+  return count;
+}
+
+TriangleMesh triangulate(const Strips& strips) {
+  TriangleMesh out;
+  out.vertices = strips.vertices;
+  for (const auto& q : strips.faces) {
+    const auto& v = strips.vertices;
+    // Split along the shorter diagonal.
+    if ((v[q[0]] - v[q[2]]).squaredNorm() <= (v[q[1]] - v[q[3]]).squaredNorm()) {
+      out.triangles.push_back({q[0], q[1], q[2]});
+      out.triangles.push_back({q[0], q[2], q[3]});
+    } else {
+      out.triangles.push_back({q[0], q[1], q[3]});
+      out.triangles.push_back({q[1], q[2], q[3]});
+    }
+  }
+  return out;
+}
+
+}  // namespace kerfab
