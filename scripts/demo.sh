@@ -8,4 +8,9 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 python3 "$root/scripts/render_bending.py" "$root/out/demo/stages/bending.json" \
   "$root/out/demo/bending.svg" --azimuth 35 --elevation 10
 rsvg-convert "$root/out/demo/bending.svg" -o "$root/out/demo/bending.png"
-echo "kerfab demo: report $root/out/demo/report.json, picture $root/out/demo/bending.png"
+# The strips, each in its own colour (strip borders dark).
+python3 "$root/scripts/render_strips.py" "$root/out/demo/model/strips.ply" \
+  "$root/out/demo/strips.svg" --azimuth 35 --elevation 10
+rsvg-convert "$root/out/demo/strips.svg" -o "$root/out/demo/strips.png"
+echo "kerfab demo: report $root/out/demo/report.json, pictures $root/out/demo/bending.png" \
+  "and $root/out/demo/strips.png"

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -137,7 +138,7 @@ TEST(Cli, ExitCodesForMissingFileBadOptionAndUnits) {
 }
 
 // The bundled example end to end: report and the bending dump follow shared/OUTPUTS.md.
-TEST(Cli, DemoWritesReportAndBendingDump) {
+TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   const fs::path scratch = test::fresh_dir();
   const fs::path out = scratch / "demo";
   const CliRun r = run_cli("demo --out " + out.string(), scratch);
@@ -167,6 +168,55 @@ TEST(Cli, DemoWritesReportAndBendingDump) {
   }
   EXPECT_EQ(bendable, b["bendable"].get<int>());
   EXPECT_DOUBLE_EQ(dump["objective"].get<double>(), b["objective"].get<double>());
+
+  // Strips: report keys, model/strips.ply (per-face strip and colour), one OBJ per patch.
+  const auto& st = report["strips"];
+  for (const char* key : {"strips", "patches", "sub_quads", "vertices", "t_junction_vertices"})
+    EXPECT_TRUE(st.contains(key)) << key;
+  const int strips = st["strips"].get<int>();
+  EXPECT_GT(strips, 10);
+  EXPECT_LT(strips, 732 / 4);
+  const auto& q = report["quality"];
+  EXPECT_GT(q["hausdorff_rel"].get<double>(), 0.0);
+  EXPECT_LT(q["hausdorff_rel"].get<double>(), 0.02);
+  EXPECT_LT(q["mean_distance_rel"].get<double>(), q["hausdorff_rel"].get<double>());
+  std::ifstream ply(out / "model" / "strips.ply");
+  ASSERT_TRUE(ply);
+  std::string line;
+  long nv = -1, nf = -1;
+  bool strip_property = false;
+  while (std::getline(ply, line) && line != "end_header") {
+    if (line.rfind("element vertex ", 0) == 0) nv = std::stol(line.substr(15));
+    if (line.rfind("element face ", 0) == 0) nf = std::stol(line.substr(13));
+    if (line == "property int strip") strip_property = true;
+  }
+  EXPECT_TRUE(strip_property);
+  EXPECT_EQ(nv, st["vertices"].get<long>());
+  ASSERT_EQ(nf, st["sub_quads"].get<long>());
+  for (long i = 0; i < nv; ++i) std::getline(ply, line);
+  std::vector<int> faces_per_strip(strips, 0);
+  for (long i = 0; i < nf; ++i) {
+    int n = 0, v[4], strip = -1, rgb[3];
+    ply >> n >> v[0] >> v[1] >> v[2] >> v[3] >> strip >> rgb[0] >> rgb[1] >> rgb[2];
+    ASSERT_EQ(n, 4);
+    ASSERT_GE(strip, 0);
+    ASSERT_LT(strip, strips);
+    ++faces_per_strip[strip];
+    for (int k = 0; k < 4; ++k) EXPECT_LT(v[k], nv);
+  }
+  for (int p = 0; p < strips; ++p) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%03d_3d.obj", p);
+    std::ifstream obj(out / "stages" / "patches" / name);
+    ASSERT_TRUE(obj) << name;
+    int v_lines = 0, f_lines = 0;
+    while (std::getline(obj, line)) {
+      v_lines += line.rfind("v ", 0) == 0 ? 1 : 0;
+      f_lines += line.rfind("f ", 0) == 0 ? 1 : 0;
+    }
+    EXPECT_EQ(f_lines, faces_per_strip[p]) << name;
+    EXPECT_EQ(v_lines, 2 * (f_lines + 1)) << name;  // a ladder: two rails
+  }
 }
 
 }  // namespace

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numeric>
+#include <optional>
+#include <set>
 #include <string>
 
 #include "kerfab/core/errors.h"
@@ -129,6 +132,7 @@ class Builder {
     make_sub_quads();
     link_chains();
     build_patches();
+    out_.edge_vertices = std::move(edge_points_);
     return std::move(out_);
   }
 
@@ -517,6 +521,28 @@ class Builder {
   }
 
   void finish_patch(Patch&& p) {
+    // A patch may meet itself: a loop cut open, or a strip whose end runs into its own side.
+    // Every later occurrence of a vertex at another ladder position gets its own copy, so the
+    // patch is a disk and the contact is a border like any other.
+    std::set<int> seen;
+    bool changed = false;
+    for (auto& ruling : p.rulings)
+      for (int& v : ruling) {
+        if (seen.insert(v).second) continue;
+        const int copy = static_cast<int>(out_.vertices.size());
+        out_.vertices.push_back(out_.vertices[v]);
+        out_.vertex_on_straight_edge.push_back(out_.vertex_on_straight_edge[v]);
+        v = copy;
+        seen.insert(copy);
+        changed = true;
+        ++out_.self_contacts;
+      }
+    if (changed)
+      for (std::size_t i = 0; i < p.faces.size(); ++i) {
+        const auto &a = p.rulings[i], &b = p.rulings[i + 1];
+        out_.faces[p.faces[i]] = p.face_flipped[i] ? std::array<int, 4>{a[0], a[1], b[1], b[0]}
+                                                   : std::array<int, 4>{a[0], b[0], b[1], a[1]};
+      }
     const int id = static_cast<int>(out_.patches.size());
     for (int q : p.quads) out_.quad_patch[q] = id;
     out_.face_patch.resize(out_.faces.size(), kNone);

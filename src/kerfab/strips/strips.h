@@ -54,15 +54,19 @@ struct Strips {
   std::vector<int> face_quad;             ///< coarse quad of each sub-quad
   std::vector<int> face_patch;            ///< patch of each sub-quad
   std::vector<Patch> patches;
-  std::vector<QuadBending> quads;             ///< per coarse quad: classification as used, rigid
-                                              ///< quads given the axis that continues a strip
-  std::vector<int> quad_segments;             ///< per coarse quad: sub-quads along the strip
-  std::vector<int> quad_patch;                ///< per coarse quad: its patch
-  std::vector<char> vertex_on_straight_edge;  ///< vertex kept on a straight coarse edge
-                                              ///< (T-junction or stiff edge), not projected
-  int chains = 0;                             ///< maximal chains of quads before splitting
-  int closed_loops = 0;                       ///< chains that closed on themselves (each cut once)
-  int split_borders = 0;                      ///< borders inserted at folds above split_angle
+  std::vector<QuadBending> quads;               ///< per coarse quad: classification as used, rigid
+                                                ///< quads given the axis that continues a strip
+  std::vector<int> quad_segments;               ///< per coarse quad: sub-quads along the strip
+  std::vector<int> quad_patch;                  ///< per coarse quad: its patch
+  std::vector<std::vector<int>> edge_vertices;  ///< per coarse edge: vertex ids along it from
+                                                ///< the start of its halfedge 0 to its end
+  std::vector<char> vertex_on_straight_edge;    ///< vertex kept on a straight coarse edge
+                                                ///< (T-junction or stiff edge), not projected
+  int chains = 0;                               ///< maximal chains of quads before splitting
+  int closed_loops = 0;      ///< chains that closed on themselves (each cut once)
+  int split_borders = 0;     ///< borders inserted at folds above split_angle
+  int self_contacts = 0;     ///< vertices copied where a patch meets itself (loop cuts, strip
+                             ///< ends against their own side)
   int t_junctions = 0;       ///< vertices on an edge that the neighbour does not subdivide
   int ray_fallbacks = 0;     ///< normal projections that fell back to the closest point
   int feature_vertices = 0;  ///< vertices moved onto target feature curves

@@ -1,0 +1,58 @@
+#include "kerfab/eval/surface_distance.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "kerfab/core/errors.h"
+#include "shapes.h"
+
+namespace kerfab {
+namespace {
+
+TriangleMesh shifted(TriangleMesh m, const Vec3& by) {
+  for (auto& v : m.vertices) v += by;
+  return m;
+}
+
+TEST(SurfaceDistance, ParallelPlanesAreTheirOffsetApart) {
+  const TriangleMesh a = test::quad_plane(100, 4, 2).target;
+  const SurfaceDistance d = surface_distance(a, shifted(a, {0, 0, 2.5}), {.sample_spacing = 5});
+  EXPECT_NEAR(d.hausdorff, 2.5, 1e-9);
+  EXPECT_NEAR(d.mean, 2.5, 1e-9);
+  EXPECT_NEAR(d.a_to_b_mean, 2.5, 1e-9);
+  EXPECT_GT(d.samples, 2 * 32 * 20);
+}
+
+TEST(SurfaceDistance, OneSidedDistancesDifferForASmallerPatch) {
+  // B is the quarter [0,50]^2 of A = [0,100]^2: every point of B is on A, but A's far corner
+  // is 50*sqrt(2) from B; the mean from A is the mean distance of [0,100]^2 to [0,50]^2.
+  const TriangleMesh a = test::quad_plane(100, 4, 2).target;
+  const TriangleMesh b = test::quad_plane(50, 2, 2).target;
+  const SurfaceDistance d = surface_distance(a, b, {.sample_spacing = 0.5});
+  EXPECT_NEAR(d.b_to_a_max, 0, 1e-9);
+  EXPECT_NEAR(d.a_to_b_max, 50 * std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(d.hausdorff, 50 * std::sqrt(2.0), 1e-9);
+  // Mean over A of the distance to the quarter: (1/4)*0 + 2*(1/4)*25 + (1/4)*E|corner dist|,
+  // E of |(x, y)| over [0,50]^2 = 50 * 0.7652 (mean distance from a square's corner).
+  const double corner_mean = 50 * (std::sqrt(2.0) + std::asinh(1.0)) / 3;
+  EXPECT_NEAR(d.a_to_b_mean, 0.25 * 0 + 0.5 * 25 + 0.25 * corner_mean, 0.05);
+}
+
+TEST(SurfaceDistance, SphereInsideAConcentricSphere) {
+  const auto outer = test::sphere(50, 6, 4), inner = test::sphere(40, 6, 4);
+  const SurfaceDistance d = surface_distance(outer.target, inner.target, {.sample_spacing = 1});
+  // Chordal error of the triangulations (about 0.25 mm here) bounds the deviation from 10 mm.
+  EXPECT_NEAR(d.hausdorff, 10, 0.3);
+  EXPECT_NEAR(d.mean, 10, 0.3);
+}
+
+TEST(SurfaceDistance, RejectsEmptyAndBadSpacing) {
+  const TriangleMesh a = test::quad_plane(10, 2, 1).target;
+  EXPECT_THROW(surface_distance(a, TriangleMesh{}, {.sample_spacing = 1}), InvalidInput);
+  EXPECT_THROW(surface_distance(a, a, {.sample_spacing = 0}), InvalidInput);
+  EXPECT_THROW(surface_distance(a, a, {.sample_spacing = 1e-6}), InvalidInput);
+}
+
+}  // namespace
+}  // namespace kerfab
