@@ -47,8 +47,10 @@ int main(int argc, char** argv) {
   if (!quick) models.push_back(load("fandisk_quads", "fandisk_quads.off", "", 0, 200));
   for (const Model& m : models) {
     const double diag = bounding_box(m.input.surface.mesh()).diagonal();
-    std::printf("\n### %s: %zu quads, %d quad rows, diagonal %.1f mm\n\n", m.name.c_str(),
-                m.input.quads.n_faces(), quad_rows(m.input.quads), diag);
+    std::printf(
+        "\n### %s: %zu quads, %d quad rows, naive row layout %d strips, diagonal %.1f mm\n\n",
+        m.name.c_str(), m.input.quads.n_faces(), quad_rows(m.input.quads),
+        naive_row_strips(m.input.quads), diag);
     std::printf("| c | aligned | strips | Hausdorff %% | mean %% | ILP status | ILP s |\n");
     std::printf("|---|---|---|---|---|---|---|\n");
     const std::vector<double> cs =

@@ -386,3 +386,20 @@ TEST(Strips, RealMeshesMeetThePaperQuality) {
 
 }  // namespace
 }  // namespace kerfab
+
+namespace kerfab {
+namespace {
+
+TEST(Strips, QuadRowsAndTheNaiveRowLayoutOnGrids) {
+  const auto plane = test::quad_plane(100, 6);
+  EXPECT_EQ(quad_rows(plane.quads), 12);
+  EXPECT_EQ(naive_row_strips(plane.quads), 6);  // one family of rows covers the plane
+  const auto torus = test::torus(60, 20, 16, 8);
+  EXPECT_EQ(quad_rows(torus.quads), 24);
+  EXPECT_EQ(naive_row_strips(torus.quads), 8);  // the 8 rows of 16 quads, taken first
+  const auto sphere = test::sphere(50, 4);  // 3 x 4 rings of 16 quads around the cube
+  EXPECT_EQ(quad_rows(sphere.quads), 12);
+}
+
+}  // namespace
+}  // namespace kerfab

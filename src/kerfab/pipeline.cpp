@@ -113,6 +113,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
     run.strips =
         build_strips(run.input->quads, *run.bending, run.input->surface, run.options.strips);
     run.quad_rows = quad_rows(run.input->quads);
+    run.naive_row_strips = naive_row_strips(run.input->quads);
     const Strips& s = *run.strips;
     std::ostringstream os;
     os.precision(4);
@@ -120,7 +121,8 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
        << " closed loops cut, " << s.split_borders << " split at folds > "
        << run.options.strips.split_angle * 180 / M_PI << " deg); " << s.faces.size()
        << " sub-quads, " << s.vertices.size() << " vertices, " << s.t_junctions
-       << " T-junction vertices; quad mesh has " << run.quad_rows << " rows";
+       << " T-junction vertices; the naive one-strip-per-row layout would need "
+       << run.naive_row_strips << " (" << run.quad_rows << " quad rows)";
     say(os.str());
     if (s.ray_fallbacks > 0) {
       std::ostringstream w;

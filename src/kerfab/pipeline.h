@@ -48,7 +48,8 @@ struct RunResult {
   std::optional<PreparedInput> input;
   std::optional<BendingResult> bending;
   std::optional<Strips> strips;
-  int quad_rows = 0;                       ///< dual chords of the quad mesh (see quad_rows())
+  int quad_rows = 0;         ///< dual chords of the quad mesh (see quad_rows())
+  int naive_row_strips = 0;  ///< strips of the naive row layout (see naive_row_strips())
   std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
   double target_diagonal = 0;              ///< target bbox diagonal [mm]
   std::vector<StageTiming> timings;

@@ -102,6 +102,7 @@ nlohmann::json make_report(const RunResult& run) {
                    {"closed_loops_cut", s.closed_loops},
                    {"split_borders", s.split_borders},
                    {"quad_rows", run.quad_rows},
+                   {"naive_row_strips", run.naive_row_strips},
                    {"sub_quads", s.faces.size()},
                    {"vertices", s.vertices.size()},
                    {"t_junction_vertices", s.t_junctions},

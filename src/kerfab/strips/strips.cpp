@@ -603,6 +603,73 @@ int quad_rows(const PolyMesh& quads) {
   return count;
 }
 
+int naive_row_strips(const PolyMesh& quads) {
+  const int nf = static_cast<int>(quads.n_faces());
+  std::vector<std::array<int, 4>> edges(nf);
+  for (auto f : quads.faces()) edges[f.idx()] = quad_edges(quads, f);
+  // Crossing quad f through local edge k leads to (g, local edge of g).
+  auto across = [&](int f, int k) -> std::pair<int, int> {
+    const auto eh = quads.edge_handle(edges[f][k]);
+    for (int s = 0; s < 2; ++s) {
+      const auto g = quads.face_handle(quads.halfedge_handle(eh, s));
+      if (g.is_valid() && g.idx() != f) return {g.idx(), local_edge(edges[g.idx()], edges[f][k])};
+    }
+    return {kNone, kNone};
+  };
+  // Rows as sequences of quads, node (quad, pair) visited once.
+  std::vector<char> seen(2 * nf, 0);
+  std::vector<std::vector<int>> rows;
+  for (int f = 0; f < nf; ++f)
+    for (int pair = 0; pair < 2; ++pair) {
+      if (seen[2 * f + pair]) continue;
+      auto walk = [&](int k, bool& closed) {
+        std::vector<int> out;
+        int cur = f;
+        closed = false;
+        for (int steps = 0; steps <= 2 * nf; ++steps) {
+          const auto [g, l] = across(cur, k);
+          if (g == kNone) break;
+          if (g == f && l % 2 == pair) {
+            closed = true;
+            break;
+          }
+          seen[2 * g + l % 2] = 1;
+          out.push_back(g);
+          cur = g, k = (l + 2) % 4;
+        }
+        return out;
+      };
+      seen[2 * f + pair] = 1;
+      bool closed = false;
+      const std::vector<int> forward = walk(pair + 2, closed);
+      std::vector<int> row;
+      if (!closed) {
+        bool unused = false;
+        row = walk(pair, unused);
+        std::reverse(row.begin(), row.end());
+      }
+      row.push_back(f);
+      row.insert(row.end(), forward.begin(), forward.end());
+      rows.push_back(std::move(row));
+    }
+  std::stable_sort(rows.begin(), rows.end(),
+                   [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  std::vector<char> taken(nf, 0);
+  int strips = 0;
+  for (const auto& row : rows) {
+    bool running = false;
+    for (int f : row) {
+      if (taken[f]) {
+        running = false;
+        continue;
+      }
+      taken[f] = 1;
+      if (!running) ++strips, running = true;
+    }
+  }
+  return strips;
+}
+
 TriangleMesh triangulate(const Strips& strips) {
   TriangleMesh out;
   out.vertices = strips.vertices;
