@@ -652,18 +652,28 @@ int naive_row_strips(const PolyMesh& quads) {
       row.insert(row.end(), forward.begin(), forward.end());
       rows.push_back(std::move(row));
     }
-  std::stable_sort(rows.begin(), rows.end(),
-                   [](const auto& a, const auto& b) { return a.size() > b.size(); });
-  std::vector<char> taken(nf, 0);
-  int strips = 0;
-  for (const auto& row : rows) {
+  // Greedy: take the row with the most quads not yet taken, its untaken runs become strips.
+  std::vector<char> taken(nf, 0), row_used(rows.size(), 0);
+  int strips = 0, left = nf;
+  while (left > 0) {
+    std::size_t best = rows.size();
+    int best_free = 0;
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      if (row_used[r]) continue;
+      int free = 0;
+      for (int f : rows[r]) free += taken[f] ? 0 : 1;
+      if (free > best_free) best = r, best_free = free;
+    }
+    if (best == rows.size()) break;
+    row_used[best] = 1;
     bool running = false;
-    for (int f : row) {
+    for (int f : rows[best]) {
       if (taken[f]) {
         running = false;
         continue;
       }
       taken[f] = 1;
+      --left;
       if (!running) ++strips, running = true;
     }
   }
