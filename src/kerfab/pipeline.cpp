@@ -113,7 +113,10 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
     run.strips =
         build_strips(run.input->quads, *run.bending, run.input->surface, run.options.strips);
     run.quad_rows = quad_rows(run.input->quads);
-    run.naive_row_strips = naive_row_strips(run.input->quads);
+    run.naive_row_strips =
+        static_cast<int>(build_strips(run.input->quads, naive_row_bending(run.input->quads),
+                                      run.input->surface, run.options.strips)
+                             .patches.size());
     const Strips& s = *run.strips;
     std::ostringstream os;
     os.precision(4);
@@ -121,7 +124,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
        << " closed loops cut, " << s.split_borders << " split at folds > "
        << run.options.strips.split_angle * 180 / M_PI << " deg); " << s.faces.size()
        << " sub-quads, " << s.vertices.size() << " vertices, " << s.t_junctions
-       << " T-junction vertices; the naive one-strip-per-row layout would need "
+       << " T-junction vertices; a naive one-strip-per-row layout would give "
        << run.naive_row_strips << " (" << run.quad_rows << " quad rows)";
     say(os.str());
     if (s.ray_fallbacks > 0) {

@@ -49,7 +49,7 @@ struct RunResult {
   std::optional<BendingResult> bending;
   std::optional<Strips> strips;
   int quad_rows = 0;         ///< dual chords of the quad mesh (see quad_rows())
-  int naive_row_strips = 0;  ///< strips of the naive row layout (see naive_row_strips())
+  int naive_row_strips = 0;  ///< strips of the naive row layout (naive_row_bending()), same options
   std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
   double target_diagonal = 0;              ///< target bbox diagonal [mm]
   std::vector<StageTiming> timings;

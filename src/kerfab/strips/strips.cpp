@@ -603,7 +603,7 @@ int quad_rows(const PolyMesh& quads) {
   return count;
 }
 
-int naive_row_strips(const PolyMesh& quads) {
+BendingResult naive_row_bending(const PolyMesh& quads) {
   const int nf = static_cast<int>(quads.n_faces());
   std::vector<std::array<int, 4>> edges(nf);
   for (auto f : quads.faces()) edges[f.idx()] = quad_edges(quads, f);
@@ -618,12 +618,12 @@ int naive_row_strips(const PolyMesh& quads) {
   };
   // Rows as sequences of quads, node (quad, pair) visited once.
   std::vector<char> seen(2 * nf, 0);
-  std::vector<std::vector<int>> rows;
+  std::vector<std::vector<std::pair<int, int>>> rows;
   for (int f = 0; f < nf; ++f)
     for (int pair = 0; pair < 2; ++pair) {
       if (seen[2 * f + pair]) continue;
       auto walk = [&](int k, bool& closed) {
-        std::vector<int> out;
+        std::vector<std::pair<int, int>> out;
         int cur = f;
         closed = false;
         for (int steps = 0; steps <= 2 * nf; ++steps) {
@@ -634,50 +634,52 @@ int naive_row_strips(const PolyMesh& quads) {
             break;
           }
           seen[2 * g + l % 2] = 1;
-          out.push_back(g);
+          out.push_back({g, l % 2});
           cur = g, k = (l + 2) % 4;
         }
         return out;
       };
       seen[2 * f + pair] = 1;
       bool closed = false;
-      const std::vector<int> forward = walk(pair + 2, closed);
-      std::vector<int> row;
+      const auto forward = walk(pair + 2, closed);
+      std::vector<std::pair<int, int>> row;
       if (!closed) {
         bool unused = false;
         row = walk(pair, unused);
         std::reverse(row.begin(), row.end());
       }
-      row.push_back(f);
+      row.push_back({f, pair});
       row.insert(row.end(), forward.begin(), forward.end());
       rows.push_back(std::move(row));
     }
-  // Greedy: take the row with the most quads not yet taken, its untaken runs become strips.
-  std::vector<char> taken(nf, 0), row_used(rows.size(), 0);
-  int strips = 0, left = nf;
+  // Greedy: take the row with the most quads not yet taken; they bend across it.
+  std::vector<int> axis(nf, kNone);
+  std::vector<char> row_used(rows.size(), 0);
+  int left = nf;
   while (left > 0) {
     std::size_t best = rows.size();
     int best_free = 0;
     for (std::size_t r = 0; r < rows.size(); ++r) {
       if (row_used[r]) continue;
       int free = 0;
-      for (int f : rows[r]) free += taken[f] ? 0 : 1;
+      for (auto [f, pair] : rows[r]) free += axis[f] == kNone ? 1 : 0;
       if (free > best_free) best = r, best_free = free;
     }
     if (best == rows.size()) break;
     row_used[best] = 1;
-    bool running = false;
-    for (int f : rows[best]) {
-      if (taken[f]) {
-        running = false;
-        continue;
-      }
-      taken[f] = 1;
-      --left;
-      if (!running) ++strips, running = true;
-    }
+    for (auto [f, pair] : rows[best])
+      if (axis[f] == kNone) axis[f] = 1 - pair, --left;  // the row crosses the rulings
   }
-  return strips;
+  BendingResult out;
+  out.quads.resize(nf);
+  for (int f = 0; f < nf; ++f) out.quads[f] = {QuadKind::kBending, axis[f]};
+  // An edge bends where every quad beside it has it in its bending pair.
+  out.bendable.assign(quads.n_edges(), 1);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 4; ++k)
+      if (k % 2 != axis[f]) out.bendable[edges[f][k]] = 0;
+  for (char b : out.bendable) out.bendable_count += b;
+  return out;
 }
 
 TriangleMesh triangulate(const Strips& strips) {

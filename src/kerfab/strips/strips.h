@@ -82,10 +82,10 @@ Strips build_strips(const PolyMesh& quads, const BendingResult& bending,
 /// quad mesh; a layout with one strip per row of one family needs about half of these.
 int quad_rows(const PolyMesh& quads);
 
-/// Strip count of the naive layout that ignores the target: repeatedly the quad row with the
-/// most quads not yet taken becomes strips, one per run of untaken quads along it (a closed
-/// row left uncut). The baseline the bending program's layout is compared with.
-int naive_row_strips(const PolyMesh& quads);
+/// Bending directions of the naive layout that ignores the target: repeatedly the quad row
+/// with the most quads not yet assigned makes them bend across it. Edges are bendable where all
+/// their quads agree. The baseline for the strip count (build_strips on it).
+BendingResult naive_row_bending(const PolyMesh& quads);
 
 /// The sub-quads as triangles (two per sub-quad), for distance queries and output.
 TriangleMesh triangulate(const Strips& strips);
