@@ -3,6 +3,7 @@
 #include <benchmark/benchmark.h>
 
 #include "kerfab/bending/bending.h"
+#include "kerfab/flatten/flatten.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
 
@@ -53,6 +54,23 @@ BENCHMARK_CAPTURE(BM_Bending, inspired_conjugate, "inspired_mesh.obj",
 BENCHMARK_CAPTURE(BM_Bending, fandisk_quads, "fandisk.obj", "fandisk_quads.off", 0)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
+
+// Flattening every patch of spot (control mesh + 1 Catmull-Clark step, 250 mm) at default
+// settings; arg 0: Eq. 2 only, arg 1: also the 3D deformation to the flat metric.
+void BM_FlattenSpot(benchmark::State& state) {
+  const auto in = load("spot_triangulated.obj", "spot_control_mesh.obj", 1);
+  const auto bending = kerfab::choose_bending_edges(in.quads, in.surface, {});
+  const auto strips = kerfab::build_strips(in.quads, bending, in.surface, {});
+  kerfab::FlattenOptions opt;
+  opt.mimic_3d = state.range(0) != 0;
+  opt.threads = 1;
+  for (auto _ : state) {
+    const auto flat = kerfab::flatten_patches(strips, opt);
+    state.counters["patches"] = static_cast<double>(flat.patches.size());
+    state.counters["unconverged"] = flat.unconverged;
+  }
+}
+BENCHMARK(BM_FlattenSpot)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -216,7 +216,29 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     }
     EXPECT_EQ(f_lines, faces_per_strip[p]) << name;
     EXPECT_EQ(v_lines, 2 * (f_lines + 1)) << name;  // a ladder: two rails
+    // The flattened patch: same vertex count and faces, every z = 0.
+    std::snprintf(name, sizeof name, "%03d_2d.obj", p);
+    std::ifstream flat(out / "stages" / "patches" / name);
+    ASSERT_TRUE(flat) << name;
+    int v2 = 0, f2 = 0;
+    while (std::getline(flat, line)) {
+      if (line.rfind("v ", 0) == 0) {
+        ++v2;
+        double x, y, z;
+        std::istringstream(line.substr(2)) >> x >> y >> z;
+        EXPECT_EQ(z, 0.0);
+      }
+      f2 += line.rfind("f ", 0) == 0 ? 1 : 0;
+    }
+    EXPECT_EQ(v2, v_lines) << name;
+    EXPECT_EQ(f2, f_lines) << name;
   }
+  const auto& fl = report["flatten"];
+  EXPECT_LT(fl["max_angle_error_deg"].get<double>(), 10.0);
+  EXPECT_LT(fl["max_border_length_error_rel"].get<double>(), 1e-3);
+  EXPECT_LT(fl["max_mating_mismatch_rel"].get<double>(), 1e-3);
+  EXPECT_EQ(fl["inverted_quads"].get<int>(), 0);
+  EXPECT_EQ(fl["patches"].size(), static_cast<std::size_t>(strips));
 }
 
 }  // namespace

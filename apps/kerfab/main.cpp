@@ -89,6 +89,12 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "dihedral angle (and on the boundary) go to the target's sharp edges and "
                  "boundary; off by default [deg, (0, 180)]")
       ->check(CLI::Range(1e-6, 179.999));
+  cmd.add_option("--flatten-lambda", f.options.flatten.lambda,
+                 "Weight of the border-length term against the quad-angle term in the "
+                 "flattening energy (paper Eq. 2); lengths are measured relative to the patch's "
+                 "mean border edge [ratio, 0..1]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd.add_option("--quality-spacing", f.options.quality_sample_spacing,
                  "Distance-sample spacing for the Hausdorff and mean distance, as a fraction of "
                  "the target's bbox diagonal [ratio]")

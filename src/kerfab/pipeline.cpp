@@ -136,6 +136,46 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
   });
   if (done_after("strips")) return finish();
 
+  clock.stage("flatten", [&] {
+    run.flattening = flatten_patches(*run.strips, run.options.flatten);
+    const Flattening& f = *run.flattening;
+    int iterations = 0;
+    for (const auto& p : f.patches) iterations = std::max(iterations, p.iterations);
+    std::ostringstream os;
+    os.precision(4);
+    os << f.patches.size() << " patches flattened (at most " << iterations
+       << " Gauss-Newton iterations, " << f.unconverged << " not converged); max angle error "
+       << f.max_angle_error * 180 / M_PI << " deg, max border length error "
+       << 100 * f.max_border_length_error_rel << "%, mating borders differ by at most "
+       << 100 * f.max_mating_mismatch_rel << "% per piece, "
+       << 100 * f.max_shared_border_mismatch_rel << "% per shared border";
+    say(os.str());
+    if (run.options.flatten.mimic_3d) {
+      const double diag = bounding_box(run.input->surface.mesh()).diagonal();
+      SurfaceDistanceOptions d;
+      d.sample_spacing = 5 * run.options.quality_sample_spacing * diag;  // smooth difference
+      run.flatten_mimic = surface_distance(patch_triangles(*run.strips, f, false),
+                                           patch_triangles(*run.strips, f, true), d);
+      std::ostringstream m;
+      m.precision(4);
+      m << "3D strips deformed to the flat metric move by at most " << run.flatten_mimic->hausdorff
+        << " mm (Hausdorff, " << 100 * run.flatten_mimic->hausdorff / diag << "% of diagonal)";
+      say(m.str());
+    }
+    if (f.inverted_quads > 0)
+      run.warnings.push_back("flattening inverted " + std::to_string(f.inverted_quads) +
+                             " quads (see flatten.patches in the report); those parts will not "
+                             "fit as designed");
+    if (f.non_simple_outlines > 0)
+      run.warnings.push_back(std::to_string(f.non_simple_outlines) +
+                             " flattened patches overlap themselves in the plane (see "
+                             "flatten.patches); they must be split before cutting");
+    if (f.unconverged > 0)
+      run.warnings.push_back(std::to_string(f.unconverged) +
+                             " patches did not converge in the flattening iteration limit");
+  });
+  if (done_after("flatten")) return finish();
+
   clock.stage("quality", [&] {
     run.target_diagonal = bounding_box(run.input->surface.mesh()).diagonal();
     SurfaceDistanceOptions d;

@@ -10,6 +10,7 @@
 
 #include "kerfab/bending/bending.h"
 #include "kerfab/eval/surface_distance.h"
+#include "kerfab/flatten/flatten.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/strips/strips.h"
 
@@ -24,7 +25,8 @@ struct RunInputs {
 
 /// The stages, in order. `stop_after` ends the run after the named one.
 inline const std::vector<std::string>& stage_names() {
-  static const std::vector<std::string> names = {"load", "prepare", "bending", "strips", "quality"};
+  static const std::vector<std::string> names = {"load",   "prepare", "bending",
+                                                 "strips", "flatten", "quality"};
   return names;
 }
 
@@ -32,6 +34,7 @@ struct PipelineOptions {
   InputOptions input;
   BendingOptions bending;  ///< guidance is filled from RunInputs::guidance
   StripsOptions strips;
+  FlattenOptions flatten;
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
                                           ///< fraction of the target's bbox diagonal [-], > 0
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
@@ -50,8 +53,10 @@ struct RunResult {
   std::optional<Strips> strips;
   int quad_rows = 0;         ///< dual chords of the quad mesh (see quad_rows())
   int naive_row_strips = 0;  ///< strips of the naive row layout (naive_row_bending()), same options
-  std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
-  double target_diagonal = 0;              ///< target bbox diagonal [mm]
+  std::optional<Flattening> flattening;
+  std::optional<SurfaceDistance> flatten_mimic;  ///< 3D strips vs their flat-metric deformation
+  std::optional<SurfaceDistance> quality;        ///< strip mesh vs target [mm]
+  double target_diagonal = 0;                    ///< target bbox diagonal [mm]
   std::vector<StageTiming> timings;
   double total_seconds = 0;
   std::vector<std::string> warnings;

@@ -24,6 +24,8 @@ nlohmann::json options_json(const RunResult& run) {
   j["split_angle_deg"] = o.strips.split_angle * 180 / M_PI;
   j["features_deg"] =
       o.strips.features ? nlohmann::json(*o.strips.features * 180 / M_PI) : nlohmann::json(nullptr);
+  j["flatten_lambda"] = o.flatten.lambda;
+  j["flatten_max_iterations"] = o.flatten.max_iterations;
   j["quality_sample_spacing_rel"] = o.quality_sample_spacing;
   j["stop_after"] = o.stop_after ? nlohmann::json(*o.stop_after) : nlohmann::json(nullptr);
   return j;
@@ -112,6 +114,45 @@ nlohmann::json make_report(const RunResult& run) {
                    {"feature_vertices", s.feature_vertices},
                    {"max_fold_in_patch_deg", s.max_fold * 180 / M_PI},
                    {"patch_list", patches}};
+  }
+  if (run.flattening) {
+    const Flattening& f = *run.flattening;
+    nlohmann::json patches = nlohmann::json::array();
+    for (std::size_t p = 0; p < f.patches.size(); ++p) {
+      const PatchFlattening& pf = f.patches[p];
+      patches.push_back({{"patch", p},
+                         {"iterations", pf.iterations},
+                         {"initial_energy", pf.initial_energy},
+                         {"energy", pf.energy},
+                         {"status", pf.converged ? "converged" : "iteration_limit"},
+                         {"max_angle_error_deg", pf.max_angle_error * 180 / M_PI},
+                         {"max_border_length_error_rel", pf.max_border_length_error_rel},
+                         {"inverted_quads", pf.inverted_quads},
+                         {"outline_simple", pf.outline_simple},
+                         {"area_3d_mm2", pf.area_3d},
+                         {"area_2d_mm2", pf.area_2d}});
+    }
+    nlohmann::json borders = nlohmann::json::array();
+    for (const SharedBorder& b : f.borders)
+      borders.push_back({{"patches", b.patches},
+                         {"pieces", b.pieces},
+                         {"length_3d_mm", b.length_3d},
+                         {"length_2d_mm", b.length_2d}});
+    r["flatten"] = {{"max_angle_error_deg", f.max_angle_error * 180 / M_PI},
+                    {"max_border_length_error_rel", f.max_border_length_error_rel},
+                    {"max_mating_mismatch_rel", f.max_mating_mismatch_rel},
+                    {"max_shared_border_mismatch_rel", f.max_shared_border_mismatch_rel},
+                    {"inverted_quads", f.inverted_quads},
+                    {"non_simple_outlines", f.non_simple_outlines},
+                    {"unconverged_patches", f.unconverged},
+                    {"patches", patches},
+                    {"borders", borders}};
+    if (run.flatten_mimic) {
+      const double d = run.target_diagonal > 0 ? run.target_diagonal
+                                               : bounding_box(run.input->surface.mesh()).diagonal();
+      r["flatten"]["deformed_3d_hausdorff_mm"] = run.flatten_mimic->hausdorff;
+      r["flatten"]["deformed_3d_hausdorff_rel"] = run.flatten_mimic->hausdorff / d;
+    }
   }
   if (run.quality) {
     const SurfaceDistance& q = *run.quality;

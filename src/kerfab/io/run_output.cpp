@@ -67,6 +67,11 @@ void write_run(const RunResult& run, const fs::path& dir, bool dump) {
       char name[32];
       std::snprintf(name, sizeof name, "%03zu_3d.obj", p);
       write_patch_obj(*run.strips, static_cast<int>(p), dir / "stages" / "patches" / name);
+      if (run.flattening) {
+        std::snprintf(name, sizeof name, "%03zu_2d.obj", p);
+        write_patch_flat_obj(*run.strips, static_cast<int>(p), run.flattening->patches[p].points,
+                             dir / "stages" / "patches" / name);
+      }
     }
   }
   write_json(make_report(run), dir / "report.json");

@@ -84,4 +84,18 @@ void write_patch_obj(const Strips& strips, int patch, const std::filesystem::pat
   check_written(out, path);
 }
 
+void write_patch_flat_obj(const Strips& strips, int patch,
+                          const std::vector<Eigen::Vector2d>& points,
+                          const std::filesystem::path& path) {
+  const Patch& p = strips.patches.at(patch);
+  if (points.size() != 2 * p.rulings.size())
+    throw IoError("patch " + std::to_string(patch) + ": flattening does not match the patch");
+  auto out = open_for_writing(path);
+  out << "# kerfab patch " << patch << " flattened (mm, z = 0): vertex 2*i+r is ruling i, rail r\n";
+  for (const auto& v : points) out << "v " << v.x() << " " << v.y() << " 0\n";
+  for (const auto& q : p.local_quads())
+    out << "f " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
+  check_written(out, path);
+}
+
 }  // namespace kerfab

@@ -19,4 +19,10 @@ void write_strips_ply(const Strips& strips, const std::filesystem::path& path);
 /// \throw IoError the file cannot be written.
 void write_patch_obj(const Strips& strips, int patch, const std::filesystem::path& path);
 
+/// OBJ of one flattened patch: the same vertices (z = 0) and faces as write_patch_obj.
+/// \throw IoError the file cannot be written.
+void write_patch_flat_obj(const Strips& strips, int patch,
+                          const std::vector<Eigen::Vector2d>& points,
+                          const std::filesystem::path& path);
+
 }  // namespace kerfab

@@ -447,13 +447,19 @@ class Builder {
     if (swapped)
       for (auto& r : rul) std::swap(r[0], r[1]);
     for (int i = first ? 0 : 1; i <= k; ++i) patch.rulings.push_back(rul[i]);
+    const int p_side = face_edges_[f][a], q_side = face_edges_[f][(a + 2) % 4];
     for (int i = 0; i < k; ++i) {
       const int sub = subs[reversed ? k - 1 - i : i];
       patch.faces.push_back(sub);
       patch.face_flipped.push_back(reversed != swapped ? 1 : 0);
+      patch.rail_edges.push_back(swapped ? std::array<int, 2>{q_side, p_side}
+                                         : std::array<int, 2>{p_side, q_side});
     }
+    const int entry_edge = face_edges_[f][reversed ? (a + 1) % 4 : (a + 3) % 4];
+    const int exit_edge = face_edges_[f][reversed ? (a + 3) % 4 : (a + 1) % 4];
+    if (first) patch.end_edges[0] = entry_edge;
+    patch.end_edges[1] = exit_edge;
     patch.quads.push_back(f);
-    (void)a;
   }
 
   void build_patches() {

@@ -40,6 +40,9 @@ struct Patch {
   std::vector<int> faces;  ///< sub-quad i (between rulings i and i+1): id into Strips::faces
   std::vector<char> face_flipped;  ///< sub-quad i is oriented (r0_i, r1_i, r1_i+1, r0_i+1)
                                    ///< instead of (r0_i, r0_i+1, r1_i+1, r1_i)
+  std::vector<std::array<int, 2>> rail_edges;  ///< sub-quad i: the coarse edges its rail-0 and
+                                               ///< rail-1 sides lie on
+  std::array<int, 2> end_edges{-1, -1};        ///< coarse edges of the first and last ruling
   bool loop_cut = false;           ///< the chain closed on itself and was cut open here
   int chain = -1;                  ///< index of the maximal chain the patch came from
 

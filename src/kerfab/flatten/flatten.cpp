@@ -1,0 +1,529 @@
+#include "kerfab/flatten/flatten.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <thread>
+
+#include "kerfab/core/errors.h"
+
+namespace kerfab {
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+using Triplet = Eigen::Triplet<double>;
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Corner angle at \p p between the directions to \p next and \p prev, counter-clockwise from
+/// next to prev: in (0, pi) at a convex corner of a counter-clockwise polygon.
+double corner_angle(const Vec2& p, const Vec2& next, const Vec2& prev) {
+  const Vec2 u = next - p, v = prev - p;
+  return std::atan2(cross2(u, v), u.dot(v));
+}
+
+double corner_angle_3d(const Vec3& p, const Vec3& next, const Vec3& prev) {
+  const Vec3 u = next - p, v = prev - p;
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+/// One patch as a small mesh over its own vertices.
+struct LocalPatch {
+  std::vector<Vec3> p3;
+  std::vector<std::array<int, 4>> quads;
+  std::vector<std::array<int, 2>> border;  // outline edges, in order around the patch
+};
+
+LocalPatch local_patch(const Strips& strips, const Patch& patch) {
+  LocalPatch lp;
+  for (const auto& r : patch.rulings)
+    for (int rail = 0; rail < 2; ++rail) lp.p3.push_back(strips.vertices[r[rail]]);
+  lp.quads = patch.local_quads();
+  const int n = static_cast<int>(patch.rulings.size()) - 1;
+  for (int i = 0; i < n; ++i) lp.border.push_back({2 * i, 2 * (i + 1)});          // rail 0
+  lp.border.push_back({2 * n, 2 * n + 1});                                        // last ruling
+  for (int i = n; i > 0; --i) lp.border.push_back({2 * i + 1, 2 * (i - 1) + 1});  // rail 1
+  lp.border.push_back({1, 0});                                                    // first ruling
+  return lp;
+}
+
+/// Least-squares conformal map of the triangulated patch, vertices 0 and 1 pinned at (0, 0) and
+/// (|p1 - p0|, 0).
+std::vector<Vec2> conformal_map(const LocalPatch& lp) {
+  const int n = static_cast<int>(lp.p3.size());
+  std::vector<Triplet> entries;
+  int row = 0;
+  for (const auto& q : lp.quads)
+    for (const std::array<int, 3> t :
+         {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
+      const Vec3 &a = lp.p3[t[0]], &b = lp.p3[t[1]], &c = lp.p3[t[2]];
+      const Vec3 normal = (b - a).cross(c - a);
+      const double area = 0.5 * normal.norm();
+      if (!(area > 1e-12)) continue;  // degenerate triangle: no conformality to ask for
+      const Vec3 e1 = (b - a).normalized(), e2 = normal.normalized().cross(e1);
+      const std::array<Vec2, 3> x = {Vec2(0, 0), Vec2((b - a).norm(), 0),
+                                     Vec2((c - a).dot(e1), (c - a).dot(e2))};
+      const double w = std::sqrt(area);
+      for (int m = 0; m < 3; ++m) {
+        const Vec2 e = x[(m + 2) % 3] - x[(m + 1) % 3];
+        const Vec2 g = Vec2(-e.y(), e.x()) / (2 * area);  // gradient of the hat function
+        // u_x - v_y and u_y + v_x (Cauchy-Riemann), u at 2i, v at 2i + 1.
+        entries.emplace_back(row, 2 * t[m], w * g.x());
+        entries.emplace_back(row, 2 * t[m] + 1, -w * g.y());
+        entries.emplace_back(row + 1, 2 * t[m], w * g.y());
+        entries.emplace_back(row + 1, 2 * t[m] + 1, w * g.x());
+      }
+      row += 2;
+    }
+  SparseMatrix a(row, 2 * n);
+  a.setFromTriplets(entries.begin(), entries.end());
+  // Pinned values; the unknowns are the other 2n - 4 coordinates.
+  const double len = (lp.p3[1] - lp.p3[0]).norm();
+  Eigen::VectorXd pinned = Eigen::VectorXd::Zero(2 * n);
+  pinned[2] = len;
+  std::vector<int> free_index(2 * n, -1);
+  int nfree = 0;
+  for (int i = 4; i < 2 * n; ++i) free_index[i] = nfree++;
+  std::vector<Triplet> free_entries;
+  Eigen::VectorXd rhs = -(a * pinned);
+  for (int k = 0; k < a.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(a, k); it; ++it)
+      if (free_index[it.col()] >= 0)
+        free_entries.emplace_back(it.row(), free_index[it.col()], it.value());
+  SparseMatrix af(row, nfree);
+  af.setFromTriplets(free_entries.begin(), free_entries.end());
+  const SparseMatrix normal = af.transpose() * af;
+  Eigen::SimplicialLDLT<SparseMatrix> solver(normal);
+  if (solver.info() != Eigen::Success) throw SolverError("conformal map: factorisation failed");
+  const Eigen::VectorXd z = solver.solve(af.transpose() * rhs);
+  std::vector<Vec2> out(n);
+  out[0] = Vec2(0, 0);
+  out[1] = Vec2(len, 0);
+  for (int i = 2; i < n; ++i) out[i] = Vec2(z[free_index[2 * i]], z[free_index[2 * i + 1]]);
+  return out;
+}
+
+/// Eq. 2 as residuals r (energy = |r|^2) with their Jacobian.
+class AngleLengthEnergy {
+ public:
+  AngleLengthEnergy(const LocalPatch& lp, double lambda) : lp_(lp) {
+    for (const auto& q : lp.quads)
+      for (int c = 0; c < 4; ++c)
+        target_angle_.push_back(
+            corner_angle_3d(lp.p3[q[c]], lp.p3[q[(c + 1) % 4]], lp.p3[q[(c + 3) % 4]]));
+    double sum = 0;
+    for (const auto& e : lp.border) {
+      target_length_.push_back((lp.p3[e[1]] - lp.p3[e[0]]).norm());
+      sum += target_length_.back();
+    }
+    mean_length_ = sum / std::max<std::size_t>(1, lp.border.size());
+    w_length_ = std::sqrt(lambda) / mean_length_;
+    w_angle_ = std::sqrt(1 - lambda);
+  }
+  int residual_count() const {
+    return static_cast<int>(target_length_.size() + target_angle_.size());
+  }
+  const std::vector<double>& target_angles() const { return target_angle_; }
+  const std::vector<double>& target_lengths() const { return target_length_; }
+
+  Eigen::VectorXd residuals(const std::vector<Vec2>& x) const {
+    Eigen::VectorXd r(residual_count());
+    int k = 0;
+    for (std::size_t e = 0; e < lp_.border.size(); ++e)
+      r[k++] = w_length_ * ((x[lp_.border[e][1]] - x[lp_.border[e][0]]).norm() - target_length_[e]);
+    int c = 0;
+    for (const auto& q : lp_.quads)
+      for (int j = 0; j < 4; ++j, ++c)
+        r[k++] = w_angle_ *
+                 (corner_angle(x[q[j]], x[q[(j + 1) % 4]], x[q[(j + 3) % 4]]) - target_angle_[c]);
+    return r;
+  }
+
+  /// Jacobian with respect to all 2n coordinates (x at 2i, y at 2i + 1).
+  SparseMatrix jacobian(const std::vector<Vec2>& x) const {
+    std::vector<Triplet> t;
+    int k = 0;
+    for (const auto& e : lp_.border) {
+      const Vec2 d = x[e[1]] - x[e[0]];
+      const double len = d.norm();
+      const Vec2 g = len > 0 ? Vec2(w_length_ * d / len) : Vec2(0, 0);
+      for (int a = 0; a < 2; ++a) {
+        t.emplace_back(k, 2 * e[1] + a, g[a]);
+        t.emplace_back(k, 2 * e[0] + a, -g[a]);
+      }
+      ++k;
+    }
+    for (const auto& q : lp_.quads)
+      for (int j = 0; j < 4; ++j, ++k) {
+        const int i = q[j], nx = q[(j + 1) % 4], pv = q[(j + 3) % 4];
+        const Vec2 u = x[nx] - x[i], v = x[pv] - x[i];
+        const double uu = std::max(u.squaredNorm(), 1e-300), vv = std::max(v.squaredNorm(), 1e-300);
+        const Vec2 gn = w_angle_ * Vec2(u.y(), -u.x()) / uu;
+        const Vec2 gp = w_angle_ * Vec2(-v.y(), v.x()) / vv;
+        for (int a = 0; a < 2; ++a) {
+          t.emplace_back(k, 2 * nx + a, gn[a]);
+          t.emplace_back(k, 2 * pv + a, gp[a]);
+          t.emplace_back(k, 2 * i + a, -gn[a] - gp[a]);
+        }
+      }
+    SparseMatrix j(residual_count(), 2 * static_cast<int>(x.size()));
+    j.setFromTriplets(t.begin(), t.end());
+    return j;
+  }
+
+ private:
+  const LocalPatch& lp_;
+  std::vector<double> target_angle_, target_length_;
+  double mean_length_ = 1, w_length_ = 0, w_angle_ = 0;
+};
+
+/// Keeps the columns of the free coordinates: all but x0, y0 and y1 (rigid motion gauge).
+SparseMatrix free_columns(const SparseMatrix& j, const std::vector<int>& free_index, int nfree) {
+  std::vector<Triplet> t;
+  for (int k = 0; k < j.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(j, k); it; ++it)
+      if (free_index[it.col()] >= 0) t.emplace_back(it.row(), free_index[it.col()], it.value());
+  SparseMatrix out(j.rows(), nfree);
+  out.setFromTriplets(t.begin(), t.end());
+  return out;
+}
+
+struct Solve {
+  int iterations = 0;
+  double energy = 0;
+  bool converged = false;
+};
+
+/// Gauss-Newton with backtracking line search; stops when half the Newton decrement
+/// (-g^T d / 2 with g the gradient of |r|^2) falls below the tolerance.
+Solve minimise(const AngleLengthEnergy& energy, std::vector<Vec2>& x, const FlattenOptions& opt) {
+  const int n = static_cast<int>(x.size());
+  std::vector<int> free_index(2 * n, -1);
+  int nfree = 0;
+  for (int i = 0; i < 2 * n; ++i)
+    if (i != 0 && i != 1 && i != 3) free_index[i] = nfree++;
+  Solve s;
+  Eigen::VectorXd r = energy.residuals(x);
+  s.energy = r.squaredNorm();
+  Eigen::SimplicialLDLT<SparseMatrix> solver;
+  bool analysed = false;
+  for (s.iterations = 0; s.iterations < opt.max_iterations; ++s.iterations) {
+    const SparseMatrix j = free_columns(energy.jacobian(x), free_index, nfree);
+    SparseMatrix h = j.transpose() * j;
+    const double damping = 1e-12 * (h.diagonal().sum() / std::max(1, nfree) + 1e-30);
+    for (int i = 0; i < nfree; ++i) h.coeffRef(i, i) += damping;
+    if (!analysed) solver.analyzePattern(h), analysed = true;
+    solver.factorize(h);
+    if (solver.info() != Eigen::Success) break;
+    const Eigen::VectorXd jr = j.transpose() * r;
+    const Eigen::VectorXd d = solver.solve(-jr);
+    const double decrement = -2.0 * jr.dot(d);  // -g^T d with g = 2 J^T r
+    if (decrement / 2 < opt.tolerance) {
+      s.converged = true;
+      break;
+    }
+    double t = 1.0;
+    std::vector<Vec2> trial(n);
+    Eigen::VectorXd r_trial;
+    bool accepted = false;
+    for (int ls = 0; ls < 40; ++ls, t *= 0.5) {
+      for (int i = 0; i < n; ++i) {
+        trial[i] = x[i];
+        for (int a = 0; a < 2; ++a)
+          if (free_index[2 * i + a] >= 0) trial[i][a] += t * d[free_index[2 * i + a]];
+      }
+      r_trial = energy.residuals(trial);
+      if (r_trial.squaredNorm() <= s.energy - 1e-4 * t * decrement) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {  // no descent left at machine precision: as good as it gets
+      s.converged = decrement / 2 < 1e3 * opt.tolerance + 1e-12 * s.energy;
+      break;
+    }
+    x = trial;
+    r = r_trial;
+    s.energy = r.squaredNorm();
+  }
+  return s;
+}
+
+bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  auto orient = [](const Vec2& p, const Vec2& q, const Vec2& r) { return cross2(q - p, r - p); };
+  const double scale = std::max({(b - a).norm(), (d - c).norm(), 1e-300});
+  const double eps = 1e-12 * scale * scale;
+  const double o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a),
+               o4 = orient(c, d, b);
+  if (((o1 > eps && o2 < -eps) || (o1 < -eps && o2 > eps)) &&
+      ((o3 > eps && o4 < -eps) || (o3 < -eps && o4 > eps)))
+    return true;
+  // Touching or collinear overlap counts as crossing for an outline.
+  auto on = [&](const Vec2& p, const Vec2& q, const Vec2& r, double o) {
+    return std::abs(o) <= eps && (r - p).dot(r - q) <= 0;
+  };
+  return on(a, b, c, o1) || on(a, b, d, o2) || on(c, d, a, o3) || on(c, d, b, o4);
+}
+
+/// Moves the 3D vertices so every quad edge and diagonal takes its flat length: Levenberg-
+/// Marquardt steps whose damping penalises each step's length, so the strip does not drift
+/// along its free isometric (hinge) motions while the metric error is driven to zero.
+std::vector<Vec3> deform_to_flat_metric(const LocalPatch& lp, const std::vector<Vec2>& x) {
+  std::vector<std::array<int, 2>> pairs;
+  for (const auto& q : lp.quads)
+    for (auto [a, b] : {std::pair{0, 1}, std::pair{1, 2}, std::pair{2, 3}, std::pair{3, 0},
+                        std::pair{0, 2}, std::pair{1, 3}}) {
+      pairs.push_back({std::min(q[a], q[b]), std::max(q[a], q[b])});
+    }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const int n = static_cast<int>(lp.p3.size()), m = static_cast<int>(pairs.size());
+  std::vector<double> target(m);
+  double scale = 0;
+  for (int k = 0; k < m; ++k) {
+    target[k] = (x[pairs[k][1]] - x[pairs[k][0]]).norm();
+    scale = std::max(scale, target[k]);
+  }
+  std::vector<Vec3> y = lp.p3;
+  auto residuals = [&](const std::vector<Vec3>& p) {
+    Eigen::VectorXd r(m);
+    for (int k = 0; k < m; ++k) r[k] = (p[pairs[k][1]] - p[pairs[k][0]]).norm() - target[k];
+    return r;
+  };
+  Eigen::VectorXd r = residuals(y);
+  Eigen::SimplicialLDLT<SparseMatrix> solver;
+  bool analysed = false;
+  constexpr double kDamping = 1e-2;
+  for (int it = 0; it < 60 && r.lpNorm<Eigen::Infinity>() > 1e-10 * scale; ++it) {
+    std::vector<Triplet> t;
+    for (int k = 0; k < m; ++k) {
+      const Vec3 d = y[pairs[k][1]] - y[pairs[k][0]];
+      const Vec3 g = d.norm() > 0 ? Vec3(d.normalized()) : Vec3::Zero();
+      for (int a = 0; a < 3; ++a) {
+        t.emplace_back(k, 3 * pairs[k][1] + a, g[a]);
+        t.emplace_back(k, 3 * pairs[k][0] + a, -g[a]);
+      }
+    }
+    SparseMatrix j(m, 3 * n);
+    j.setFromTriplets(t.begin(), t.end());
+    SparseMatrix h = j.transpose() * j;
+    for (int i = 0; i < 3 * n; ++i) h.coeffRef(i, i) += kDamping;
+    if (!analysed) solver.analyzePattern(h), analysed = true;
+    solver.factorize(h);
+    if (solver.info() != Eigen::Success) break;
+    const Eigen::VectorXd d = solver.solve(-(j.transpose() * r));
+    std::vector<Vec3> trial = y;
+    for (int i = 0; i < n; ++i)
+      for (int a = 0; a < 3; ++a) trial[i][a] += d[3 * i + a];
+    const Eigen::VectorXd rt = residuals(trial);
+    if (!(rt.squaredNorm() < r.squaredNorm())) break;
+    y = std::move(trial);
+    r = rt;
+  }
+  return y;
+}
+
+PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const FlattenOptions& opt) {
+  const LocalPatch lp = local_patch(strips, patch);
+  PatchFlattening out;
+  out.points = conformal_map(lp);
+  // Counter-clockwise quads: mirror if the conformal map came out reflected (it does not for
+  // consistently oriented input, but a wrong sign must never reach the cutter).
+  double signed_area = 0;
+  for (const auto& q : lp.quads)
+    for (int c = 0; c < 4; ++c)
+      signed_area += 0.5 * cross2(out.points[q[c]], out.points[q[(c + 1) % 4]]);
+  if (signed_area < 0)
+    for (auto& p : out.points) p.y() = -p.y();
+  const AngleLengthEnergy energy(lp, opt.lambda);
+  out.initial_energy = energy.residuals(out.points).squaredNorm();
+  const Solve s = minimise(energy, out.points, opt);
+  out.iterations = s.iterations;
+  out.energy = s.energy;
+  out.converged = s.converged;
+  out.inverted_quads = count_inverted_quads(out.points, lp.quads);
+  int c = 0;
+  for (const auto& q : lp.quads) {
+    for (int j = 0; j < 4; ++j, ++c) {
+      const double a =
+          corner_angle(out.points[q[j]], out.points[q[(j + 1) % 4]], out.points[q[(j + 3) % 4]]);
+      out.max_angle_error = std::max(out.max_angle_error, std::abs(a - energy.target_angles()[c]));
+    }
+    const Vec3 &a = lp.p3[q[0]], &b = lp.p3[q[1]], &cc = lp.p3[q[2]], &d = lp.p3[q[3]];
+    out.area_3d += 0.5 * ((b - a).cross(cc - a).norm() + (cc - a).cross(d - a).norm());
+    for (int j = 0; j < 4; ++j)
+      out.area_2d += 0.5 * cross2(out.points[q[j]], out.points[q[(j + 1) % 4]]);
+  }
+  for (std::size_t e = 0; e < lp.border.size(); ++e) {
+    const double l = (out.points[lp.border[e][1]] - out.points[lp.border[e][0]]).norm();
+    const double l3 = energy.target_lengths()[e];
+    if (l3 > 0)
+      out.max_border_length_error_rel =
+          std::max(out.max_border_length_error_rel, std::abs(l - l3) / l3);
+  }
+  std::vector<int> outline;
+  for (const auto& e : lp.border) outline.push_back(e[0]);
+  out.outline_simple = is_simple_polygon(out.points, outline);
+  if (opt.mimic_3d) out.deformed_3d = deform_to_flat_metric(lp, out.points);
+  return out;
+}
+
+/// Border pieces: every outline edge of every patch is assigned to the coarse edge it lies on;
+/// two patch sides on one coarse edge mate.
+void measure_borders(const Strips& strips, Flattening& flat) {
+  struct Side {
+    int patch;
+    double l2, l3;
+  };
+  std::map<std::pair<int, int>, Side> sides;  // (coarse edge, patch * 4 + which side)
+  for (std::size_t p = 0; p < strips.patches.size(); ++p) {
+    const Patch& patch = strips.patches[p];
+    const auto& x = flat.patches[p].points;
+    const int n = static_cast<int>(patch.rulings.size()) - 1;
+    auto add = [&](int edge, int which, int a, int b) {
+      Side& s =
+          sides
+              .try_emplace({edge, static_cast<int>(p) * 4 + which}, Side{static_cast<int>(p), 0, 0})
+              .first->second;
+      s.l2 += (x[b] - x[a]).norm();
+      s.l3 += (strips.vertices[patch.rulings[b / 2][b % 2]] -
+               strips.vertices[patch.rulings[a / 2][a % 2]])
+                  .norm();
+    };
+    for (int i = 0; i < n; ++i)
+      for (int rail = 0; rail < 2; ++rail)
+        add(patch.rail_edges[i][rail], rail, 2 * i + rail, 2 * (i + 1) + rail);
+    add(patch.end_edges[0], 2, 0, 1);
+    add(patch.end_edges[1], 3, 2 * n, 2 * n + 1);
+  }
+  std::map<int, std::vector<Side>> by_edge;
+  for (const auto& [key, side] : sides) by_edge[key.first].push_back(side);
+  std::map<std::pair<int, int>, SharedBorder> shared;
+  for (const auto& [edge, list] : by_edge) {
+    if (list.size() != 2) continue;  // on the mesh boundary (or an interior ruling: none here)
+    BorderPiece piece;
+    piece.edge = edge;
+    // Order the two sides by patch id so each pair of patches has one key.
+    const bool swap = list[1].patch < list[0].patch;
+    const Side& a = swap ? list[1] : list[0];
+    const Side& b = swap ? list[0] : list[1];
+    piece.patches = {a.patch, b.patch};
+    piece.length_3d = std::max(a.l3, b.l3);
+    piece.length_2d = {a.l2, b.l2};
+    if (piece.length_3d > 0)
+      flat.max_mating_mismatch_rel =
+          std::max(flat.max_mating_mismatch_rel, std::abs(a.l2 - b.l2) / piece.length_3d);
+    SharedBorder& s = shared[{a.patch, b.patch}];
+    s.patches = piece.patches;
+    ++s.pieces;
+    s.length_3d += piece.length_3d;
+    s.length_2d[0] += a.l2;
+    s.length_2d[1] += b.l2;
+    flat.pieces.push_back(piece);
+  }
+  for (const auto& [key, s] : shared) {
+    flat.borders.push_back(s);
+    if (s.length_3d > 0)
+      flat.max_shared_border_mismatch_rel =
+          std::max(flat.max_shared_border_mismatch_rel,
+                   std::abs(s.length_2d[0] - s.length_2d[1]) / s.length_3d);
+  }
+}
+
+}  // namespace
+
+int count_inverted_quads(const std::vector<Vec2>& points,
+                         const std::vector<std::array<int, 4>>& quads) {
+  int count = 0;
+  for (const auto& q : quads) {
+    bool inverted = false;
+    for (int j = 0; j < 4; ++j) {
+      const double a = corner_angle(points[q[j]], points[q[(j + 1) % 4]], points[q[(j + 3) % 4]]);
+      if (!(a > 0 && a < M_PI)) inverted = true;
+    }
+    count += inverted ? 1 : 0;
+  }
+  return count;
+}
+
+bool is_simple_polygon(const std::vector<Vec2>& x, const std::vector<int>& outline) {
+  const int m = static_cast<int>(outline.size());
+  for (int i = 0; i < m; ++i) {
+    const Vec2 &a = x[outline[i]], &b = x[outline[(i + 1) % m]];
+    for (int j = i + 2; j < m; ++j) {
+      if (i == 0 && j == m - 1) continue;  // adjacent around the loop
+      const Vec2 &c = x[outline[j]], &d = x[outline[(j + 1) % m]];
+      if (std::max(a.x(), b.x()) < std::min(c.x(), d.x()) ||
+          std::max(c.x(), d.x()) < std::min(a.x(), b.x()) ||
+          std::max(a.y(), b.y()) < std::min(c.y(), d.y()) ||
+          std::max(c.y(), d.y()) < std::min(a.y(), b.y()))
+        continue;
+      if (segments_cross(a, b, c, d)) return false;
+    }
+  }
+  return true;
+}
+
+Flattening flatten_patches(const Strips& strips, const FlattenOptions& options) {
+  if (!(options.lambda >= 0 && options.lambda <= 1))
+    throw InvalidInput("--flatten-lambda must be in [0, 1]");
+  if (options.max_iterations < 1) throw InvalidInput("flatten: max_iterations must be >= 1");
+  if (!(options.tolerance > 0)) throw InvalidInput("flatten: tolerance must be > 0");
+  Flattening flat;
+  const int np = static_cast<int>(strips.patches.size());
+  flat.patches.resize(np);
+  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = std::clamp(options.threads > 0 ? options.threads : hw, 1, std::max(1, np));
+  std::atomic<int> next{0};
+  std::vector<std::exception_ptr> errors(threads);
+  auto work = [&](int id) {
+    try {
+      for (int p = next++; p < np; p = next++)
+        flat.patches[p] = flatten_one(strips, strips.patches[p], options);
+    } catch (...) {
+      errors[id] = std::current_exception();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int id = 1; id < threads; ++id) pool.emplace_back(work, id);
+  work(0);
+  for (auto& t : pool) t.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  for (const auto& p : flat.patches) {
+    flat.max_angle_error = std::max(flat.max_angle_error, p.max_angle_error);
+    flat.max_border_length_error_rel =
+        std::max(flat.max_border_length_error_rel, p.max_border_length_error_rel);
+    flat.inverted_quads += p.inverted_quads;
+    flat.non_simple_outlines += p.outline_simple ? 0 : 1;
+    flat.unconverged += p.converged ? 0 : 1;
+  }
+  measure_borders(strips, flat);
+  return flat;
+}
+
+TriangleMesh patch_triangles(const Strips& strips, const Flattening& flat, bool deformed) {
+  TriangleMesh out;
+  for (std::size_t p = 0; p < strips.patches.size(); ++p) {
+    const Patch& patch = strips.patches[p];
+    const int base = static_cast<int>(out.vertices.size());
+    if (deformed) {
+      out.vertices.insert(out.vertices.end(), flat.patches[p].deformed_3d.begin(),
+                          flat.patches[p].deformed_3d.end());
+    } else {
+      for (const auto& r : patch.rulings)
+        for (int rail = 0; rail < 2; ++rail) out.vertices.push_back(strips.vertices[r[rail]]);
+    }
+    for (const auto& q : patch.local_quads()) {
+      out.triangles.push_back({base + q[0], base + q[1], base + q[2]});
+      out.triangles.push_back({base + q[0], base + q[2], base + q[3]});
+    }
+  }
+  return out;
+}
+
+}  // namespace kerfab

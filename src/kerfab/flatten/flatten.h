@@ -1,0 +1,91 @@
+#pragma once
+/// \file Flattening (paper Sec. 3.2): each patch is unfolded into the plane by least-squares
+/// conformal maps on a temporary triangulation, then refined with the paper's Eq. 2 on the
+/// quads: lambda * sum over border edges of the squared length error plus (1 - lambda) * sum
+/// over quad corners of the squared angle error, solved by Gauss-Newton (the energy is a sum of
+/// squares, so J^T J is the positive semi-definite projected Hessian) with a sparse Cholesky
+/// factorisation, a backtracking line search and the Newton decrement as stopping test.
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "kerfab/strips/strips.h"
+
+namespace kerfab {
+
+using Vec2 = Eigen::Vector2d;
+
+struct FlattenOptions {
+  double lambda = 0.99;      ///< weight of the border-length term in Eq. 2 [-], in [0, 1];
+                             ///< length errors are measured relative to the patch's mean border
+                             ///< edge length so that the balance does not depend on units
+  int max_iterations = 100;  ///< Gauss-Newton iterations per patch [-], >= 1
+  double tolerance = 1e-14;  ///< stop when half the Newton decrement falls below this [-], > 0
+  int threads = 0;           ///< patches solved in parallel; 0: one per hardware thread
+  bool mimic_3d = true;      ///< also deform the 3D strips to the flat metric (evaluation)
+};
+
+/// One patch's flattening. Vertices are the patch's own, 2 * ruling + rail (Patch::local_quads).
+struct PatchFlattening {
+  std::vector<Vec2> points;       ///< 2D positions [mm], quads counter-clockwise
+  std::vector<Vec3> deformed_3d;  ///< 3D positions whose metric matches the flat one [mm]
+                                  ///< (empty unless mimic_3d)
+  int iterations = 0;
+  double initial_energy = 0;               ///< Eq. 2 after the conformal initialisation [-]
+  double energy = 0;                       ///< Eq. 2 at the end [-]
+  bool converged = false;                  ///< Newton decrement test met within max_iterations
+  double max_angle_error = 0;              ///< largest |alpha - alpha*| over quad corners [rad]
+  double max_border_length_error_rel = 0;  ///< largest |l - l*| / l* over border edges [-]
+  int inverted_quads = 0;                  ///< quads with a corner angle outside (0, pi) in 2D
+  bool outline_simple = true;              ///< the outline does not cross itself
+  double area_3d = 0, area_2d = 0;         ///< [mm^2]
+};
+
+/// A border piece: the part of one coarse quad-mesh edge on which two patch sides meet.
+struct BorderPiece {
+  int edge = -1;  ///< coarse edge
+  std::array<int, 2> patches{-1, -1};
+  double length_3d = 0;                   ///< [mm]
+  std::array<double, 2> length_2d{0, 0};  ///< the piece's length in each patch's flattening [mm]
+};
+
+/// All pieces shared by one pair of patches (a patch may pair with itself after a loop cut).
+struct SharedBorder {
+  std::array<int, 2> patches{-1, -1};
+  int pieces = 0;
+  double length_3d = 0;
+  std::array<double, 2> length_2d{0, 0};
+};
+
+struct Flattening {
+  std::vector<PatchFlattening> patches;
+  std::vector<BorderPiece> pieces;
+  std::vector<SharedBorder> borders;
+  double max_angle_error = 0;                 ///< over all patches [rad]
+  double max_border_length_error_rel = 0;     ///< over all patches' border edges [-]
+  double max_mating_mismatch_rel = 0;         ///< max over pieces |l2d_a - l2d_b| / l3d [-]
+  double max_shared_border_mismatch_rel = 0;  ///< same over whole shared borders [-]
+  int inverted_quads = 0;
+  int non_simple_outlines = 0;
+  int unconverged = 0;
+};
+
+/// Quads of \p quads (counter-clockwise corner order expected) that are inverted or not
+/// strictly convex in the plane: some corner angle, measured counter-clockwise, outside (0, pi).
+int count_inverted_quads(const std::vector<Vec2>& points,
+                         const std::vector<std::array<int, 4>>& quads);
+
+/// True when the closed polygon through \p outline (indices into \p points) does not touch or
+/// cross itself.
+bool is_simple_polygon(const std::vector<Vec2>& points, const std::vector<int>& outline);
+
+/// Flattens every patch of \p strips. \throw InvalidInput options out of range.
+Flattening flatten_patches(const Strips& strips, const FlattenOptions& options);
+
+/// The patches' 3D meshes as one triangle mesh (each patch with its own vertices), either as
+/// built or, with \p deformed, as deformed to the flat metric. \pre flattened with mimic_3d
+/// when \p deformed.
+TriangleMesh patch_triangles(const Strips& strips, const Flattening& flat, bool deformed);
+
+}  // namespace kerfab

@@ -1,0 +1,276 @@
+#include "kerfab/flatten/flatten.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/eval/surface_distance.h"
+#include "kerfab/input/prepare.h"
+#include "kerfab/io/mesh_io.h"
+#include "shapes.h"
+#include "test_util.h"
+
+namespace kerfab {
+namespace {
+
+constexpr double kPi = M_PI;
+
+struct Built {
+  PolyMesh quads;
+  TriangleMesh target;
+  Strips strips;
+};
+
+// Strips on a quad mesh whose own triangulation is the target: planar quads stay planar after
+// projection, so strips of a developable grid are exactly developable.
+Built strips_on_own_mesh(PolyMesh quads, int k, const BendingOptions& bending_options = {}) {
+  Built b;
+  b.quads = std::move(quads);
+  b.target = triangulate(b.quads);
+  const TargetSurface target(b.target);
+  const BendingResult bending = choose_bending_edges(b.quads, target, bending_options);
+  StripsOptions o;
+  o.rulings_per_quad = k;
+  o.max_ruling_spacing = 1e9;
+  b.strips = build_strips(b.quads, bending, target, o);
+  return b;
+}
+
+double corner(const Vec3& p, const Vec3& n, const Vec3& q) {
+  return std::atan2((n - p).cross(q - p).norm(), (n - p).dot(q - p));
+}
+double corner(const Vec2& p, const Vec2& n, const Vec2& q) {
+  const Vec2 u = n - p, v = q - p;
+  return std::atan2(u.x() * v.y() - u.y() * v.x(), u.dot(v));
+}
+
+// Every edge and diagonal length and every corner angle of every patch equals its 3D value.
+void expect_isometric(const Strips& s, const Flattening& f, double tol) {
+  for (std::size_t p = 0; p < s.patches.size(); ++p) {
+    const Patch& patch = s.patches[p];
+    const auto& x = f.patches[p].points;
+    auto p3 = [&](int local) { return s.vertices[patch.rulings[local / 2][local % 2]]; };
+    EXPECT_TRUE(f.patches[p].converged);
+    for (const auto& q : patch.local_quads()) {
+      for (int a = 0; a < 4; ++a) {
+        for (int b = a + 1; b < 4; ++b) {
+          const double l3 = (p3(q[b]) - p3(q[a])).norm(), l2 = (x[q[b]] - x[q[a]]).norm();
+          EXPECT_NEAR(l2, l3, tol * l3) << "patch " << p;
+        }
+        EXPECT_NEAR(corner(x[q[a]], x[q[(a + 1) % 4]], x[q[(a + 3) % 4]]),
+                    corner(p3(q[a]), p3(q[(a + 1) % 4]), p3(q[(a + 3) % 4])), tol)
+            << "patch " << p;
+      }
+    }
+  }
+}
+
+TEST(Flatten, CylinderRingsUnrollIsometrically) {
+  const auto shape = test::open_cylinder(40, 30, 16, 2, 1);
+  const Built b = strips_on_own_mesh(shape.quads, 3);
+  ASSERT_EQ(b.strips.patches.size(), 2u);
+  const Flattening f = flatten_patches(b.strips, {});
+  expect_isometric(b.strips, f, 1e-6);
+  EXPECT_EQ(f.inverted_quads, 0);
+  EXPECT_EQ(f.non_simple_outlines, 0);
+  // A ring unrolls to a rectangle as long as the polygon's perimeter.
+  const double perimeter = 16 * 2 * 40 * std::sin(kPi / 16);
+  for (const auto& pf : f.patches) EXPECT_NEAR(pf.area_2d, perimeter * 15, 1e-6 * perimeter * 15);
+  // The two rings share one border, equally long on both sides; each ring also meets itself
+  // where its loop was cut (a 15 mm ruling).
+  ASSERT_EQ(f.borders.size(), 3u);
+  int rings_border = 0, loop_borders = 0;
+  for (const SharedBorder& sb : f.borders) {
+    const bool self = sb.patches[0] == sb.patches[1];
+    const double expected = self ? 15.0 : perimeter;
+    (self ? loop_borders : rings_border) += 1;
+    EXPECT_NEAR(sb.length_3d, expected, 1e-9 * expected);
+    EXPECT_NEAR(sb.length_2d[0], expected, 1e-6 * expected);
+    EXPECT_NEAR(sb.length_2d[1], expected, 1e-6 * expected);
+  }
+  EXPECT_EQ(rings_border, 1);
+  EXPECT_EQ(loop_borders, 2);
+  EXPECT_LT(f.max_mating_mismatch_rel, 1e-6);
+  // The 3D strips need no deformation to match the flat metric.
+  EXPECT_LT(surface_distance(patch_triangles(b.strips, f, false),
+                             patch_triangles(b.strips, f, true), {.sample_spacing = 2})
+                .hausdorff,
+            1e-6);
+}
+
+TEST(Flatten, ConeStripsUnrollIsometrically) {
+  // Frustum of a cone: radius 60 at z = 0 to 25 at z = 70; rings are developable.
+  auto cone = [](double u, double v) {
+    const double r = 60 - 35 * v;
+    return Vec3(r * std::cos(2 * kPi * u), r * std::sin(2 * kPi * u), 70 * v);
+  };
+  const Built b = strips_on_own_mesh(test::grid_mesh(20, 3, true, false, cone), 4);
+  const Flattening f = flatten_patches(b.strips, {});
+  expect_isometric(b.strips, f, 1e-6);
+  EXPECT_EQ(f.inverted_quads, 0);
+  EXPECT_LT(f.max_mating_mismatch_rel, 1e-6);
+}
+
+TEST(Flatten, PlanarPatchIsReproducedUpToARigidMotion) {
+  const auto shape = test::quad_plane(120, 5, 1);
+  const Built b = strips_on_own_mesh(shape.quads, 3);
+  const Flattening f = flatten_patches(b.strips, {});
+  for (std::size_t p = 0; p < b.strips.patches.size(); ++p) {
+    const Patch& patch = b.strips.patches[p];
+    const auto& x = f.patches[p].points;
+    // Best rotation + translation (no reflection) from the plane's (x, y) onto the flattening.
+    std::vector<Vec2> y;
+    for (const auto& r : patch.rulings)
+      for (int rail = 0; rail < 2; ++rail) y.push_back(b.strips.vertices[r[rail]].head<2>());
+    Vec2 cx = Vec2::Zero(), cy = Vec2::Zero();
+    for (std::size_t i = 0; i < x.size(); ++i) cx += x[i], cy += y[i];
+    cx /= x.size(), cy /= y.size();
+    double s_cos = 0, s_sin = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const Vec2 a = y[i] - cy, c = x[i] - cx;
+      s_cos += a.dot(c);
+      s_sin += a.x() * c.y() - a.y() * c.x();
+    }
+    const double angle = std::atan2(s_sin, s_cos);
+    const Eigen::Rotation2Dd rot(angle);
+    for (std::size_t i = 0; i < x.size(); ++i)
+      EXPECT_LT((rot * (y[i] - cy) + cx - x[i]).norm(), 1e-9 * 120) << "patch " << p;
+  }
+}
+
+TEST(Flatten, SphereStripsConvergeWithBoundedError) {
+  const auto shape = test::sphere(50, 4);
+  const TargetSurface target(shape.target);
+  const BendingResult bending = choose_bending_edges(shape.quads, target, {});
+  const Strips s = build_strips(shape.quads, bending, target, {});
+  const Flattening f = flatten_patches(s, {});
+  EXPECT_EQ(f.unconverged, 0);
+  EXPECT_EQ(f.inverted_quads, 0);
+  EXPECT_EQ(f.non_simple_outlines, 0);
+  // Doubly curved: angles must give, a little; border lengths stay almost exact.
+  EXPECT_GT(f.max_angle_error, 1e-4);
+  EXPECT_LT(f.max_angle_error, 5 * kPi / 180);
+  EXPECT_LT(f.max_border_length_error_rel, 1e-3);
+  EXPECT_LT(f.max_mating_mismatch_rel, 1e-3);
+  for (const auto& pf : f.patches) {
+    EXPECT_LE(pf.energy, pf.initial_energy);
+    EXPECT_NEAR(pf.area_2d, pf.area_3d, 0.01 * pf.area_3d);
+  }
+  // A heavier border-length weight trades angle error for border accuracy.
+  FlattenOptions angles_first;
+  angles_first.lambda = 0.1;
+  const Flattening g = flatten_patches(s, angles_first);
+  EXPECT_GT(g.max_border_length_error_rel, f.max_border_length_error_rel);
+}
+
+TEST(Flatten, DeterministicAcrossThreadCounts) {
+  const auto shape = test::torus(60, 20, 16, 8);
+  const TargetSurface target(shape.target);
+  const Strips s =
+      build_strips(shape.quads, choose_bending_edges(shape.quads, target, {}), target, {});
+  FlattenOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const Flattening a = flatten_patches(s, one), b = flatten_patches(s, two);
+  ASSERT_EQ(a.patches.size(), b.patches.size());
+  for (std::size_t p = 0; p < a.patches.size(); ++p)
+    for (std::size_t i = 0; i < a.patches[p].points.size(); ++i)
+      EXPECT_EQ(a.patches[p].points[i], b.patches[p].points[i]);
+  FlattenOptions bad;
+  bad.lambda = 1.5;
+  EXPECT_THROW(flatten_patches(s, bad), InvalidInput);
+}
+
+TEST(Flatten, RealMeshesFitTogether) {
+  struct Case {
+    std::string target, quad;
+    int subdivide;
+    double size;
+  };
+  for (const Case& c : {Case{"spot_triangulated.obj", "spot_control_mesh.obj", 1, 250},
+                        Case{"fandisk_quads.off", "", 0, 200}}) {
+    SCOPED_TRACE(c.target);
+    InputOptions in;
+    in.subdivide = c.subdivide;
+    in.size = c.size;
+    std::optional<PolyMesh> quad;
+    if (!c.quad.empty()) quad = read_mesh(test::shared_meshes() / c.quad);
+    const PreparedInput p = prepare_input(read_mesh(test::shared_meshes() / c.target), quad, in);
+    BendingOptions bo;
+    bo.time_limit_s = 10;
+    const Strips s =
+        build_strips(p.quads, choose_bending_edges(p.quads, p.surface, bo), p.surface, {});
+    const Flattening f = flatten_patches(s, {});
+    EXPECT_EQ(f.unconverged, 0);
+    EXPECT_EQ(f.inverted_quads, 0);
+    EXPECT_LT(f.max_mating_mismatch_rel, 1e-3);  // mating borders within 0.1 %
+    EXPECT_LT(f.max_shared_border_mismatch_rel, 1e-3);
+    EXPECT_GT(f.borders.size(), s.patches.size() / 2);
+  }
+}
+
+}  // namespace
+}  // namespace kerfab
+
+namespace kerfab {
+namespace {
+
+TEST(Flatten, AHelicalBandOverlapsItselfInThePlaneAndIsReported) {
+  // A band 20 mm wide around a helix of radius 50 mm, 1.25 turns, 40 mm rise per turn: no
+  // contact in 3D, but unrolled it turns by about 450 degrees and must cross itself.
+  auto band = [](double u, double v) {
+    const double t = 2.5 * kPi * u, r = 40 + 20 * v;
+    return Vec3(r * std::cos(t), r * std::sin(t), 40 * t / (2 * kPi));
+  };
+  const PolyMesh quads = test::grid_mesh(60, 1, false, false, band);
+  BendingOptions opt;  // strips along the helix: its long edges bend
+  for (auto e : quads.edges()) {
+    const auto h = quads.halfedge_handle(e, 0);
+    const Vec3 a = to_eigen(quads.point(quads.from_vertex_handle(h)));
+    const Vec3 b = to_eigen(quads.point(quads.to_vertex_handle(h)));
+    if (std::abs(std::hypot(a.x(), a.y()) - std::hypot(b.x(), b.y())) < 1e-6)
+      opt.guidance.push_back(
+          {quads.from_vertex_handle(h).idx(), quads.to_vertex_handle(h).idx(), true});
+  }
+  const Built b = strips_on_own_mesh(quads, 2, opt);
+  ASSERT_EQ(b.strips.patches.size(), 1u);
+  const Flattening f = flatten_patches(b.strips, {});
+  EXPECT_FALSE(f.patches[0].outline_simple);
+  EXPECT_EQ(f.non_simple_outlines, 1);
+  EXPECT_EQ(f.inverted_quads, 0);
+  // One turn only: no crossing.
+  auto one_turn = [](double u, double v) {
+    const double t = 1.5 * kPi * u, r = 40 + 20 * v;
+    return Vec3(r * std::cos(t), r * std::sin(t), 40 * t / (2 * kPi));
+  };
+  const PolyMesh short_quads = test::grid_mesh(36, 1, false, false, one_turn);
+  BendingOptions short_opt;
+  for (auto e : short_quads.edges()) {
+    const auto h = short_quads.halfedge_handle(e, 0);
+    const Vec3 a = to_eigen(short_quads.point(short_quads.from_vertex_handle(h)));
+    const Vec3 c = to_eigen(short_quads.point(short_quads.to_vertex_handle(h)));
+    if (std::abs(std::hypot(a.x(), a.y()) - std::hypot(c.x(), c.y())) < 1e-6)
+      short_opt.guidance.push_back(
+          {short_quads.from_vertex_handle(h).idx(), short_quads.to_vertex_handle(h).idx(), true});
+  }
+  const Built c = strips_on_own_mesh(short_quads, 2, short_opt);
+  EXPECT_EQ(flatten_patches(c.strips, {}).non_simple_outlines, 0);
+}
+
+TEST(Flatten, InvertedQuadsAndCrossingOutlinesAreDetected) {
+  const std::vector<Vec2> square = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+  EXPECT_EQ(count_inverted_quads(square, {{0, 1, 2, 3}}), 0);
+  EXPECT_EQ(count_inverted_quads(square, {{0, 3, 2, 1}}), 1);         // clockwise: folded over
+  const std::vector<Vec2> dart = {{0, 0}, {10, 0}, {3, 3}, {0, 10}};  // reflex corner
+  EXPECT_EQ(count_inverted_quads(dart, {{0, 1, 2, 3}}), 1);
+  const std::vector<Vec2> bowtie = {{0, 0}, {10, 0}, {0, 10}, {10, 10}};
+  EXPECT_EQ(count_inverted_quads(bowtie, {{0, 1, 2, 3}}), 1);
+  EXPECT_TRUE(is_simple_polygon(square, {0, 1, 2, 3}));
+  EXPECT_FALSE(is_simple_polygon(bowtie, {0, 1, 2, 3}));
+  const std::vector<Vec2> touching = {{0, 0}, {10, 0}, {10, 10}, {5, 0}, {0, 10}};
+  EXPECT_FALSE(is_simple_polygon(touching, {0, 1, 2, 3, 4}));  // vertex on another edge
+}
+
+}  // namespace
+}  // namespace kerfab
