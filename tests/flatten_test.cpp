@@ -207,6 +207,12 @@ TEST(Flatten, RealMeshesFitTogether) {
     EXPECT_LT(f.max_mating_mismatch_rel, 1e-3);  // mating borders within 0.1 %
     EXPECT_LT(f.max_shared_border_mismatch_rel, 1e-3);
     EXPECT_GT(f.borders.size(), s.patches.size() / 2);
+    // Deforming the 3D strips to the flat rail and ruling lengths moves them by < 0.1 % of the
+    // diagonal (the paper's observation).
+    const double diag = bounding_box(p.surface.mesh()).diagonal();
+    const SurfaceDistance moved = surface_distance(
+        patch_triangles(s, f, false), patch_triangles(s, f, true), {.sample_spacing = 0.01 * diag});
+    EXPECT_LT(moved.hausdorff / diag, 1e-3);
   }
 }
 

@@ -269,16 +269,16 @@ bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) 
   return on(a, b, c, o1) || on(a, b, d, o2) || on(c, d, a, o3) || on(c, d, b, o4);
 }
 
-/// Moves the 3D vertices so every quad edge and diagonal takes its flat length: Levenberg-
-/// Marquardt steps whose damping penalises each step's length, so the strip does not drift
-/// along its free isometric (hinge) motions while the metric error is driven to zero.
+/// Moves the 3D vertices so every quad edge (rail segment and ruling) takes its flat length:
+/// Levenberg-Marquardt steps whose damping penalises each step's length, so the strip does not
+/// drift along its free motions while the length error is driven to zero. Diagonals are left
+/// free on purpose: a kerfed strip twists between rulings (paper Sec. 3.4), so its quads need
+/// not stay planar; requiring the flat diagonals too would flatten every twisted quad.
 std::vector<Vec3> deform_to_flat_metric(const LocalPatch& lp, const std::vector<Vec2>& x) {
   std::vector<std::array<int, 2>> pairs;
   for (const auto& q : lp.quads)
-    for (auto [a, b] : {std::pair{0, 1}, std::pair{1, 2}, std::pair{2, 3}, std::pair{3, 0},
-                        std::pair{0, 2}, std::pair{1, 3}}) {
-      pairs.push_back({std::min(q[a], q[b]), std::max(q[a], q[b])});
-    }
+    for (int a = 0; a < 4; ++a)
+      pairs.push_back({std::min(q[a], q[(a + 1) % 4]), std::max(q[a], q[(a + 1) % 4])});
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   const int n = static_cast<int>(lp.p3.size()), m = static_cast<int>(pairs.size());
