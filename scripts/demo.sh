@@ -12,5 +12,9 @@ rsvg-convert "$root/out/demo/bending.svg" -o "$root/out/demo/bending.png"
 python3 "$root/scripts/render_strips.py" "$root/out/demo/model/strips.ply" \
   "$root/out/demo/strips.svg" --azimuth 35 --elevation 10
 rsvg-convert "$root/out/demo/strips.svg" -o "$root/out/demo/strips.png"
-echo "kerfab demo: report $root/out/demo/report.json, pictures $root/out/demo/bending.png" \
-  "and $root/out/demo/strips.png"
+# A few flattened patches (outlines red, rulings grey).
+python3 "$root/scripts/render_patches.py" "$root/out/demo/stages/patches" \
+  "$root/out/demo/patches.svg" --first 20 --count 6 --width 900
+rsvg-convert "$root/out/demo/patches.svg" -o "$root/out/demo/patches.png"
+echo "kerfab demo: report $root/out/demo/report.json, pictures $root/out/demo/strips.png," \
+  "$root/out/demo/bending.png and $root/out/demo/patches.png"
