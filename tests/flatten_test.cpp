@@ -245,6 +245,13 @@ TEST(Flatten, AHelicalBandOverlapsItselfInThePlaneAndIsReported) {
   EXPECT_FALSE(f.patches[0].outline_simple);
   EXPECT_EQ(f.non_simple_outlines, 1);
   EXPECT_EQ(f.inverted_quads, 0);
+  // Split in the middle, each half unrolls without crossing.
+  const Strips halves = split_patch(b.strips, 0, 30);
+  ASSERT_EQ(halves.patches.size(), 2u);
+  const Flattening g = flatten_patches(halves, {});
+  EXPECT_EQ(g.non_simple_outlines, 0);
+  ASSERT_EQ(g.borders.size(), 1u);  // the two halves meet along one ruling
+  EXPECT_NEAR(g.borders[0].length_3d, 20, 1e-9);
   // One turn only: no crossing.
   auto one_turn = [](double u, double v) {
     const double t = 1.5 * kPi * u, r = 40 + 20 * v;

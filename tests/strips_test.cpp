@@ -226,6 +226,26 @@ TEST(Strips, EveryTestShapeSplitsIntoDisksThatCoverItOnce) {
   }
 }
 
+TEST(Strips, SplittingAPatchKeepsAPartitionIntoDisks) {
+  const auto shape = test::open_cylinder(40, 30, 16, 2);
+  const TargetSurface target(shape.target);
+  const Strips s =
+      build_strips(shape.quads, choose_bending_edges(shape.quads, target, {}), target, exact_k(3));
+  const Strips t = split_patch(s, 1, 5);
+  ASSERT_EQ(t.patches.size(), 3u);
+  EXPECT_EQ(t.patches[1].quads.size(), 5u);
+  EXPECT_EQ(t.patches[2].quads.size(), 11u);
+  EXPECT_EQ(t.patches[1].faces.size(), 15u);
+  // The new border ruling is shared: last of the first part, first of the second.
+  EXPECT_EQ(t.patches[1].rulings.back(), t.patches[2].rulings.front());
+  EXPECT_EQ(t.patches[1].end_edges[1], t.patches[2].end_edges[0]);
+  EXPECT_GE(t.patches[2].end_edges[0], 0);
+  for (int q : t.patches[2].quads) EXPECT_EQ(t.quad_patch[q], 2);
+  expect_partition_into_disks(shape.quads, t);
+  EXPECT_THROW(split_patch(s, 1, 0), InvalidInput);
+  EXPECT_THROW(split_patch(s, 5, 1), InvalidInput);
+}
+
 TEST(Strips, TorusRingsAreCutOpen) {
   const auto shape = test::torus(60, 20, 16, 8);
   const TargetSurface target(shape.target);

@@ -138,7 +138,27 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
 
   clock.stage("flatten", [&] {
     run.flattening = flatten_patches(*run.strips, run.options.flatten);
+    // A patch whose unrolled outline crosses itself cannot be cut in one piece: split it at the
+    // quad boundary nearest its middle and flatten again, until every outline is simple.
+    for (int round = 0; round < 8 && run.flattening->non_simple_outlines > 0; ++round) {
+      Strips split = *run.strips;
+      int splits = 0;
+      for (std::size_t p = 0; p < run.flattening->patches.size(); ++p) {
+        const int quads = static_cast<int>(split.patches[p].quads.size());
+        if (run.flattening->patches[p].outline_simple || quads < 2) continue;
+        split = split_patch(split, static_cast<int>(p), quads / 2);
+        ++splits;
+      }
+      if (splits == 0) break;
+      run.overlap_splits += splits;
+      run.strips = std::move(split);
+      run.flattening = flatten_patches(*run.strips, run.options.flatten);
+    }
     const Flattening& f = *run.flattening;
+    if (run.overlap_splits > 0)
+      say(std::to_string(run.overlap_splits) +
+          " patches split because their flat outline crossed itself; now " +
+          std::to_string(run.strips->patches.size()) + " patches");
     int iterations = 0;
     for (const auto& p : f.patches) iterations = std::max(iterations, p.iterations);
     std::ostringstream os;
@@ -168,8 +188,8 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
                              "fit as designed");
     if (f.non_simple_outlines > 0)
       run.warnings.push_back(std::to_string(f.non_simple_outlines) +
-                             " flattened patches overlap themselves in the plane (see "
-                             "flatten.patches); they must be split before cutting");
+                             " flattened patches still overlap themselves in the plane after "
+                             "splitting (see flatten.patches)");
     if (f.unconverged > 0)
       run.warnings.push_back(std::to_string(f.unconverged) +
                              " patches did not converge in the flattening iteration limit");

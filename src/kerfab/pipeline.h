@@ -54,6 +54,7 @@ struct RunResult {
   int quad_rows = 0;         ///< dual chords of the quad mesh (see quad_rows())
   int naive_row_strips = 0;  ///< strips of the naive row layout (naive_row_bending()), same options
   std::optional<Flattening> flattening;
+  int overlap_splits = 0;  ///< patches split because their flat outline crossed itself
   std::optional<SurfaceDistance> flatten_mimic;  ///< 3D strips vs their flat-metric deformation
   std::optional<SurfaceDistance> quality;        ///< strip mesh vs target [mm]
   double target_diagonal = 0;                    ///< target bbox diagonal [mm]

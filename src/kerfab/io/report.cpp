@@ -98,7 +98,7 @@ nlohmann::json make_report(const RunResult& run) {
                          {"sub_quads", p.faces.size()},
                          {"chain", p.chain},
                          {"loop_cut", p.loop_cut}});
-    r["strips"] = {{"strips", s.patches.size()},
+    r["strips"] = {{"strips", static_cast<int>(s.patches.size()) - run.overlap_splits},
                    {"patches", s.patches.size()},
                    {"chains", s.chains},
                    {"closed_loops_cut", s.closed_loops},
@@ -144,6 +144,7 @@ nlohmann::json make_report(const RunResult& run) {
                     {"max_shared_border_mismatch_rel", f.max_shared_border_mismatch_rel},
                     {"inverted_quads", f.inverted_quads},
                     {"non_simple_outlines", f.non_simple_outlines},
+                    {"overlap_splits", run.overlap_splits},
                     {"unconverged_patches", f.unconverged},
                     {"patches", patches},
                     {"borders", borders}};

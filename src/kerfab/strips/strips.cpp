@@ -457,7 +457,9 @@ class Builder {
     }
     const int entry_edge = face_edges_[f][reversed ? (a + 1) % 4 : (a + 3) % 4];
     const int exit_edge = face_edges_[f][reversed ? (a + 3) % 4 : (a + 1) % 4];
-    if (first) patch.end_edges[0] = entry_edge;
+    if (first) patch.end_edges[0] = entry_edge, patch.ruling_edges.push_back(entry_edge);
+    for (int i = 1; i < k; ++i) patch.ruling_edges.push_back(kNone);
+    patch.ruling_edges.push_back(exit_edge);
     patch.end_edges[1] = exit_edge;
     patch.quads.push_back(f);
   }
@@ -586,6 +588,39 @@ Strips build_strips(const PolyMesh& quads, const BendingResult& bending,
   if (bending.quads.size() != quads.n_faces() || bending.bendable.size() != quads.n_edges())
     throw InvalidInput("strips: bending result does not belong to this quad mesh");
   return Builder(quads, bending, target, options).run();
+}
+
+Strips split_patch(const Strips& strips, int patch, int at) {
+  if (patch < 0 || patch >= static_cast<int>(strips.patches.size()))
+    throw InvalidInput("split_patch: no patch " + std::to_string(patch));
+  const Patch& old = strips.patches[patch];
+  if (at < 1 || at >= static_cast<int>(old.quads.size()))
+    throw InvalidInput("split_patch: patch " + std::to_string(patch) + " has no quad boundary " +
+                       std::to_string(at));
+  int r = 0;  // ruling between the quads
+  for (int j = 0; j < at; ++j) r += strips.quad_segments[old.quads[j]];
+  Strips out = strips;
+  Patch first, second;
+  auto cut = [&](Patch& p, int q0, int q1, int r0, int r1) {
+    p.quads.assign(old.quads.begin() + q0, old.quads.begin() + q1);
+    p.rulings.assign(old.rulings.begin() + r0, old.rulings.begin() + r1 + 1);
+    p.ruling_edges.assign(old.ruling_edges.begin() + r0, old.ruling_edges.begin() + r1 + 1);
+    p.faces.assign(old.faces.begin() + r0, old.faces.begin() + r1);
+    p.face_flipped.assign(old.face_flipped.begin() + r0, old.face_flipped.begin() + r1);
+    p.rail_edges.assign(old.rail_edges.begin() + r0, old.rail_edges.begin() + r1);
+    p.end_edges = {p.ruling_edges.front(), p.ruling_edges.back()};
+    p.chain = old.chain;
+    p.loop_cut = old.loop_cut;
+  };
+  const int n = static_cast<int>(old.faces.size());
+  cut(first, 0, at, 0, r);
+  cut(second, at, static_cast<int>(old.quads.size()), r, n);
+  const int id = static_cast<int>(out.patches.size());
+  for (int q : second.quads) out.quad_patch[q] = id;
+  for (int f : second.faces) out.face_patch[f] = id;
+  out.patches[patch] = std::move(first);
+  out.patches.push_back(std::move(second));
+  return out;
 }
 
 int quad_rows(const PolyMesh& quads) {

@@ -42,9 +42,11 @@ struct Patch {
                                    ///< instead of (r0_i, r0_i+1, r1_i+1, r1_i)
   std::vector<std::array<int, 2>> rail_edges;  ///< sub-quad i: the coarse edges its rail-0 and
                                                ///< rail-1 sides lie on
-  std::array<int, 2> end_edges{-1, -1};        ///< coarse edges of the first and last ruling
-  bool loop_cut = false;           ///< the chain closed on itself and was cut open here
-  int chain = -1;                  ///< index of the maximal chain the patch came from
+  std::vector<int> ruling_edges;  ///< per ruling: the coarse edge it lies on, -1 for the rulings
+                                  ///< added inside a quad
+  std::array<int, 2> end_edges{-1, -1};  ///< coarse edges of the first and last ruling
+  bool loop_cut = false;                 ///< the chain closed on itself and was cut open here
+  int chain = -1;                        ///< index of the maximal chain the patch came from
 
   /// Local quads over the patch's own vertices 2*i + rail (i = ruling), oriented like the 3D
   /// faces (outward).
@@ -80,6 +82,11 @@ struct Strips {
 /// on it. \throw InvalidInput options out of range.
 Strips build_strips(const PolyMesh& quads, const BendingResult& bending,
                     const TargetSurface& target, const StripsOptions& options);
+
+/// Splits patch \p patch at the ruling between its coarse quads \p at - 1 and \p at: the first
+/// part keeps the id, the second becomes the last patch. Nothing else changes.
+/// \throw InvalidInput no such patch, or \p at not in 1 .. quads - 1.
+Strips split_patch(const Strips& strips, int patch, int at);
 
 /// Number of dual chords (rows of quads joined across opposite edges, open or closed) of the
 /// quad mesh; a layout with one strip per row of one family needs about half of these.
