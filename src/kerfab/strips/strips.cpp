@@ -248,7 +248,16 @@ class Builder {
     const double diag = bounding_box(target_.mesh()).diagonal();
     const double reach = 3.0 * c.distance + 0.005 * diag;
     const auto hit = target_.nearest_hit_along_line(p, normal, reach);
-    if (!hit) {
+    // A hit on a part of the surface facing away from the quad mesh (the far side of a thin
+    // part) is no projection: use the closest point then.
+    bool facing = false;
+    if (hit) {
+      const auto& t = target_.mesh().triangles[hit->triangle];
+      const auto& v = target_.mesh().vertices;
+      const Vec3 n = (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]);
+      facing = n.dot(normal) > 0.3 * n.norm();
+    }
+    if (!hit || !facing) {
       ++out_.ray_fallbacks;
       return c.point;
     }
