@@ -79,6 +79,19 @@ void expect_partition_into_disks(const PolyMesh& quads, const Strips& s) {
       prev = cur, cur = next, ++walked;
     } while (cur != start && walked <= boundary_edges);
     EXPECT_EQ(walked, boundary_edges) << "patch " << p << " has more than one boundary loop";
+    // Outline edges: as many as boundary edges, each on the coarse edge it names.
+    const auto outline = patch.outline();
+    EXPECT_EQ(static_cast<int>(outline.size()), boundary_edges);
+    for (const OutlineEdge& e : outline) {
+      ASSERT_GE(e.coarse_edge, 0);
+      const auto& along = s.edge_vertices[e.coarse_edge];
+      for (int local : e.v) {
+        const Vec3 x = s.vertices[patch.rulings[local / 2][local % 2]];
+        double nearest = std::numeric_limits<double>::infinity();
+        for (int v : along) nearest = std::min(nearest, (s.vertices[v] - x).norm());
+        EXPECT_LT(nearest, 1e-12) << "patch " << p << " outline side " << e.side;
+      }
+    }
   }
   for (std::size_t q = 0; q < quad_count.size(); ++q)
     EXPECT_EQ(quad_count[q], 1) << "quad " << q << " in " << quad_count[q] << " patches";

@@ -43,11 +43,7 @@ LocalPatch local_patch(const Strips& strips, const Patch& patch) {
   for (const auto& r : patch.rulings)
     for (int rail = 0; rail < 2; ++rail) lp.p3.push_back(strips.vertices[r[rail]]);
   lp.quads = patch.local_quads();
-  const int n = static_cast<int>(patch.rulings.size()) - 1;
-  for (int i = 0; i < n; ++i) lp.border.push_back({2 * i, 2 * (i + 1)});          // rail 0
-  lp.border.push_back({2 * n, 2 * n + 1});                                        // last ruling
-  for (int i = n; i > 0; --i) lp.border.push_back({2 * i + 1, 2 * (i - 1) + 1});  // rail 1
-  lp.border.push_back({1, 0});                                                    // first ruling
+  for (const OutlineEdge& e : patch.outline()) lp.border.push_back(e.v);
   return lp;
 }
 
@@ -383,22 +379,17 @@ void measure_borders(const Strips& strips, Flattening& flat) {
   for (std::size_t p = 0; p < strips.patches.size(); ++p) {
     const Patch& patch = strips.patches[p];
     const auto& x = flat.patches[p].points;
-    const int n = static_cast<int>(patch.rulings.size()) - 1;
-    auto add = [&](int edge, int which, int a, int b) {
-      Side& s =
-          sides
-              .try_emplace({edge, static_cast<int>(p) * 4 + which}, Side{static_cast<int>(p), 0, 0})
-              .first->second;
+    for (const OutlineEdge& e : patch.outline()) {
+      Side& s = sides
+                    .try_emplace({e.coarse_edge, static_cast<int>(p) * 4 + e.side},
+                                 Side{static_cast<int>(p), 0, 0})
+                    .first->second;
+      const int a = e.v[0], b = e.v[1];
       s.l2 += (x[b] - x[a]).norm();
       s.l3 += (strips.vertices[patch.rulings[b / 2][b % 2]] -
                strips.vertices[patch.rulings[a / 2][a % 2]])
                   .norm();
-    };
-    for (int i = 0; i < n; ++i)
-      for (int rail = 0; rail < 2; ++rail)
-        add(patch.rail_edges[i][rail], rail, 2 * i + rail, 2 * (i + 1) + rail);
-    add(patch.end_edges[0], 2, 0, 1);
-    add(patch.end_edges[1], 3, 2 * n, 2 * n + 1);
+    }
   }
   std::map<int, std::vector<Side>> by_edge;
   for (const auto& [key, side] : sides) by_edge[key.first].push_back(side);

@@ -582,6 +582,17 @@ std::vector<std::array<int, 4>> Patch::local_quads() const {
   return out;
 }
 
+std::vector<OutlineEdge> Patch::outline() const {
+  std::vector<OutlineEdge> out;
+  const int n = static_cast<int>(rulings.size()) - 1;
+  for (int i = 0; i < n; ++i) out.push_back({{2 * i, 2 * (i + 1)}, rail_edges[i][0], i, 0});
+  out.push_back({{2 * n, 2 * n + 1}, end_edges[1], n - 1, 3});
+  for (int i = n; i > 0; --i)
+    out.push_back({{2 * i + 1, 2 * (i - 1) + 1}, rail_edges[i - 1][1], i - 1, 1});
+  out.push_back({{1, 0}, end_edges[0], 0, 2});
+  return out;
+}
+
 Strips build_strips(const PolyMesh& quads, const BendingResult& bending,
                     const TargetSurface& target, const StripsOptions& options) {
   if (options.rulings_per_quad < 1 || options.rulings_per_quad > 64)

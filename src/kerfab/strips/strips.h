@@ -32,6 +32,14 @@ struct StripsOptions {
                                    ///< dihedral angle go to target feature curves [rad], (0, pi)
 };
 
+/// One edge of a patch's outline, over the patch's own vertices 2 * ruling + rail.
+struct OutlineEdge {
+  std::array<int, 2> v{-1, -1};  ///< local vertices, in outline order
+  int coarse_edge = -1;          ///< the coarse quad-mesh edge it lies on
+  int face = -1;                 ///< the sub-quad it bounds (index into Patch::faces)
+  int side = -1;                 ///< 0: rail 0, 1: rail 1, 2: first ruling, 3: last ruling
+};
+
 /// One patch: a chain of sub-quads between two rails.
 struct Patch {
   std::vector<int> quads;                   ///< coarse quads, in chain order
@@ -51,6 +59,10 @@ struct Patch {
   /// Local quads over the patch's own vertices 2*i + rail (i = ruling), oriented like the 3D
   /// faces (outward).
   std::vector<std::array<int, 4>> local_quads() const;
+
+  /// The outline: rail 0 from the first ruling to the last, the last ruling, rail 1 back, the
+  /// first ruling.
+  std::vector<OutlineEdge> outline() const;
 };
 
 struct Strips {

@@ -1,0 +1,23 @@
+#pragma once
+/// \file 2D polygon Booleans and offsets (Clipper behind this interface; no Clipper type leaks
+/// out). Coordinates in millimetres, rounded internally to 10 nm.
+#include <Eigen/Core>
+#include <vector>
+
+namespace kerfab {
+
+using Polygon2 = std::vector<Eigen::Vector2d>;  ///< closed, last vertex not repeated
+
+/// Intersection of two polygons (non-zero fill), as polygons (holes as clockwise rings).
+std::vector<Polygon2> polygon_intersection(const Polygon2& a, const Polygon2& b);
+
+/// Union of polygons (non-zero fill).
+std::vector<Polygon2> polygon_union(const std::vector<Polygon2>& polygons);
+
+/// Outward offset by \p delta (negative: inward) with mitred corners (miter limit 4).
+std::vector<Polygon2> polygon_offset(const std::vector<Polygon2>& polygons, double delta);
+
+/// Signed area (counter-clockwise positive) [mm^2].
+double polygon_area(const Polygon2& polygon);
+
+}  // namespace kerfab
