@@ -16,5 +16,9 @@ rsvg-convert "$root/out/demo/strips.svg" -o "$root/out/demo/strips.png"
 python3 "$root/scripts/render_patches.py" "$root/out/demo/stages/patches" \
   "$root/out/demo/patches.svg" --first 20 --count 6 --width 900
 rsvg-convert "$root/out/demo/patches.svg" -o "$root/out/demo/patches.png"
+# Three parts with their box joints (laser path red, tooth regions blue).
+python3 "$root/scripts/render_parts.py" "$root/out/demo/stages/parts.json" \
+  "$root/out/demo/parts.svg" --first 23 --count 3 --width 1000
+rsvg-convert "$root/out/demo/parts.svg" -o "$root/out/demo/parts.png"
 echo "kerfab demo: report $root/out/demo/report.json, pictures $root/out/demo/strips.png," \
-  "$root/out/demo/bending.png and $root/out/demo/patches.png"
+  "$root/out/demo/bending.png, $root/out/demo/patches.png and $root/out/demo/parts.png"

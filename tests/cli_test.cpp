@@ -240,6 +240,22 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   EXPECT_LT(fl["max_mating_mismatch_rel"].get<double>(), 1e-3);
   EXPECT_EQ(fl["inverted_quads"].get<int>(), 0);
   EXPECT_EQ(fl["patches"].size(), static_cast<std::size_t>(strips));
+  // Joints: report samples as in shared/OUTPUTS.md, and every part's outline in the dump.
+  const auto& jt = report["joints"];
+  EXPECT_EQ(jt["thickness_mm"].get<double>(), 3.0);
+  EXPECT_GT(jt["teeth"].get<int>(), 100);
+  ASSERT_GT(jt["samples"].size(), 0u);
+  for (const auto& sample : jt["samples"]) {
+    EXPECT_GE(sample["fold_deg"].get<double>(), 0.0);
+    EXPECT_GE(sample["tip_mm"].get<double>(), 0.0);
+    EXPECT_LT(sample["slot_mm"].get<double>(), 0.0);
+  }
+  const auto parts = nlohmann::json::parse(std::ifstream(out / "stages" / "parts.json"));
+  ASSERT_EQ(parts["parts"].size(), static_cast<std::size_t>(strips));
+  for (const auto& part : parts["parts"]) {
+    EXPECT_GE(part["cut"].size(), 4u);
+    EXPECT_FALSE(part["repaired"].get<bool>());
+  }
 }
 
 }  // namespace

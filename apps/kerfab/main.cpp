@@ -95,6 +95,27 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "mean border edge [ratio, 0..1]")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  auto& jo = f.options.joints;
+  cmd.add_option("--thickness", jo.thickness, "Sheet thickness h [mm]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--protrusion", jo.protrusion,
+                 "How far a box-joint tooth may stick out of the shell between the surface "
+                 "offsets +-h/2 [mm]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--tooth-width", jo.tooth_width, "Width of box-joint teeth along the border [mm]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--min-tooth-depth", jo.min_depth,
+                 "No teeth where the tooth would overlap its slot by less than this [mm]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--kerf-width", jo.kerf_width,
+                 "Width of the laser cut; outlines are offset by half of it so parts fit as "
+                 "designed [mm]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd.add_option("--quality-spacing", f.options.quality_sample_spacing,
                  "Distance-sample spacing for the Hausdorff and mean distance, as a fraction of "
                  "the target's bbox diagonal [ratio]")

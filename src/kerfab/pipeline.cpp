@@ -196,6 +196,26 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
   });
   if (done_after("flatten")) return finish();
 
+  clock.stage("joints", [&] {
+    run.joints = make_joints(*run.strips, *run.flattening, run.options.joints);
+    const Joints& j = *run.joints;
+    int blocked = 0, shallow = 0;
+    for (const auto& b : j.borders) blocked += b.blocked, shallow += b.shallow;
+    std::ostringstream os;
+    os.precision(4);
+    os << j.teeth << " teeth on " << j.borders.size() << " border pieces ("
+       << 100 * (j.border_length > 0 ? j.toothed_length / j.border_length : 0)
+       << "% of the shared border length); intervals without teeth: " << shallow
+       << " too shallow (tip - slot < " << run.options.joints.min_depth << " mm), " << blocked
+       << " in collision regions";
+    say(os.str());
+    if (j.repaired_parts > 0)
+      run.warnings.push_back(std::to_string(j.repaired_parts) +
+                             " parts fell apart into pieces when their joints were cut; only "
+                             "the largest piece of each is kept");
+  });
+  if (done_after("joints")) return finish();
+
   clock.stage("quality", [&] {
     run.target_diagonal = bounding_box(run.input->surface.mesh()).diagonal();
     SurfaceDistanceOptions d;

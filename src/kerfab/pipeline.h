@@ -12,6 +12,7 @@
 #include "kerfab/eval/surface_distance.h"
 #include "kerfab/flatten/flatten.h"
 #include "kerfab/input/prepare.h"
+#include "kerfab/joints/joints.h"
 #include "kerfab/strips/strips.h"
 
 namespace kerfab {
@@ -35,6 +36,7 @@ struct PipelineOptions {
   BendingOptions bending;  ///< guidance is filled from RunInputs::guidance
   StripsOptions strips;
   FlattenOptions flatten;
+  JointOptions joints;
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
                                           ///< fraction of the target's bbox diagonal [-], > 0
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
@@ -56,8 +58,9 @@ struct RunResult {
   std::optional<Flattening> flattening;
   int overlap_splits = 0;  ///< patches split because their flat outline crossed itself
   std::optional<SurfaceDistance> flatten_mimic;  ///< 3D strips vs their flat-metric deformation
-  std::optional<SurfaceDistance> quality;        ///< strip mesh vs target [mm]
-  double target_diagonal = 0;                    ///< target bbox diagonal [mm]
+  std::optional<Joints> joints;
+  std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
+  double target_diagonal = 0;              ///< target bbox diagonal [mm]
   std::vector<StageTiming> timings;
   double total_seconds = 0;
   std::vector<std::string> warnings;

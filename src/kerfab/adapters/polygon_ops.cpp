@@ -17,9 +17,13 @@ ClipperLib::Path to_path(const Polygon2& p) {
   return out;
 }
 
-std::vector<Polygon2> from_paths(const ClipperLib::Paths& paths) {
+std::vector<Polygon2> from_paths(ClipperLib::Paths paths) {
+  // Drop needle spikes and near-collinear vertices closer than 0.1 um to their neighbours'
+  // segment: they are rounding debris, far below any cutter's resolution.
+  ClipperLib::CleanPolygons(paths, 10.0);
   std::vector<Polygon2> out;
   for (const auto& path : paths) {
+    if (path.size() < 3) continue;
     Polygon2 p;
     p.reserve(path.size());
     for (const auto& q : path)
@@ -33,6 +37,7 @@ std::vector<Polygon2> from_paths(const ClipperLib::Paths& paths) {
 
 std::vector<Polygon2> polygon_intersection(const Polygon2& a, const Polygon2& b) {
   ClipperLib::Clipper c;
+  c.StrictlySimple(true);
   c.AddPath(to_path(a), ClipperLib::ptSubject, true);
   c.AddPath(to_path(b), ClipperLib::ptClip, true);
   ClipperLib::Paths out;
@@ -42,9 +47,21 @@ std::vector<Polygon2> polygon_intersection(const Polygon2& a, const Polygon2& b)
 
 std::vector<Polygon2> polygon_union(const std::vector<Polygon2>& polygons) {
   ClipperLib::Clipper c;
+  c.StrictlySimple(true);
   for (const auto& p : polygons) c.AddPath(to_path(p), ClipperLib::ptSubject, true);
   ClipperLib::Paths out;
   c.Execute(ClipperLib::ctUnion, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  return from_paths(out);
+}
+
+std::vector<Polygon2> polygon_difference(const std::vector<Polygon2>& a,
+                                         const std::vector<Polygon2>& b) {
+  ClipperLib::Clipper c;
+  c.StrictlySimple(true);
+  for (const auto& p : a) c.AddPath(to_path(p), ClipperLib::ptSubject, true);
+  for (const auto& p : b) c.AddPath(to_path(p), ClipperLib::ptClip, true);
+  ClipperLib::Paths out;
+  c.Execute(ClipperLib::ctDifference, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   return from_paths(out);
 }
 

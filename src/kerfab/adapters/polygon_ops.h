@@ -1,6 +1,7 @@
 #pragma once
 /// \file 2D polygon Booleans and offsets (Clipper behind this interface; no Clipper type leaks
-/// out). Coordinates in millimetres, rounded internally to 10 nm.
+/// out). Coordinates in millimetres, rounded internally to 10 nm. Boolean results are strictly
+/// simple: polygons that would touch themselves at a vertex come out split there.
 #include <Eigen/Core>
 #include <vector>
 
@@ -13,6 +14,10 @@ std::vector<Polygon2> polygon_intersection(const Polygon2& a, const Polygon2& b)
 
 /// Union of polygons (non-zero fill).
 std::vector<Polygon2> polygon_union(const std::vector<Polygon2>& polygons);
+
+/// Difference a minus b (non-zero fill).
+std::vector<Polygon2> polygon_difference(const std::vector<Polygon2>& a,
+                                         const std::vector<Polygon2>& b);
 
 /// Outward offset by \p delta (negative: inward) with mitred corners (miter limit 4).
 std::vector<Polygon2> polygon_offset(const std::vector<Polygon2>& polygons, double delta);

@@ -26,6 +26,11 @@ nlohmann::json options_json(const RunResult& run) {
       o.strips.features ? nlohmann::json(*o.strips.features * 180 / M_PI) : nlohmann::json(nullptr);
   j["flatten_lambda"] = o.flatten.lambda;
   j["flatten_max_iterations"] = o.flatten.max_iterations;
+  j["thickness_mm"] = o.joints.thickness;
+  j["protrusion_mm"] = o.joints.protrusion;
+  j["tooth_width_mm"] = o.joints.tooth_width;
+  j["min_tooth_depth_mm"] = o.joints.min_depth;
+  j["kerf_width_mm"] = o.joints.kerf_width;
   j["quality_sample_spacing_rel"] = o.quality_sample_spacing;
   j["stop_after"] = o.stop_after ? nlohmann::json(*o.stop_after) : nlohmann::json(nullptr);
   return j;
@@ -155,6 +160,31 @@ nlohmann::json make_report(const RunResult& run) {
       r["flatten"]["deformed_3d_hausdorff_rel"] = run.flatten_mimic->hausdorff / d;
     }
   }
+  if (run.joints) {
+    const Joints& jt = *run.joints;
+    nlohmann::json samples = nlohmann::json::array();
+    int blocked = 0, shallow = 0;
+    for (const BorderJoint& b : jt.borders) {
+      blocked += b.blocked, shallow += b.shallow;
+      for (const JointInterval& in : b.intervals)
+        samples.push_back({{"fold_deg", in.fold * 180 / M_PI},
+                           {"tip_mm", in.offsets.tip},
+                           {"slot_mm", in.offsets.slot},
+                           {"tooth", in.owner >= 0},
+                           {"patches", b.patches},
+                           {"edge", b.edge},
+                           {"s_mm", {in.s0, in.s1}}});
+    }
+    r["joints"] = {{"thickness_mm", run.options.joints.thickness},
+                   {"teeth", jt.teeth},
+                   {"border_pieces", jt.borders.size()},
+                   {"border_length_mm", jt.border_length},
+                   {"toothed_length_mm", jt.toothed_length},
+                   {"intervals_too_shallow", shallow},
+                   {"intervals_in_collision", blocked},
+                   {"repaired_parts", jt.repaired_parts},
+                   {"samples", samples}};
+  }
   if (run.quality) {
     const SurfaceDistance& q = *run.quality;
     const double d = run.target_diagonal > 0 ? run.target_diagonal : 1.0;
@@ -210,6 +240,27 @@ nlohmann::json make_bending_dump(const PolyMesh& quads, const BendingResult& b) 
   j["bound"] = b.bound;
   j["status"] = to_string(b.status);
   return j;
+}
+
+nlohmann::json make_parts_dump(const RunResult& run) {
+  auto poly = [](const Polygon2& p) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& v : p) a.push_back({v.x(), v.y()});
+    return a;
+  };
+  nlohmann::json parts = nlohmann::json::array();
+  for (std::size_t i = 0; i < run.joints->parts.size(); ++i) {
+    const PartOutline& part = run.joints->parts[i];
+    nlohmann::json teeth = nlohmann::json::array();
+    for (const auto& sp : part.spans)
+      if (sp.tooth) teeth.push_back(poly(sp.region));
+    parts.push_back({{"part", i},
+                     {"designed", poly(part.designed)},
+                     {"cut", poly(part.cut)},
+                     {"teeth", teeth},
+                     {"repaired", part.repaired}});
+  }
+  return {{"units", "mm"}, {"kerf_width_mm", run.options.joints.kerf_width}, {"parts", parts}};
 }
 
 }  // namespace kerfab

@@ -16,4 +16,8 @@ nlohmann::json make_failure_report(int exit_code, const std::string& kind,
 /// stages/bending.json: quad mesh, per-edge weight and bendable flag, objective and status.
 nlohmann::json make_bending_dump(const PolyMesh& quads, const BendingResult& bending);
 
+/// stages/parts.json: every part's outline with teeth (designed and kerf-compensated, mm, in the
+/// frame of its NNN_2d.obj) and its tooth regions.
+nlohmann::json make_parts_dump(const RunResult& run);
+
 }  // namespace kerfab

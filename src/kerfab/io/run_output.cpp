@@ -74,6 +74,7 @@ void write_run(const RunResult& run, const fs::path& dir, bool dump) {
       }
     }
   }
+  if (dump && run.joints) write_json(make_parts_dump(run), dir / "stages" / "parts.json");
   write_json(make_report(run), dir / "report.json");
 }
 

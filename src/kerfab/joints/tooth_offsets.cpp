@@ -6,7 +6,7 @@
 
 namespace kerfab {
 
-ToothOffsets tooth_offsets(double fold, double thickness, double protrusion) {
+ToothOffsets tooth_offsets(double fold, double thickness, double protrusion, double max_tip) {
   // Cross-section perpendicular to the border, border point at the origin. Part A lies along
   // -x: {x <= e_A, |y| <= h/2}. Part B is A turned by the fold: in-plane direction
   // b = (cos f, sin f), normal n = (-sin f, cos f), B = {p.b >= -e_B, |p.n| <= h/2}.
@@ -15,6 +15,7 @@ ToothOffsets tooth_offsets(double fold, double thickness, double protrusion) {
   // (2) A's tooth corners (tip, -h/2) and (tip, +h/2) may leave B's slab, beyond the mitre,
   // by at most the protrusion: tip*s + h/2 c - h/2 <= P and tip*s - h/2 c - h/2 <= P.
   o.tip = std::min(protrusion + 0.5 * h * (1 - c), protrusion + 0.5 * h * (1 + c)) / s;
+  o.tip = std::min(o.tip, max_tip);
   // (1) B's slotted edge p.b = -slot must stay behind every point of A inside B's slab:
   // slot = -max{p.b : x <= tip, |y| <= h/2, |p.n| <= h/2}, a linear maximum over the vertices
   // of a convex polygon.

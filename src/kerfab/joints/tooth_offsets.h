@@ -3,6 +3,8 @@
 /// how their angle is measured and are wrong for part of the range either way). Derivation:
 /// docs/box-joints.md.
 
+#include <limits>
+
 namespace kerfab {
 
 /// Where a part's contour runs at a joint, measured in the part's plane perpendicular to the
@@ -21,7 +23,10 @@ struct ToothOffsets {
 /// \p protrusion, (3) subject to these the glued overlap tip - slot is as large as possible.
 /// With protrusion 0:  fold <= pi/2: tip = h/2 tan(fold/2), slot = -h/2 tan(fold/2)(1 + 2 cos fold)
 ///                     fold >= pi/2: tip = h/2 cot(fold/2), slot = -h/2 tan(fold/2).
-/// \pre 0 < |fold| < pi, thickness > 0, protrusion >= 0 (radians, millimetres).
-ToothOffsets tooth_offsets(double fold, double thickness, double protrusion = 0.0);
+/// \p max_tip caps the tip (the slot then follows the capped tip); with a protrusion allowed the
+/// uncapped tip grows like protrusion / fold as the parts become coplanar.
+/// \pre 0 < |fold| < pi, thickness > 0, protrusion >= 0, max_tip > 0 (radians, millimetres).
+ToothOffsets tooth_offsets(double fold, double thickness, double protrusion = 0.0,
+                           double max_tip = std::numeric_limits<double>::infinity());
 
 }  // namespace kerfab

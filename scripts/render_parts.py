@@ -1,0 +1,62 @@
+#!/usr/bin/env python3
+"""Draws parts with their box joints from stages/parts.json (written by `kerfab run --dump`):
+the kerf-compensated cut outline in red, tooth regions shaded, each part rotated so its longest
+extent is horizontal, all at one scale. Standard library only.
+Usage: render_parts.py parts.json out.svg [--first N] [--count N] [--width PX] [--zoom PART]"""
+import argparse
+import json
+import math
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("parts_json")
+    ap.add_argument("out_svg")
+    ap.add_argument("--first", type=int, default=0, help="first part number")
+    ap.add_argument("--count", type=int, default=6, help="how many parts")
+    ap.add_argument("--width", type=int, default=1000, help="picture width [px]")
+    ap.add_argument("--zoom", type=float, default=1.0,
+                    help="magnify: show only the first 1/zoom of each part's length")
+    a = ap.parse_args()
+    d = json.load(open(a.parts_json))
+    parts = d["parts"][a.first:a.first + a.count]
+    shapes = []
+    for p in parts:
+        pts = p["cut"]
+        cx = sum(q[0] for q in pts) / len(pts)
+        cy = sum(q[1] for q in pts) / len(pts)
+        sxx = sum((q[0] - cx) ** 2 for q in pts)
+        syy = sum((q[1] - cy) ** 2 for q in pts)
+        sxy = sum((q[0] - cx) * (q[1] - cy) for q in pts)
+        t = -0.5 * math.atan2(2 * sxy, sxx - syy)
+        c, s = math.cos(t), math.sin(t)
+
+        def tr(q):
+            return ((q[0] - cx) * c - (q[1] - cy) * s, (q[0] - cx) * s + (q[1] - cy) * c)
+        cut = [tr(q) for q in pts]
+        teeth = [[tr(q) for q in tooth] for tooth in p["teeth"]]
+        xs, ys = [q[0] for q in cut], [q[1] for q in cut]
+        shapes.append((p["part"], cut, teeth, min(xs), max(xs), min(ys), max(ys)))
+    widest = max((s[4] - s[3]) / a.zoom for s in shapes)
+    scale = (a.width - 80) / widest
+    y = 20.0
+    out = []
+    for name, cut, teeth, x0, x1, y0, y1 in shapes:
+        def P(q):
+            return 60 + scale * (q[0] - x0), y + scale * (y1 - q[1])
+        for tooth in teeth:
+            pts = " ".join(f"{u:.2f},{v:.2f}" for u, v in map(P, tooth))
+            out.append(f'<polygon points="{pts}" fill="#9bc5f0" stroke="none"/>')
+        pts = " ".join(f"{u:.2f},{v:.2f}" for u, v in map(P, cut))
+        out.append(f'<polygon points="{pts}" fill="none" stroke="#d00000" stroke-width="0.8"/>')
+        out.append(f'<text x="6" y="{y + scale * (y1 - y0) / 2 + 5:.1f}" '
+                   f'font-family="sans-serif" font-size="14">{name:03d}</text>')
+        y += scale * (y1 - y0) + 16
+    h = int(y + 10)
+    svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{a.width}" height="{h}" '
+           f'viewBox="0 0 {a.width} {h}"><rect width="100%" height="100%" fill="white"/>']
+    open(a.out_svg, "w").write("\n".join(svg + out + ["</svg>"]))
+
+
+if __name__ == "__main__":
+    main()

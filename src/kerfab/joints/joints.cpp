@@ -1,0 +1,450 @@
+#include "kerfab/joints/joints.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "kerfab/core/errors.h"
+
+namespace kerfab {
+namespace {
+
+double angle_between(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+Vec3 slerp(const Vec3& a, const Vec3& b, double t) {
+  const double w = angle_between(a, b), sw = std::sin(w);
+  if (sw < 1e-9) return ((1 - t) * a + t * b).normalized();
+  return (std::sin((1 - t) * w) / sw * a + std::sin(t * w) / sw * b).normalized();
+}
+
+Vec3 sector_normal(const Strips& s, const std::array<int, 4>& f, int v) {
+  for (int j = 0; j < 4; ++j) {
+    if (f[j] != v) continue;
+    const Vec3& p = s.vertices[v];
+    const Vec3 n = (s.vertices[f[(j + 1) % 4]] - p).cross(s.vertices[f[(j + 3) % 4]] - p);
+    if (n.norm() > 0) return n.normalized();
+    break;
+  }
+  // Degenerate corner: the face normal from the diagonals.
+  const Vec3 n = (s.vertices[f[2]] - s.vertices[f[0]]).cross(s.vertices[f[3]] - s.vertices[f[1]]);
+  return n.norm() > 0 ? Vec3(n.normalized()) : Vec3::UnitZ();
+}
+
+Vec2 right_of(const Vec2& d) { return {d.y(), -d.x()}; }
+
+/// The part of convex polygon \p poly with (p - at).m <= 0.
+Polygon2 clip_half_plane(const Polygon2& poly, const Vec2& at, const Vec2& m) {
+  Polygon2 out;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2 &p = poly[i], &q = poly[(i + 1) % poly.size()];
+    const double dp = (p - at).dot(m), dq = (q - at).dot(m);
+    if (dp <= 0) out.push_back(p);
+    if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
+  }
+  return out;
+}
+
+/// One patch's outline in the plane, counter-clockwise.
+struct Ring {
+  std::vector<OutlineEdge> edges;  // counter-clockwise order
+  std::vector<Vec2> start, end;    // 2D endpoints of each edge
+  std::vector<Vec2> normal;        // outward unit normal of each edge
+  std::vector<int> piece;          // border piece of each edge, -1 if unmated
+  std::vector<int> piece_side;     // which side of that piece
+};
+
+/// One patch side of a border piece.
+struct Side {
+  int patch = -1, key = -1;     // key: patch * 4 + outline side, orders the two sides
+  std::vector<int> ring_edges;  // in piece order (from the common end)
+  bool reversed = false;        // piece order runs against the ring
+  std::vector<double> s;        // arc length at the polyline's vertices, piece order
+  std::vector<Vec3> n0, n1;     // per edge: part normal at its start and end (piece order)
+  Vec3 normal_at(double at) const {
+    const int m = static_cast<int>(n0.size());
+    int j = 0;
+    while (j + 1 < m && s[j + 1] < at) ++j;
+    const double len = s[j + 1] - s[j];
+    const double t = len > 0 ? std::clamp((at - s[j]) / len, 0.0, 1.0) : 0.5;
+    return slerp(n0[j], n1[j], t);
+  }
+};
+
+struct Piece {
+  int edge = -1;
+  std::array<Side, 2> sides;
+  double length = 0;
+  double fold_at(double s) const {
+    return angle_between(sides[0].normal_at(s), sides[1].normal_at(s));
+  }
+};
+
+class Builder {
+ public:
+  Builder(const Strips& s, const Flattening& f, const JointOptions& o) : s_(s), f_(f), o_(o) {}
+
+  Joints run() {
+    make_rings();
+    make_pieces();
+    std::vector<std::vector<std::array<double, 2>>> forbidden(pieces_.size() * 2);
+    for (std::size_t p = 0; p < rings_.size(); ++p)
+      restrict_by_bands(static_cast<int>(p), forbidden);
+    place_teeth(forbidden);
+    for (std::size_t p = 0; p < rings_.size(); ++p)
+      out_.parts.push_back(outline(static_cast<int>(p)));
+    for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
+    return std::move(out_);
+  }
+
+ private:
+  const Strips& s_;
+  const Flattening& f_;
+  const JointOptions& o_;
+  std::vector<Ring> rings_;
+  std::vector<Piece> pieces_;
+  Joints out_;
+
+  Vec3 p3(int patch, int local) const {
+    const auto& r = s_.patches[patch].rulings[local / 2];
+    return s_.vertices[r[local % 2]];
+  }
+  int global(int patch, int local) const { return s_.patches[patch].rulings[local / 2][local % 2]; }
+
+  void make_rings() {
+    for (std::size_t p = 0; p < s_.patches.size(); ++p) {
+      Ring r;
+      r.edges = s_.patches[p].outline();
+      const auto& x = f_.patches[p].points;
+      double area = 0;
+      for (const auto& e : r.edges)
+        area += x[e.v[0]].x() * x[e.v[1]].y() - x[e.v[1]].x() * x[e.v[0]].y();
+      if (area < 0) {  // make it counter-clockwise
+        std::reverse(r.edges.begin(), r.edges.end());
+        for (auto& e : r.edges) std::swap(e.v[0], e.v[1]);
+      }
+      for (const auto& e : r.edges) {
+        r.start.push_back(x[e.v[0]]);
+        r.end.push_back(x[e.v[1]]);
+        const Vec2 d = x[e.v[1]] - x[e.v[0]];
+        r.normal.push_back(d.norm() > 0 ? Vec2(right_of(d).normalized()) : Vec2(0, 0));
+      }
+      r.piece.assign(r.edges.size(), -1);
+      r.piece_side.assign(r.edges.size(), -1);
+      rings_.push_back(std::move(r));
+    }
+  }
+
+  void make_pieces() {
+    // Group outline edges by coarse edge and patch side.
+    std::map<int, std::map<int, std::vector<int>>> groups;  // edge -> side key -> ring edges
+    for (std::size_t p = 0; p < rings_.size(); ++p)
+      for (std::size_t k = 0; k < rings_[p].edges.size(); ++k) {
+        const auto& e = rings_[p].edges[k];
+        groups[e.coarse_edge][static_cast<int>(p) * 4 + e.side].push_back(static_cast<int>(k));
+      }
+    for (auto& [edge, sides] : groups) {
+      if (sides.size() != 2) continue;  // the mesh boundary: no mate, no joint
+      Piece piece;
+      piece.edge = edge;
+      const Vec3 common = s_.vertices[s_.edge_vertices[edge].front()];
+      int i = 0;
+      for (auto& [key, ring_edges] : sides) {
+        Side& side = piece.sides[i++];
+        side.patch = key / 4;
+        side.key = key;
+        const Ring& ring = rings_[side.patch];
+        // Ring edges of one side are consecutive, but may wrap around the ring's start.
+        std::sort(ring_edges.begin(), ring_edges.end());
+        const int m = static_cast<int>(ring.edges.size());
+        for (std::size_t j = 1; j < ring_edges.size(); ++j)
+          if (ring_edges[j] != ring_edges[j - 1] + 1) {
+            std::rotate(ring_edges.begin(), ring_edges.begin() + j, ring_edges.end());
+            break;
+          }
+        const Vec3 first = p3(side.patch, ring.edges[ring_edges.front()].v[0]);
+        const Vec3 last = p3(side.patch, ring.edges[ring_edges.back()].v[1]);
+        side.reversed = (last - common).norm() < (first - common).norm();
+        if (side.reversed) std::reverse(ring_edges.begin(), ring_edges.end());
+        side.ring_edges = ring_edges;
+        side.s.push_back(0);
+        for (int k : ring_edges) {
+          const auto& e = ring.edges[k];
+          int a = e.v[0], b = e.v[1];
+          if (side.reversed) std::swap(a, b);
+          side.s.push_back(side.s.back() + (p3(side.patch, b) - p3(side.patch, a)).norm());
+          const auto& face = s_.faces[s_.patches[side.patch].faces[e.face]];
+          side.n0.push_back(sector_normal(s_, face, global(side.patch, a)));
+          side.n1.push_back(sector_normal(s_, face, global(side.patch, b)));
+        }
+        (void)m;
+      }
+      piece.length = std::max(piece.sides[0].s.back(), piece.sides[1].s.back());
+      const int id = static_cast<int>(pieces_.size());
+      for (int k = 0; k < 2; ++k)
+        for (int e : piece.sides[k].ring_edges) {
+          rings_[piece.sides[k].patch].piece[e] = id;
+          rings_[piece.sides[k].patch].piece_side[e] = k;
+        }
+      pieces_.push_back(std::move(piece));
+    }
+  }
+
+  /// Arc length along the piece of ring edge k's parameter t (0 at the edge's ring start).
+  std::pair<double, double> s_range(const Side& side, int k) const {
+    const auto it = std::find(side.ring_edges.begin(), side.ring_edges.end(), k);
+    const std::size_t j = static_cast<std::size_t>(it - side.ring_edges.begin());
+    return {side.s[j], side.s[j + 1]};
+  }
+  double s_of(const Side& side, int k, double t) const {
+    const auto [a, b] = s_range(side, k);
+    return side.reversed ? b - t * (b - a) : a + t * (b - a);
+  }
+
+  ToothOffsets offsets_at(const Piece& piece, double s) const {
+    return tooth_offsets(std::max(piece.fold_at(s), 1e-6), o_.thickness, o_.protrusion, o_.max_tip);
+  }
+
+  /// Paper Fig. 6: every mated outline edge gets a band from its slot to its tip offset; where
+  /// bands of other edges of the part (and the transitions at sharp corners) overlap it, the
+  /// overlap, projected onto the edge, is no place for teeth.
+  void restrict_by_bands(int p, std::vector<std::vector<std::array<double, 2>>>& forbidden) {
+    const Ring& ring = rings_[p];
+    const int m = static_cast<int>(ring.edges.size());
+    std::vector<Polygon2> band(m);
+    std::vector<std::array<double, 4>> box(m);
+    for (int k = 0; k < m; ++k) {
+      if (ring.piece[k] < 0) continue;
+      const Piece& piece = pieces_[ring.piece[k]];
+      const Side& side = piece.sides[ring.piece_side[k]];
+      const ToothOffsets a = offsets_at(piece, s_of(side, k, 0)),
+                         b = offsets_at(piece, s_of(side, k, 1));
+      const Vec2 n = ring.normal[k];
+      band[k] = {ring.start[k] + a.slot * n, ring.end[k] + b.slot * n, ring.end[k] + b.tip * n,
+                 ring.start[k] + a.tip * n};
+      box[k] = {1e300, 1e300, -1e300, -1e300};
+      for (const auto& v : band[k])
+        box[k] = {std::min(box[k][0], v.x()), std::min(box[k][1], v.y()),
+                  std::max(box[k][2], v.x()), std::max(box[k][3], v.y())};
+    }
+    auto turn = [&](int k, int j) {  // angle between the directions of edges k and j
+      const Vec2 a = ring.end[k] - ring.start[k], b = ring.end[j] - ring.start[j];
+      return std::abs(std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b)));
+    };
+    // Transitions at sharp corners between two mated edges.
+    std::vector<Polygon2> transition(m);
+    for (int k = 0; k < m; ++k) {
+      const int j = (k + 1) % m;
+      if (band[k].empty() || band[j].empty() || turn(k, j) < o_.sharp_turn) continue;
+      transition[k] = {band[k][1], band[k][2], band[j][3], band[j][0]};
+    }
+    for (int k = 0; k < m; ++k) {
+      if (band[k].empty()) continue;
+      const Vec2 d = ring.end[k] - ring.start[k];
+      const double len2 = d.squaredNorm();
+      if (!(len2 > 0)) continue;
+      auto project = [&](const std::vector<Polygon2>& overlap) {
+        for (const auto& poly : overlap) {
+          if (std::abs(polygon_area(poly)) < 1e-10) continue;
+          double t0 = 1e300, t1 = -1e300;
+          for (const auto& v : poly) {
+            const double t = (v - ring.start[k]).dot(d) / len2;
+            t0 = std::min(t0, t), t1 = std::max(t1, t);
+          }
+          t0 = std::clamp(t0, 0.0, 1.0), t1 = std::clamp(t1, 0.0, 1.0);
+          const Piece& piece = pieces_[ring.piece[k]];
+          const Side& side = piece.sides[ring.piece_side[k]];
+          double s0 = s_of(side, k, t0), s1 = s_of(side, k, t1);
+          if (s0 > s1) std::swap(s0, s1);
+          forbidden[2 * ring.piece[k] + ring.piece_side[k]].push_back({s0, s1});
+        }
+      };
+      for (int j = 0; j < m; ++j) {
+        if (j == k || band[j].empty()) continue;
+        const bool adjacent = j == (k + 1) % m || k == (j + 1) % m;
+        if (adjacent && turn(k, j) < o_.sharp_turn) continue;
+        if (box[j][0] > box[k][2] || box[k][0] > box[j][2] || box[j][1] > box[k][3] ||
+            box[k][1] > box[j][3])
+          continue;
+        project(polygon_intersection(band[k], band[j]));
+      }
+      for (int j = 0; j < m; ++j) {
+        if (transition[j].empty() || j == k || (j + 1) % m == k) continue;
+        project(polygon_intersection(band[k], transition[j]));
+      }
+    }
+  }
+
+  void place_teeth(const std::vector<std::vector<std::array<double, 2>>>& forbidden) {
+    for (std::size_t i = 0; i < pieces_.size(); ++i) {
+      const Piece& piece = pieces_[i];
+      BorderJoint b;
+      b.edge = piece.edge;
+      b.patches = {piece.sides[0].patch, piece.sides[1].patch};
+      b.length = piece.length;
+      const int n = std::max(1, static_cast<int>(std::lround(piece.length / o_.tooth_width)));
+      for (int j = 0; j < n; ++j) {
+        JointInterval in;
+        in.s0 = piece.length * j / n;
+        in.s1 = piece.length * (j + 1) / n;
+        const double mid = 0.5 * (in.s0 + in.s1);
+        in.fold = piece.fold_at(mid);
+        in.plain = plain_offset(in.fold, o_.thickness);
+        // Conservative over the interval: the shortest tip and the deepest slot.
+        in.offsets = offsets_at(piece, mid);
+        for (double at : {in.s0, in.s1}) {
+          const ToothOffsets e = offsets_at(piece, at);
+          in.offsets.tip = std::min(in.offsets.tip, e.tip);
+          in.offsets.slot = std::min(in.offsets.slot, e.slot);
+          in.plain = std::min(in.plain, plain_offset(piece.fold_at(at), o_.thickness));
+        }
+        bool free = true;
+        for (int side = 0; side < 2 && free; ++side)
+          for (const auto& f : forbidden[2 * i + side])
+            if (std::min(f[1], in.s1) - std::max(f[0], in.s0) > 1e-9) free = false;
+        if (in.offsets.tip - in.offsets.slot < o_.min_depth) {
+          ++b.shallow;
+        } else if (!free) {
+          ++b.blocked;
+        } else {
+          in.owner = j % 2;
+          ++b.teeth;
+          out_.toothed_length += in.s1 - in.s0;
+        }
+        b.intervals.push_back(in);
+      }
+      out_.teeth += b.teeth;
+      out_.border_length += piece.length;
+      out_.borders.push_back(std::move(b));
+    }
+  }
+
+  /// A tooth that reaches a concave corner of the outline ends on the corner's bisector, so it
+  /// neither overlaps the tooth around the corner nor the part's own body there.
+  Polygon2 trim_at_concave_corners(int p, int k, double t0, double t1, Polygon2 poly) const {
+    const Ring& ring = rings_[p];
+    const int m = static_cast<int>(ring.edges.size());
+    auto trim = [&](int before, int after, const Vec2& corner, const Vec2& inside) {
+      const Vec2 d0 = ring.end[before] - ring.start[before],
+                 d1 = ring.end[after] - ring.start[after];
+      if (d0.x() * d1.y() - d0.y() * d1.x() >= 0) return;  // left turn: convex, nothing to do
+      const Vec2 bis = (ring.normal[before] + ring.normal[after]).normalized();
+      Vec2 n(-bis.y(), bis.x());
+      if ((inside - corner).dot(n) > 0) n = -n;
+      poly = clip_half_plane(poly, corner, n);
+    };
+    const Vec2 mid = ring.start[k] + 0.5 * (t0 + t1) * (ring.end[k] - ring.start[k]);
+    if (t1 > 1 - 1e-9) trim(k, (k + 1) % m, ring.end[k], mid);
+    if (t0 < 1e-9) trim((k + m - 1) % m, k, ring.start[k], mid);
+    return poly;
+  }
+
+  /// The part's outline: its flattened polygon, plus the tooth regions, minus the cut-back
+  /// regions of slots and plain stretches (Clipper Booleans, so the result is a simple polygon
+  /// whatever the corners do).
+  PartOutline outline(int p) {
+    const Ring& ring = rings_[p];
+    PartOutline part;
+    const int m = static_cast<int>(ring.edges.size());
+    Polygon2 base;
+    for (int k = 0; k < m; ++k) base.push_back(ring.start[k]);
+    std::vector<Polygon2> add = {base}, cut;
+    std::vector<double> first_offset(m, 0.0), last_offset(m, 0.0);
+    for (int k = 0; k < m; ++k) {
+      if (ring.piece[k] < 0) continue;
+      const Vec2 a = ring.start[k], b = ring.end[k], n = ring.normal[k];
+      auto at = [&](double t, double e) { return Vec2(a + t * (b - a) + e * n); };
+      const Piece& piece = pieces_[ring.piece[k]];
+      const int side_index = ring.piece_side[k];
+      const Side& side = piece.sides[side_index];
+      const BorderJoint& joint = out_.borders[ring.piece[k]];
+      const auto [sa, sb] = s_range(side, k);
+      std::vector<std::array<double, 3>> spans;  // t0, t1, offset, in ring order
+      for (std::size_t j = 0; j < joint.intervals.size(); ++j) {
+        const auto& in = joint.intervals[j];
+        const double lo = std::max(in.s0, sa), hi = std::min(in.s1, sb);
+        if (hi - lo <= 1e-12) continue;
+        double t0 = (lo - sa) / (sb - sa), t1 = (hi - sa) / (sb - sa);
+        if (side.reversed) t0 = 1 - t0, t1 = 1 - t1, std::swap(t0, t1);
+        const double e = in.owner < 0             ? in.plain
+                         : in.owner == side_index ? in.offsets.tip
+                                                  : in.offsets.slot;
+        spans.push_back({t0, t1, e});
+        JointSpan span{ring.piece[k],
+                       static_cast<int>(j),
+                       (t1 - t0) * (b - a).norm(),
+                       e,
+                       in.owner == side_index,
+                       {}};
+        if (span.tooth)
+          span.region =
+              trim_at_concave_corners(p, k, t0, t1, {at(t0, 0), at(t1, 0), at(t1, e), at(t0, e)});
+        part.spans.push_back(std::move(span));
+      }
+      std::sort(spans.begin(), spans.end());
+      // Rectangles reach 1 um across the border line so that tooth and body overlap (and cut
+      // regions clear the border) instead of merely touching after rounding.
+      constexpr double kOverlap = 1e-3;
+      for (const auto& [t0, t1, e] : spans) {
+        if (e > 0) {
+          add.push_back(trim_at_concave_corners(
+              p, static_cast<int>(k), t0, t1,
+              {at(t0, -kOverlap), at(t1, -kOverlap), at(t1, e), at(t0, e)}));
+        } else if (e < 0) {
+          cut.push_back({at(t0, kOverlap), at(t1, kOverlap), at(t1, e), at(t0, e)});
+        }
+      }
+      if (!spans.empty()) first_offset[k] = spans.front()[2], last_offset[k] = spans.back()[2];
+    }
+    // Where two cut-back stretches meet at a corner, the wedge between them goes too (it lies
+    // outside the part at convex corners and would stay as a spur at concave ones).
+    for (int k = 0; k < m; ++k) {
+      const int j = (k + 1) % m;
+      if (last_offset[k] < 0 && first_offset[j] < 0)
+        cut.push_back({ring.end[k], ring.end[k] + first_offset[j] * ring.normal[j],
+                       ring.end[k] + last_offset[k] * ring.normal[k]});
+    }
+    auto largest = [](const std::vector<Polygon2>& polys) {
+      const Polygon2* best = nullptr;
+      for (const auto& c : polys)
+        if (polygon_area(c) > 0 && (!best || polygon_area(c) > polygon_area(*best))) best = &c;
+      return best ? *best : Polygon2{};
+    };
+    // Non-zero filling: every polygon counter-clockwise, or overlaps would cancel out.
+    for (auto* list : {&add, &cut})
+      for (auto& poly : *list)
+        if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+    const auto pieces = polygon_difference(polygon_union(add), cut);
+    // Slivers far smaller than a tooth (left where a tooth corner meets a cut-back wedge) are
+    // dropped silently; a second piece of tooth size means the part fell apart.
+    const double significant = 0.25 * o_.tooth_width * std::max(o_.min_depth, 0.1);
+    int outer = 0;
+    for (const auto& c : pieces) outer += polygon_area(c) > significant ? 1 : 0;
+    part.repaired = outer != 1;
+    part.designed = largest(pieces);
+    part.cut = largest(polygon_offset({part.designed}, 0.5 * o_.kerf_width));
+    return part;
+  }
+};
+
+}  // namespace
+
+double plain_offset(double fold, double thickness) {
+  return -0.5 * thickness * std::tan(0.5 * std::min(std::abs(fold), M_PI - 1e-9));
+}
+
+Joints make_joints(const Strips& strips, const Flattening& flat, const JointOptions& options) {
+  if (!(options.thickness > 0)) throw InvalidInput("--thickness must be > 0 mm");
+  if (!(options.protrusion >= 0)) throw InvalidInput("--protrusion must be >= 0 mm");
+  if (!(options.tooth_width > 0)) throw InvalidInput("--tooth-width must be > 0 mm");
+  if (!(options.min_depth >= 0)) throw InvalidInput("--min-tooth-depth must be >= 0 mm");
+  if (!(options.kerf_width >= 0)) throw InvalidInput("--kerf-width must be >= 0 mm");
+  if (!(options.max_tip > 0)) throw InvalidInput("joints: max_tip must be > 0 mm");
+  if (flat.patches.size() != strips.patches.size())
+    throw InvalidInput("joints: flattening does not belong to these strips");
+  return Builder(strips, flat, options).run();
+}
+
+}  // namespace kerfab

@@ -1,0 +1,84 @@
+#pragma once
+/// \file Box joints (paper Sec. 3.3): fold angles along every shared border, tooth depths from
+/// tooth_offsets(), collision-free joint regions from offset bands of each flattened part
+/// (Clipper), interlocking teeth with a phase shared by both sides of a border, laser-kerf
+/// compensation, and each part's closed outline.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "kerfab/adapters/polygon_ops.h"
+#include "kerfab/flatten/flatten.h"
+#include "kerfab/joints/tooth_offsets.h"
+#include "kerfab/strips/strips.h"
+
+namespace kerfab {
+
+struct JointOptions {
+  double thickness = 3.0;        ///< sheet thickness h [mm], > 0
+  double protrusion = 0.0;       ///< a tooth may leave the mitred shell by this much [mm], >= 0
+  double tooth_width = 3.0;      ///< target width of teeth and slots along the border [mm], > 0
+  double min_depth = 0.5;        ///< no teeth where tip - slot is below this [mm], >= 0
+  double kerf_width = 0.15;      ///< width of the laser cut; outlines grow by half of it [mm], >= 0
+  double max_tip = 6.0;          ///< longest tooth [mm], > 0 (matters only with a protrusion,
+                                 ///< where nearly coplanar parts would get ever longer teeth)
+  double sharp_turn = M_PI / 6;  ///< consecutive outline edges turning more than this restrict
+                                 ///< each other's teeth [rad]
+};
+
+/// One tooth or slot interval of a border piece (a coarse edge shared by two patch sides).
+struct JointInterval {
+  double s0 = 0, s1 = 0;  ///< arc length along the piece from its common end [mm]
+  int owner = -1;         ///< side (0 or 1) that has the tooth; -1: no tooth (both cut plain)
+  double fold = 0;        ///< fold angle at the interval's middle [rad]
+  ToothOffsets offsets;   ///< tip and slot for that fold
+  double plain = 0;       ///< offset of both sides where there is no tooth [mm]
+};
+
+struct BorderJoint {
+  int edge = -1;                       ///< coarse edge
+  std::array<int, 2> patches{-1, -1};  ///< the two sides (may be one patch twice)
+  double length = 0;                   ///< 3D length [mm]
+  std::vector<JointInterval> intervals;
+  int teeth = 0;
+  int blocked = 0;  ///< intervals without teeth because of collisions
+  int shallow = 0;  ///< intervals without teeth because tip - slot < min_depth
+};
+
+/// Where a part's contour leaves its border line: a tooth (outward) or a cut-back (slot or plain).
+struct JointSpan {
+  int border = -1;    ///< index into Joints::borders
+  int interval = -1;  ///< index into that border's intervals
+  double length = 0;  ///< length along the flattened border line [mm]
+  double offset = 0;  ///< tip (> 0), slot or plain offset (< 0) [mm]
+  bool tooth = false;
+  Polygon2 region;  ///< for a tooth: the part of it beyond the border line
+};
+
+struct PartOutline {
+  Polygon2 designed;  ///< closed outline with teeth, counter-clockwise [mm], in the patch's
+                      ///< flattened frame
+  Polygon2 cut;       ///< the same grown by half the kerf width: the path the laser follows
+  std::vector<JointSpan> spans;  ///< every stretch of joint contour (a tooth across two outline
+                                 ///< edges gives two spans)
+  bool repaired = false;         ///< the Booleans split the part; only its largest piece is kept
+};
+
+struct Joints {
+  std::vector<BorderJoint> borders;
+  std::vector<PartOutline> parts;  ///< per patch
+  int teeth = 0;
+  double border_length = 0;   ///< total length of shared borders [mm]
+  double toothed_length = 0;  ///< of which covered by tooth intervals [mm]
+  int repaired_parts = 0;
+};
+
+/// Builds the joints of every shared border and the outline of every part.
+/// \pre \p flat was computed from \p strips. \throw InvalidInput options out of range.
+Joints make_joints(const Strips& strips, const Flattening& flat, const JointOptions& options);
+
+/// Offset of both parts where a border has no teeth: the edges meet at the inner mitre point,
+/// -h/2 tan(|fold|/2) [mm]; never overlapping.
+double plain_offset(double fold, double thickness);
+
+}  // namespace kerfab

@@ -1,0 +1,247 @@
+#include "kerfab/joints/joints.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/input/prepare.h"
+#include "kerfab/io/mesh_io.h"
+#include "shapes.h"
+#include "test_util.h"
+
+namespace kerfab {
+namespace {
+
+constexpr double kPi = M_PI;
+
+struct Case {
+  Strips strips;
+  Flattening flat;
+  Joints joints;
+};
+
+// A 100 x 100 mm sheet folded by `fold_deg` along v = 0.5, strips forced across the fold and
+// split there (split angle below the fold): every strip meets its other half at the fold.
+Case folded_sheet(double fold_deg, const JointOptions& options = {}) {
+  const double f = fold_deg * kPi / 180;
+  auto sheet = [f](double u, double v) {
+    if (v <= 0.5) return Vec3(100 * u, 100 * v, 0);
+    const double w = 100 * (v - 0.5);
+    return Vec3(100 * u, 50 + w * std::cos(f), w * std::sin(f));
+  };
+  const PolyMesh quads = test::grid_mesh(6, 6, false, false, sheet);
+  const TargetSurface target(triangulate(test::grid_mesh(24, 24, false, false, sheet)));
+  BendingOptions bo;
+  for (auto e : quads.edges()) {
+    const auto h = quads.halfedge_handle(e, 0);
+    const Vec3 d =
+        to_eigen(quads.point(quads.to_vertex_handle(h)) - quads.point(quads.from_vertex_handle(h)));
+    if (std::abs(d.x()) < 1e-9)
+      bo.guidance.push_back(
+          {quads.from_vertex_handle(h).idx(), quads.to_vertex_handle(h).idx(), true});
+  }
+  StripsOptions so;
+  so.split_angle = std::min(fold_deg / 2, 60.0) * kPi / 180;
+  Case c;
+  c.strips = build_strips(quads, choose_bending_edges(quads, target, bo), target, so);
+  c.flat = flatten_patches(c.strips, {});
+  c.joints = make_joints(c.strips, c.flat, options);
+  return c;
+}
+
+std::vector<int> ring(std::size_t n) {
+  std::vector<int> r(n);
+  for (std::size_t i = 0; i < n; ++i) r[i] = static_cast<int>(i);
+  return r;
+}
+
+double overlap_area(const Polygon2& a, const Polygon2& b) {
+  double area = 0;
+  for (const auto& p : polygon_intersection(a, b)) area += std::abs(polygon_area(p));
+  return area;
+}
+
+// The checks of the issue: simple outlines, complementary teeth, no tooth on another tooth or on
+// the part's own body.
+void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j,
+                         const JointOptions& o) {
+  ASSERT_EQ(j.parts.size(), s.patches.size());
+  // Per (border, interval, side patch): tooth length or slot length in the plane.
+  std::map<std::pair<int, int>, std::map<int, double>> tooth_len, slot_len;
+  for (std::size_t p = 0; p < j.parts.size(); ++p) {
+    const PartOutline& part = j.parts[p];
+    SCOPED_TRACE("part " + std::to_string(p));
+    ASSERT_GE(part.designed.size(), 3u);
+    EXPECT_TRUE(is_simple_polygon(part.designed, ring(part.designed.size())));
+    EXPECT_TRUE(is_simple_polygon(part.cut, ring(part.cut.size())));
+    EXPECT_GT(polygon_area(part.designed), 0);
+    EXPECT_FALSE(part.repaired);
+    // Kerf compensation: the laser path encloses the designed part and stays within half a
+    // kerf of it (gaps narrower than the kerf close, as they must).
+    auto area_of = [](const std::vector<Polygon2>& ps) {
+      double a = 0;
+      for (const auto& q : ps) a += polygon_area(q);
+      return a;
+    };
+    // (1e-4 mm^2: a 10 um square, far below the beam's resolution; rounding debris is smaller.)
+    EXPECT_LT(area_of(polygon_difference({part.designed}, {part.cut})), 1e-4);
+    EXPECT_LT(area_of(polygon_difference(
+                  {part.cut}, polygon_offset({part.designed}, 0.5 * o.kerf_width + 1e-4))),
+              1e-4);
+    EXPECT_GT(polygon_area(part.cut), polygon_area(part.designed));
+    // The body: the flattened patch.
+    Polygon2 body;
+    for (const OutlineEdge& e : s.patches[p].outline()) body.push_back(f.patches[p].points[e.v[0]]);
+    if (polygon_area(body) < 0) std::reverse(body.begin(), body.end());
+    std::vector<const JointSpan*> teeth;
+    for (const JointSpan& sp : part.spans)
+      if (sp.tooth) teeth.push_back(&sp);
+    for (std::size_t a = 0; a < teeth.size(); ++a) {
+      EXPECT_LT(overlap_area(teeth[a]->region, body), 1e-6) << "tooth " << a << " on the body";
+      for (std::size_t b = a + 1; b < teeth.size(); ++b) {
+        EXPECT_LT(overlap_area(teeth[a]->region, teeth[b]->region), 1e-6)
+            << "teeth " << a << ", " << b << " borders " << teeth[a]->border << "/"
+            << teeth[a]->interval << " edge " << j.borders[teeth[a]->border].edge << " patches "
+            << j.borders[teeth[a]->border].patches[0] << ","
+            << j.borders[teeth[a]->border].patches[1] << " and " << teeth[b]->border << "/"
+            << teeth[b]->interval << " edge " << j.borders[teeth[b]->border].edge << " patches "
+            << j.borders[teeth[b]->border].patches[0] << ","
+            << j.borders[teeth[b]->border].patches[1] << " at " << teeth[a]->region[0].transpose()
+            << " / " << teeth[b]->region[0].transpose() << " tips " << teeth[a]->offset << " "
+            << teeth[b]->offset;
+      }
+    }
+    for (const JointSpan& sp : part.spans) {
+      auto& target = sp.tooth ? tooth_len : slot_len;
+      target[{sp.border, sp.interval}][static_cast<int>(p)] += sp.length;
+    }
+  }
+  // Every tooth faces a slot of the same length on the other part (to 0.05 mm).
+  int compared = 0;
+  for (const auto& [key, by_part] : tooth_len) {
+    const BorderJoint& b = j.borders[key.first];
+    const JointInterval& in = b.intervals[key.second];
+    ASSERT_GE(in.owner, 0);
+    for (const auto& [part, length] : by_part) {
+      const int other = b.patches[0] == b.patches[1]
+                            ? part
+                            : (part == b.patches[0] ? b.patches[1] : b.patches[0]);
+      ASSERT_TRUE(slot_len.count(key)) << "tooth without slot";
+      const auto& slots = slot_len.at(key);
+      ASSERT_TRUE(slots.count(other));
+      EXPECT_NEAR(length, slots.at(other), 0.05);
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, j.teeth);
+}
+
+TEST(Joints, BoxCornerTeethReachThroughTheOtherPart) {
+  const JointOptions o;
+  const Case c = folded_sheet(90, o);
+  ASSERT_EQ(c.strips.patches.size(), 12u);
+  int fold_borders = 0;
+  for (const BorderJoint& b : c.joints.borders) {
+    const bool at_fold = std::abs(b.intervals.front().fold - kPi / 2) < 1e-6;
+    if (!at_fold) {  // borders between neighbouring strips of a flat half: no teeth possible
+      for (const auto& in : b.intervals) EXPECT_LT(in.fold, 1e-6);
+      EXPECT_EQ(b.teeth, 0);
+      continue;
+    }
+    ++fold_borders;
+    EXPECT_NEAR(b.length, 100.0 / 6, 1e-9);
+    ASSERT_EQ(b.intervals.size(), 6u);  // 16.7 mm in teeth of about 3 mm
+    for (const auto& in : b.intervals) {
+      EXPECT_NEAR(in.offsets.tip, o.thickness / 2, 1e-9);
+      EXPECT_NEAR(in.offsets.slot, -o.thickness / 2, 1e-9);
+    }
+    EXPECT_GE(b.teeth, 4);  // at most the intervals at the sheet's edge may be blocked
+  }
+  EXPECT_EQ(fold_borders, 6);
+  expect_sound_joints(c.strips, c.flat, c.joints, o);
+  // Kerf compensation of these rectilinear parts: the area grows by half a kerf times the
+  // perimeter plus the square corners.
+  for (const PartOutline& part : c.joints.parts) {
+    double perimeter = 0;
+    for (std::size_t i = 0; i < part.designed.size(); ++i)
+      perimeter += (part.designed[(i + 1) % part.designed.size()] - part.designed[i]).norm();
+    const double d = 0.5 * o.kerf_width;
+    EXPECT_NEAR(polygon_area(part.cut) - polygon_area(part.designed), d * perimeter,
+                0.02 * d * perimeter);
+  }
+}
+
+TEST(Joints, ShallowFoldsGetNoTeethUnlessProtrusionIsAllowed) {
+  JointOptions o;
+  const Case c = folded_sheet(8, o);  // tip - slot = h * 0.14 = 0.42 mm < 0.5 mm
+  EXPECT_EQ(c.joints.teeth, 0);
+  int shallow = 0;
+  for (const auto& b : c.joints.borders) shallow += b.shallow;
+  EXPECT_GT(shallow, 0);
+  o.protrusion = 0.2;
+  const Case d = folded_sheet(8, o);
+  EXPECT_GT(d.joints.teeth, 0);
+  expect_sound_joints(d.strips, d.flat, d.joints, o);
+}
+
+TEST(Joints, FoldAnglesAndOffsetsFollowTheSurface) {
+  for (double deg : {30.0, 60.0, 120.0}) {
+    const Case c = folded_sheet(deg);
+    for (const BorderJoint& b : c.joints.borders) {
+      if (b.intervals.front().fold < 1e-6) continue;
+      for (const auto& in : b.intervals) {
+        EXPECT_NEAR(in.fold, deg * kPi / 180, 1e-6);
+        const ToothOffsets e = tooth_offsets(deg * kPi / 180, 3.0);
+        EXPECT_NEAR(in.offsets.tip, e.tip, 1e-6);
+        EXPECT_NEAR(in.offsets.slot, e.slot, 1e-6);
+      }
+    }
+    expect_sound_joints(c.strips, c.flat, c.joints, {});
+  }
+}
+
+TEST(Joints, RealMeshesHaveSoundOutlines) {
+  struct Model {
+    std::string target, quad;
+    int subdivide;
+    double size;
+  };
+  for (const Model& m : {Model{"spot_triangulated.obj", "spot_control_mesh.obj", 1, 250},
+                         Model{"fandisk_quads.off", "", 0, 200}}) {
+    SCOPED_TRACE(m.target);
+    InputOptions in;
+    in.subdivide = m.subdivide;
+    in.size = m.size;
+    std::optional<PolyMesh> quad;
+    if (!m.quad.empty()) quad = read_mesh(test::shared_meshes() / m.quad);
+    const PreparedInput p = prepare_input(read_mesh(test::shared_meshes() / m.target), quad, in);
+    BendingOptions bo;
+    bo.time_limit_s = 10;
+    Strips s = build_strips(p.quads, choose_bending_edges(p.quads, p.surface, bo), p.surface, {});
+    Flattening f = flatten_patches(s, {});
+    for (std::size_t i = 0; i < f.patches.size(); ++i)  // as the pipeline does
+      if (!f.patches[i].outline_simple)
+        s = split_patch(s, static_cast<int>(i), s.patches[i].quads.size() / 2);
+    f = flatten_patches(s, {});
+    const JointOptions o;
+    const Joints j = make_joints(s, f, o);
+    EXPECT_GT(j.teeth, 100);
+    EXPECT_GT(j.toothed_length, 0.25 * j.border_length);
+    expect_sound_joints(s, f, j, o);
+  }
+}
+
+TEST(Joints, RejectsBadOptions) {
+  const Case c = folded_sheet(90);
+  JointOptions bad;
+  bad.thickness = 0;
+  EXPECT_THROW(make_joints(c.strips, c.flat, bad), InvalidInput);
+  bad = {};
+  bad.tooth_width = -1;
+  EXPECT_THROW(make_joints(c.strips, c.flat, bad), InvalidInput);
+}
+
+}  // namespace
+}  // namespace kerfab
