@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "fixtures.h"
 #include "kerfab/core/errors.h"
 #include "kerfab/eval/surface_distance.h"
 #include "kerfab/input/prepare.h"
@@ -183,20 +184,9 @@ TEST(Flatten, DeterministicAcrossThreadCounts) {
 }
 
 TEST(Flatten, RealMeshesFitTogether) {
-  struct Case {
-    std::string target, quad;
-    int subdivide;
-    double size;
-  };
-  for (const Case& c : {Case{"spot_triangulated.obj", "spot_control_mesh.obj", 1, 250},
-                        Case{"fandisk_quads.off", "", 0, 200}}) {
-    SCOPED_TRACE(c.target);
-    InputOptions in;
-    in.subdivide = c.subdivide;
-    in.size = c.size;
-    std::optional<PolyMesh> quad;
-    if (!c.quad.empty()) quad = read_mesh(test::shared_meshes() / c.quad);
-    const PreparedInput p = prepare_input(read_mesh(test::shared_meshes() / c.target), quad, in);
+  for (const test::RealModel& model : {test::spot(), test::fandisk()}) {
+    SCOPED_TRACE(model.target);
+    const PreparedInput p = test::load(model);
     BendingOptions bo;
     bo.time_limit_s = 10;
     const Strips s =
@@ -230,15 +220,11 @@ TEST(Flatten, AHelicalBandOverlapsItselfInThePlaneAndIsReported) {
     return Vec3(r * std::cos(t), r * std::sin(t), 40 * t / (2 * kPi));
   };
   const PolyMesh quads = test::grid_mesh(60, 1, false, false, band);
-  BendingOptions opt;  // strips along the helix: its long edges bend
-  for (auto e : quads.edges()) {
-    const auto h = quads.halfedge_handle(e, 0);
-    const Vec3 a = to_eigen(quads.point(quads.from_vertex_handle(h)));
-    const Vec3 b = to_eigen(quads.point(quads.to_vertex_handle(h)));
-    if (std::abs(std::hypot(a.x(), a.y()) - std::hypot(b.x(), b.y())) < 1e-6)
-      opt.guidance.push_back(
-          {quads.from_vertex_handle(h).idx(), quads.to_vertex_handle(h).idx(), true});
-  }
+  // Strips along the helix: its long edges (constant radius) bend.
+  auto along_helix = [](const Vec3& a, const Vec3& c) {
+    return std::abs(std::hypot(a.x(), a.y()) - std::hypot(c.x(), c.y())) < 1e-6;
+  };
+  const BendingOptions opt = test::force_bendable(quads, along_helix);
   const Built b = strips_on_own_mesh(quads, 2, opt);
   ASSERT_EQ(b.strips.patches.size(), 1u);
   const Flattening f = flatten_patches(b.strips, {});
@@ -258,15 +244,7 @@ TEST(Flatten, AHelicalBandOverlapsItselfInThePlaneAndIsReported) {
     return Vec3(r * std::cos(t), r * std::sin(t), 40 * t / (2 * kPi));
   };
   const PolyMesh short_quads = test::grid_mesh(36, 1, false, false, one_turn);
-  BendingOptions short_opt;
-  for (auto e : short_quads.edges()) {
-    const auto h = short_quads.halfedge_handle(e, 0);
-    const Vec3 a = to_eigen(short_quads.point(short_quads.from_vertex_handle(h)));
-    const Vec3 c = to_eigen(short_quads.point(short_quads.to_vertex_handle(h)));
-    if (std::abs(std::hypot(a.x(), a.y()) - std::hypot(c.x(), c.y())) < 1e-6)
-      short_opt.guidance.push_back(
-          {short_quads.from_vertex_handle(h).idx(), short_quads.to_vertex_handle(h).idx(), true});
-  }
+  const BendingOptions short_opt = test::force_bendable(short_quads, along_helix);
   const Built c = strips_on_own_mesh(short_quads, 2, short_opt);
   EXPECT_EQ(flatten_patches(c.strips, {}).non_simple_outlines, 0);
 }

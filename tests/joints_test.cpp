@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 
+#include "fixtures.h"
 #include "kerfab/core/errors.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
@@ -33,15 +34,8 @@ Case folded_sheet(double fold_deg, const JointOptions& options = {}) {
   };
   const PolyMesh quads = test::grid_mesh(6, 6, false, false, sheet);
   const TargetSurface target(triangulate(test::grid_mesh(24, 24, false, false, sheet)));
-  BendingOptions bo;
-  for (auto e : quads.edges()) {
-    const auto h = quads.halfedge_handle(e, 0);
-    const Vec3 d =
-        to_eigen(quads.point(quads.to_vertex_handle(h)) - quads.point(quads.from_vertex_handle(h)));
-    if (std::abs(d.x()) < 1e-9)
-      bo.guidance.push_back(
-          {quads.from_vertex_handle(h).idx(), quads.to_vertex_handle(h).idx(), true});
-  }
+  const BendingOptions bo = test::force_bendable(
+      quads, [](const Vec3& a, const Vec3& b) { return std::abs(b.x() - a.x()) < 1e-9; });
   StripsOptions so;
   so.split_angle = std::min(fold_deg / 2, 60.0) * kPi / 180;
   Case c;
@@ -203,20 +197,9 @@ TEST(Joints, FoldAnglesAndOffsetsFollowTheSurface) {
 }
 
 TEST(Joints, RealMeshesHaveSoundOutlines) {
-  struct Model {
-    std::string target, quad;
-    int subdivide;
-    double size;
-  };
-  for (const Model& m : {Model{"spot_triangulated.obj", "spot_control_mesh.obj", 1, 250},
-                         Model{"fandisk_quads.off", "", 0, 200}}) {
-    SCOPED_TRACE(m.target);
-    InputOptions in;
-    in.subdivide = m.subdivide;
-    in.size = m.size;
-    std::optional<PolyMesh> quad;
-    if (!m.quad.empty()) quad = read_mesh(test::shared_meshes() / m.quad);
-    const PreparedInput p = prepare_input(read_mesh(test::shared_meshes() / m.target), quad, in);
+  for (const test::RealModel& model : {test::spot(), test::fandisk()}) {
+    SCOPED_TRACE(model.target);
+    const PreparedInput p = test::load(model);
     BendingOptions bo;
     bo.time_limit_s = 10;
     Strips s = build_strips(p.quads, choose_bending_edges(p.quads, p.surface, bo), p.surface, {});

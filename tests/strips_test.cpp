@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "fixtures.h"
 #include "kerfab/core/errors.h"
 #include "kerfab/eval/surface_distance.h"
 #include "kerfab/input/prepare.h"
@@ -161,15 +162,9 @@ TEST(Strips, CylinderAxialStripsAreStraightWithDeviationIndependentOfRulings) {
   const auto shape = test::open_cylinder(r, height, around, along, 16);
   const TargetSurface target(shape.target);
   // Force every edge along the axis bendable: strips then run along the axis.
-  BendingOptions opt;
-  for (auto e : shape.quads.edges()) {
-    const auto h = shape.quads.halfedge_handle(e, 0);
-    const Vec3 d = to_eigen(shape.quads.point(shape.quads.to_vertex_handle(h)) -
-                            shape.quads.point(shape.quads.from_vertex_handle(h)));
-    if (std::abs(d.normalized().z()) > 0.99)
-      opt.guidance.push_back(
-          {shape.quads.from_vertex_handle(h).idx(), shape.quads.to_vertex_handle(h).idx(), true});
-  }
+  const BendingOptions opt = test::force_bendable(shape.quads, [](const Vec3& a, const Vec3& b) {
+    return std::abs((b - a).normalized().z()) > 0.99;
+  });
   const BendingResult bending = choose_bending_edges(shape.quads, target, opt);
   const double expected = r * (1 - std::cos(kPi / around));  // sagitta of a coarse chord
   for (int k : {1, 3, 5}) {
@@ -277,15 +272,9 @@ TEST(Strips, SplitAngleBoundsTheFoldInsideAPatch) {
   };
   const PolyMesh quads = test::grid_mesh(6, 6, false, false, fold);
   const TargetSurface target(triangulate(test::grid_mesh(24, 24, false, false, fold)));
-  BendingOptions opt;
-  for (auto e : quads.edges()) {  // edges of constant u bendable: rulings cross the fold
-    const auto h = quads.halfedge_handle(e, 0);
-    const Vec3 d =
-        to_eigen(quads.point(quads.to_vertex_handle(h)) - quads.point(quads.from_vertex_handle(h)));
-    if (std::abs(d.x()) < 1e-9)
-      opt.guidance.push_back(
-          {quads.from_vertex_handle(h).idx(), quads.to_vertex_handle(h).idx(), true});
-  }
+  // Edges of constant u bendable: rulings cross the fold.
+  const BendingOptions opt = test::force_bendable(
+      quads, [](const Vec3& a, const Vec3& b) { return std::abs(b.x() - a.x()) < 1e-9; });
   const BendingResult bending = choose_bending_edges(quads, target, opt);
   StripsOptions loose;
   loose.split_angle = kPi;
@@ -386,23 +375,9 @@ TEST(Strips, DeterministicAndRejectsBadOptions) {
 }
 
 TEST(Strips, RealMeshesMeetThePaperQuality) {
-  struct Case {
-    std::string target, quad;
-    int subdivide;
-    double size;
-  };
-  const std::vector<Case> cases = {
-      {"spot_triangulated.obj", "spot_control_mesh.obj", 1, 250},
-      {"fandisk_quads.off", "", 0, 200},
-  };
-  for (const auto& c : cases) {
-    SCOPED_TRACE(c.target);
-    InputOptions in;
-    in.subdivide = c.subdivide;
-    if (c.size > 0) in.size = c.size;
-    std::optional<PolyMesh> quad;
-    if (!c.quad.empty()) quad = read_mesh(test::shared_meshes() / c.quad);
-    const PreparedInput p = prepare_input(read_mesh(test::shared_meshes() / c.target), quad, in);
+  for (const test::RealModel& model : {test::spot(), test::fandisk()}) {
+    SCOPED_TRACE(model.target);
+    const PreparedInput p = test::load(model);
     BendingOptions b;
     b.time_limit_s = 10;  // fandisk needs ~50 s to prove optimality; the strips do not care
     const BendingResult bending = choose_bending_edges(p.quads, p.surface, b);

@@ -1,0 +1,30 @@
+#pragma once
+// Fixtures shared by the stage tests: forcing edge directions, and the real models.
+#include <functional>
+#include <string>
+
+#include "kerfab/bending/bending.h"
+#include "kerfab/input/prepare.h"
+
+namespace kerfab::test {
+
+/// Bending options whose guidance forces bendable every edge (a, b) of \p quads for which
+/// \p pick(position of a, position of b) is true.
+BendingOptions force_bendable(const PolyMesh& quads,
+                              const std::function<bool(const Vec3&, const Vec3&)>& pick);
+
+/// A real model from shared/data/meshes as the demo would prepare it.
+struct RealModel {
+  std::string target;
+  std::string quad;  ///< empty: the target is its own quad mesh
+  int subdivide = 0;
+  double size = 0;  ///< largest bbox side [mm]
+};
+
+/// Spot (control mesh + 1 Catmull-Clark step, 250 mm) and fandisk_quads (200 mm).
+RealModel spot();
+RealModel fandisk();
+
+PreparedInput load(const RealModel& model);
+
+}  // namespace kerfab::test
