@@ -20,5 +20,10 @@ rsvg-convert "$root/out/demo/patches.svg" -o "$root/out/demo/patches.png"
 python3 "$root/scripts/render_parts.py" "$root/out/demo/stages/parts.json" \
   "$root/out/demo/parts.svg" --first 23 --count 3 --width 1000
 rsvg-convert "$root/out/demo/parts.svg" -o "$root/out/demo/parts.png"
+# Kerf cut density (viridis; red: cuts would have to be closer than the material allows).
+python3 "$root/scripts/render_strips.py" "$root/out/demo/model/kerf_density.ply" \
+  "$root/out/demo/kerf_density.svg" --azimuth 35 --elevation 10
+rsvg-convert "$root/out/demo/kerf_density.svg" -o "$root/out/demo/kerf_density.png"
 echo "kerfab demo: report $root/out/demo/report.json, pictures $root/out/demo/strips.png," \
-  "$root/out/demo/bending.png, $root/out/demo/patches.png and $root/out/demo/parts.png"
+  "$root/out/demo/bending.png, $root/out/demo/patches.png, $root/out/demo/parts.png and" \
+  "$root/out/demo/kerf_density.png"

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Renders model/strips.ply (written by `kerfab run`) to an SVG picture: the subdivided strip
-mesh flat-shaded in each strip's colour, rulings as thin lines, strip borders dark.
+"""Renders model/strips.ply or model/kerf_density.ply (written by `kerfab run`) to an SVG
+picture: the subdivided strip mesh flat-shaded in the file's face colours, rulings as thin
+lines, strip borders dark.
 Standard library only. Usage: render_strips.py strips.ply out.svg [--azimuth DEG]
 [--elevation DEG] [--up x|y|z] [--width PX]"""
 import argparse
@@ -11,13 +12,19 @@ def read_ply(path):
     with open(path) as f:
         lines = f.read().split("\n")
     nv = nf = 0
+    face_props = []  # names of the face properties after the vertex list
+    element = None
     i = 0
     while lines[i] != "end_header":
         w = lines[i].split()
-        if w[:2] == ["element", "vertex"]:
-            nv = int(w[2])
-        if w[:2] == ["element", "face"]:
-            nf = int(w[2])
+        if w[:1] == ["element"]:
+            element = w[1]
+            if w[1] == "vertex":
+                nv = int(w[2])
+            if w[1] == "face":
+                nf = int(w[2])
+        if w[:1] == ["property"] and element == "face" and w[1] != "list":
+            face_props.append(w[-1])
         i += 1
     i += 1
     verts = [tuple(map(float, lines[i + k].split()[:3])) for k in range(nv)]
@@ -26,9 +33,9 @@ def read_ply(path):
         w = lines[i + nv + k].split()
         n = int(w[0])
         idx = list(map(int, w[1:1 + n]))
-        strip = int(w[1 + n])
-        rgb = tuple(map(int, w[2 + n:5 + n]))
-        faces.append((idx, strip, rgb))
+        props = dict(zip(face_props, w[1 + n:]))
+        rgb = (int(props["red"]), int(props["green"]), int(props["blue"]))
+        faces.append((idx, int(props["strip"]), rgb))
     return verts, faces
 
 

@@ -250,6 +250,21 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     EXPECT_GE(sample["tip_mm"].get<double>(), 0.0);
     EXPECT_LT(sample["slot_mm"].get<double>(), 0.0);
   }
+  // Kerf cuts and the cutting estimate.
+  const auto& kf = report["kerf"];
+  for (const char* key : {"cuts", "cut_length_mm", "critical_regions", "patches"})
+    EXPECT_TRUE(kf.contains(key)) << key;
+  EXPECT_GT(kf["cuts"].get<int>(), 100);
+  EXPECT_EQ(kf["patches"].size(), static_cast<std::size_t>(strips));
+  const auto& cutting = report["cutting"];
+  EXPECT_GT(cutting["total_cut_length_mm"].get<double>(), kf["cut_length_mm"].get<double>());
+  EXPECT_GT(cutting["estimated_minutes"].get<double>(), 0.0);
+  std::ifstream density(out / "model" / "kerf_density.ply");
+  ASSERT_TRUE(density);
+  long density_faces = -1;
+  while (std::getline(density, line) && line != "end_header")
+    if (line.rfind("element face ", 0) == 0) density_faces = std::stol(line.substr(13));
+  EXPECT_EQ(density_faces, st["sub_quads"].get<long>());
   const auto parts = nlohmann::json::parse(std::ifstream(out / "stages" / "parts.json"));
   ASSERT_EQ(parts["parts"].size(), static_cast<std::size_t>(strips));
   for (const auto& part : parts["parts"]) {

@@ -23,6 +23,9 @@ struct RunFlags {
   double split_angle_deg = 60.0;
   std::optional<double> features_deg;
   std::string projection = "normal";
+  std::string material = "mdf";
+  std::optional<double> thickness, shear_modulus, yield_strength, safety;
+  std::optional<int> constant_density;
   bool dump = false;
   bool quiet = false;
   kerfab::PipelineOptions options;
@@ -96,9 +99,24 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   auto& jo = f.options.joints;
-  cmd.add_option("--thickness", jo.thickness, "Sheet thickness h [mm]")
+  auto& ko = f.options.kerf;
+  cmd.add_option("--material", f.material,
+                 "Sheet material preset: mdf (3 mm, G 1.6 GPa, tau 18 MPa, G/tau 100 with safety), "
+                 "plywood (4 mm birch, G 620 MPa, tau 9.5 MPa, safety 1.5), paper (h 0, no cuts)")
       ->capture_default_str()
+      ->check(CLI::IsMember({"mdf", "plywood", "paper"}));
+  cmd.add_option("--thickness", f.thickness, "Sheet thickness h, overrides the material's [mm]")
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--shear-modulus", f.shear_modulus,
+                 "Shear modulus G, overrides the material's [MPa]")
       ->check(CLI::PositiveNumber);
+  cmd.add_option("--yield-strength", f.yield_strength,
+                 "Shear yield strength tau, overrides the material's [MPa]")
+      ->check(CLI::PositiveNumber);
+  cmd.add_option(
+         "--safety", f.safety,
+         "Safety factor dividing the yield strength, overrides the material's [ratio, >= 1]")
+      ->check(CLI::Range(1.0, 100.0));
   cmd.add_option("--protrusion", jo.protrusion,
                  "How far a box-joint tooth may stick out of the shell between the surface "
                  "offsets +-h/2 [mm]")
@@ -111,9 +129,37 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "No teeth where the tooth would overlap its slot by less than this [mm]")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--kerf-width", jo.kerf_width,
+  cmd.add_option("--kerf-width", ko.kerf_width,
                  "Width of the laser cut; outlines are offset by half of it so parts fit as "
                  "designed [mm]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--min-cut-spacing", ko.min_cut_spacing,
+                 "Kerf cuts closer than this are a critical region (reported, shown red in "
+                 "model/kerf_density.ply) [mm]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--bridge", ko.bridge, "Material left at alternating ends of each kerf cut [mm]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--kerf-margin", ko.margin,
+                 "Kerf cuts keep this far from the part outline and its joints [mm]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--kerf-smoothing", ko.smoothing,
+                 "Width of the tent kernel smoothing the needed beam count along a strip [mm]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--constant-density", f.constant_density,
+                 "Instead of the adaptive density: this many kerf cuts per quad of the quad mesh "
+                 "(the paper's baseline) [count]")
+      ->check(CLI::Range(0, 1000));
+  cmd.add_option("--cut-speed", f.options.machine.speed,
+                 "Laser cutting speed for the time estimate [mm/s]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd.add_option("--per-cut-time", f.options.machine.per_cut,
+                 "Overhead per separate cut path (pierce, travel) for the time estimate [s]")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--quality-spacing", f.options.quality_sample_spacing,
@@ -134,6 +180,17 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   kerfab::PipelineOptions options = f.options;
   options.input.size = f.size;
   options.strips.split_angle = f.split_angle_deg * M_PI / 180.0;
+  try {
+    options.kerf.material = kerfab::material_preset(f.material);
+  } catch (const kerfab::InvalidInput& e) {
+    std::cerr << "kerfab: error: " << e.what() << "\n";
+    return kInvalid;
+  }
+  if (f.thickness) options.kerf.material.thickness = *f.thickness;
+  if (f.shear_modulus) options.kerf.material.shear_modulus = *f.shear_modulus;
+  if (f.yield_strength) options.kerf.material.yield_strength = *f.yield_strength;
+  if (f.safety) options.kerf.material.safety = *f.safety;
+  options.kerf.constant_cuts_per_quad = f.constant_density;
   if (f.features_deg) options.strips.features = *f.features_deg * M_PI / 180.0;
   options.strips.projection =
       f.projection == "closest" ? kerfab::Projection::kClosest : kerfab::Projection::kNormal;

@@ -196,6 +196,8 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
   });
   if (done_after("flatten")) return finish();
 
+  run.options.joints.thickness = run.options.kerf.material.thickness;
+  run.options.joints.kerf_width = run.options.kerf.kerf_width;
   clock.stage("joints", [&] {
     run.joints = make_joints(*run.strips, *run.flattening, run.options.joints);
     const Joints& j = *run.joints;
@@ -215,6 +217,34 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
                              "the largest piece of each is kept");
   });
   if (done_after("joints")) return finish();
+
+  clock.stage("kerf", [&] {
+    run.kerf = place_kerf_cuts(*run.strips, *run.flattening, *run.joints, run.options.kerf);
+    const KerfResult& k = *run.kerf;
+    run.outline_length = 0;
+    for (const auto& part : run.joints->parts)
+      for (std::size_t i = 0; i < part.cut.size(); ++i)
+        run.outline_length += (part.cut[(i + 1) % part.cut.size()] - part.cut[i]).norm();
+    std::ostringstream os;
+    os.precision(4);
+    os << k.cuts << " kerf cuts, " << k.cut_length / 1000 << " m; " << k.critical.size()
+       << " critical regions (cuts closer than " << run.options.kerf.min_cut_spacing
+       << " mm); estimated cutting time "
+       << cutting_minutes(k.cut_length + run.outline_length,
+                          k.cuts + static_cast<int>(run.joints->parts.size()), run.options.machine)
+       << " min";
+    say(os.str());
+    if (!k.critical.empty()) {
+      std::ostringstream w;
+      w.precision(3);
+      w << k.critical.size() << " critical kerf regions: the bend needs cuts closer than "
+        << run.options.kerf.min_cut_spacing << " mm (first: patch " << k.critical.front().patch
+        << " at " << k.critical.front().start << " mm, spacing " << k.critical.front().spacing
+        << " mm); see kerf.critical and model/kerf_density.ply";
+      run.warnings.push_back(w.str());
+    }
+  });
+  if (done_after("kerf")) return finish();
 
   clock.stage("quality", [&] {
     run.target_diagonal = bounding_box(run.input->surface.mesh()).diagonal();

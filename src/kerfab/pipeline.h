@@ -13,6 +13,7 @@
 #include "kerfab/flatten/flatten.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/joints/joints.h"
+#include "kerfab/kerf/kerf.h"
 #include "kerfab/strips/strips.h"
 
 namespace kerfab {
@@ -36,7 +37,9 @@ struct PipelineOptions {
   BendingOptions bending;  ///< guidance is filled from RunInputs::guidance
   StripsOptions strips;
   FlattenOptions flatten;
-  JointOptions joints;
+  JointOptions joints;  ///< thickness and kerf width are taken from `kerf` and the material
+  KerfOptions kerf;
+  MachineOptions machine;
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
                                           ///< fraction of the target's bbox diagonal [-], > 0
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
@@ -59,6 +62,8 @@ struct RunResult {
   int overlap_splits = 0;  ///< patches split because their flat outline crossed itself
   std::optional<SurfaceDistance> flatten_mimic;  ///< 3D strips vs their flat-metric deformation
   std::optional<Joints> joints;
+  std::optional<KerfResult> kerf;
+  double outline_length = 0;               ///< all parts' laser paths [mm]
   std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
   double target_diagonal = 0;              ///< target bbox diagonal [mm]
   std::vector<StageTiming> timings;

@@ -1,5 +1,7 @@
 #include "kerfab/io/report.h"
 
+#include <cmath>
+
 namespace kerfab {
 namespace {
 
@@ -26,7 +28,22 @@ nlohmann::json options_json(const RunResult& run) {
       o.strips.features ? nlohmann::json(*o.strips.features * 180 / M_PI) : nlohmann::json(nullptr);
   j["flatten_lambda"] = o.flatten.lambda;
   j["flatten_max_iterations"] = o.flatten.max_iterations;
-  j["thickness_mm"] = o.joints.thickness;
+  j["material"] = o.kerf.material.name;
+  j["thickness_mm"] = o.kerf.material.thickness;
+  j["shear_modulus_mpa"] = o.kerf.material.shear_modulus;
+  j["yield_strength_mpa"] = std::isfinite(o.kerf.material.yield_strength)
+                                ? nlohmann::json(o.kerf.material.yield_strength)
+                                : nlohmann::json("infinity");
+  j["safety"] = o.kerf.material.safety;
+  j["kerf_smoothing_mm"] = o.kerf.smoothing;
+  j["min_cut_spacing_mm"] = o.kerf.min_cut_spacing;
+  j["bridge_mm"] = o.kerf.bridge;
+  j["kerf_margin_mm"] = o.kerf.margin;
+  j["constant_density"] = o.kerf.constant_cuts_per_quad
+                              ? nlohmann::json(*o.kerf.constant_cuts_per_quad)
+                              : nlohmann::json(nullptr);
+  j["cut_speed_mm_s"] = o.machine.speed;
+  j["per_cut_s"] = o.machine.per_cut;
   j["protrusion_mm"] = o.joints.protrusion;
   j["tooth_width_mm"] = o.joints.tooth_width;
   j["min_tooth_depth_mm"] = o.joints.min_depth;
@@ -175,7 +192,7 @@ nlohmann::json make_report(const RunResult& run) {
                            {"edge", b.edge},
                            {"s_mm", {in.s0, in.s1}}});
     }
-    r["joints"] = {{"thickness_mm", run.options.joints.thickness},
+    r["joints"] = {{"thickness_mm", run.options.kerf.material.thickness},
                    {"teeth", jt.teeth},
                    {"border_pieces", jt.borders.size()},
                    {"border_length_mm", jt.border_length},
@@ -184,6 +201,39 @@ nlohmann::json make_report(const RunResult& run) {
                    {"intervals_in_collision", blocked},
                    {"repaired_parts", jt.repaired_parts},
                    {"samples", samples}};
+  }
+  if (run.kerf) {
+    const KerfResult& k = *run.kerf;
+    nlohmann::json patches = nlohmann::json::array();
+    for (std::size_t p = 0; p < k.patches.size(); ++p)
+      patches.push_back({{"patch", p},
+                         {"cuts", k.patches[p].cuts.size()},
+                         {"min_spacing_mm", k.patches[p].min_spacing}});
+    nlohmann::json critical = nlohmann::json::array();
+    for (const auto& c : k.critical)
+      critical.push_back({{"patch", c.patch},
+                          {"position_mm", 0.5 * (c.start + c.end)},
+                          {"from_mm", c.start},
+                          {"to_mm", c.end},
+                          {"cuts", c.cuts},
+                          {"spacing_mm", c.spacing}});
+    r["kerf"] = {{"cuts", k.cuts},
+                 {"cut_length_mm", k.cut_length},
+                 {"critical_regions", k.critical.size()},
+                 {"critical", critical},
+                 {"mode", run.options.kerf.constant_cuts_per_quad ? "constant" : "adaptive"},
+                 {"max_cuts_per_quad", k.max_cuts_per_quad},
+                 {"patches", patches}};
+    const int paths = k.cuts + static_cast<int>(run.joints->parts.size());
+    r["cutting"] = {
+        {"total_cut_length_mm", k.cut_length + run.outline_length},
+        {"outline_length_mm", run.outline_length},
+        {"kerf_length_mm", k.cut_length},
+        {"paths", paths},
+        {"estimated_minutes",
+         cutting_minutes(k.cut_length + run.outline_length, paths, run.options.machine)},
+        {"machine",
+         {{"speed_mm_s", run.options.machine.speed}, {"per_cut_s", run.options.machine.per_cut}}}};
   }
   if (run.quality) {
     const SurfaceDistance& q = *run.quality;

@@ -57,6 +57,8 @@ void write_run(const RunResult& run, const fs::path& dir, bool dump) {
     write_mesh(run.input->target, dir / "model" / "target.obj");
   }
   if (run.strips) write_strips_ply(*run.strips, dir / "model" / "strips.ply");
+  if (run.strips && run.kerf)
+    write_kerf_density_ply(*run.strips, *run.kerf, dir / "model" / "kerf_density.ply");
   if (dump && run.bending && run.input) {
     make_dirs(dir / "stages");
     write_json(make_bending_dump(run.input->quads, *run.bending), dir / "stages" / "bending.json");

@@ -1,5 +1,6 @@
 #include "kerfab/io/strip_files.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -66,6 +67,60 @@ void write_strips_ply(const Strips& strips, const std::filesystem::path& path) {
     const auto c = strip_colour(id);
     out << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << " " << id << " " << c[0]
         << " " << c[1] << " " << c[2] << "\n";
+  }
+  check_written(out, path);
+}
+
+namespace {
+// Viridis at t in [0, 1], from its published 5-stop table, interpolated linearly.
+std::array<int, 3> viridis(double t) {
+  static const double stops[5][3] = {
+      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  t = std::clamp(t, 0.0, 1.0) * 4;
+  const int i = std::min(3, static_cast<int>(t));
+  const double u = t - i;
+  std::array<int, 3> c{};
+  for (int k = 0; k < 3; ++k)
+    c[k] = static_cast<int>(std::lround((1 - u) * stops[i][k] + u * stops[i + 1][k]));
+  return c;
+}
+}  // namespace
+
+void write_kerf_density_ply(const Strips& strips, const KerfResult& kerf,
+                            const std::filesystem::path& path) {
+  std::vector<double> density(strips.faces.size(), 0.0);
+  std::vector<char> critical(strips.faces.size(), 0);
+  std::vector<double> nonzero;
+  for (std::size_t p = 0; p < strips.patches.size() && p < kerf.patches.size(); ++p)
+    for (std::size_t i = 0; i < strips.patches[p].faces.size(); ++i) {
+      const int f = strips.patches[p].faces[i];
+      density[f] = kerf.patches[p].face_density[i];
+      critical[f] = kerf.patches[p].face_critical[i];
+      if (density[f] > 0) nonzero.push_back(density[f]);
+    }
+  // Colour scale up to the 95th percentile, so a few dense spots do not darken the rest.
+  double top = 0;
+  if (!nonzero.empty()) {
+    const std::size_t k = static_cast<std::size_t>(0.95 * (nonzero.size() - 1));
+    std::nth_element(nonzero.begin(), nonzero.begin() + k, nonzero.end());
+    top = nonzero[k];
+  }
+  auto out = open_for_writing(path);
+  out << "ply\nformat ascii 1.0\ncomment kerfab kerf cut density (cuts/mm), millimetres\n"
+      << "element vertex " << strips.vertices.size()
+      << "\nproperty double x\nproperty double y\nproperty double z\n"
+      << "element face " << strips.faces.size()
+      << "\nproperty list uchar int vertex_indices\nproperty int strip\nproperty float density\n"
+      << "property uchar critical\nproperty uchar red\nproperty uchar green\nproperty uchar "
+         "blue\nend_header\n";
+  for (const Vec3& v : strips.vertices) out << v.x() << " " << v.y() << " " << v.z() << "\n";
+  for (std::size_t f = 0; f < strips.faces.size(); ++f) {
+    const auto& q = strips.faces[f];
+    const auto c =
+        critical[f] ? std::array<int, 3>{230, 20, 20} : viridis(top > 0 ? density[f] / top : 0.0);
+    out << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << " " << strips.face_patch[f]
+        << " " << density[f] << " " << int(critical[f]) << " " << c[0] << " " << c[1] << " " << c[2]
+        << "\n";
   }
   check_written(out, path);
 }

@@ -4,6 +4,7 @@
 #include <array>
 #include <filesystem>
 
+#include "kerfab/kerf/kerf.h"
 #include "kerfab/strips/strips.h"
 
 namespace kerfab {
@@ -14,6 +15,12 @@ std::array<int, 3> strip_colour(int id);
 /// ASCII PLY: vertices (mm), quads with per-face `int strip` and `uchar red green blue`.
 /// \throw IoError the file cannot be written.
 void write_strips_ply(const Strips& strips, const std::filesystem::path& path);
+
+/// ASCII PLY of the strip mesh coloured by kerf cut density (viridis, 0 to the 95th percentile;
+/// per-face `float density` in cuts/mm) with critical faces red (`uchar critical`).
+/// \throw IoError the file cannot be written.
+void write_kerf_density_ply(const Strips& strips, const KerfResult& kerf,
+                            const std::filesystem::path& path);
 
 /// OBJ of one patch over its own vertices 2 * ruling + rail (see Patch::local_quads).
 /// \throw IoError the file cannot be written.

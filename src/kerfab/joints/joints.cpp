@@ -436,7 +436,7 @@ double plain_offset(double fold, double thickness) {
 }
 
 Joints make_joints(const Strips& strips, const Flattening& flat, const JointOptions& options) {
-  if (!(options.thickness > 0)) throw InvalidInput("--thickness must be > 0 mm");
+  if (!(options.thickness >= 0)) throw InvalidInput("--thickness must be >= 0 mm");
   if (!(options.protrusion >= 0)) throw InvalidInput("--protrusion must be >= 0 mm");
   if (!(options.tooth_width > 0)) throw InvalidInput("--tooth-width must be > 0 mm");
   if (!(options.min_depth >= 0)) throw InvalidInput("--min-tooth-depth must be >= 0 mm");
