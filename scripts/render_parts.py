@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Draws parts with their box joints from stages/parts.json (written by `kerfab run --dump`):
-the kerf-compensated cut outline in red, tooth regions shaded, each part rotated so its longest
+"""Draws parts with their box joints and kerf cuts from stages/parts.json (written by
+`kerfab run --dump`): the kerf-compensated cut outline in red, kerf cuts dark grey, tooth
+regions shaded, each part rotated so its longest
 extent is horizontal, all at one scale. Standard library only.
 Usage: render_parts.py parts.json out.svg [--first N] [--count N] [--width PX] [--zoom PART]"""
 import argparse
@@ -35,18 +36,23 @@ def main():
             return ((q[0] - cx) * c - (q[1] - cy) * s, (q[0] - cx) * s + (q[1] - cy) * c)
         cut = [tr(q) for q in pts]
         teeth = [[tr(q) for q in tooth] for tooth in p["teeth"]]
+        kerf = [(tr(k[:2]), tr(k[2:])) for k in p.get("kerf", [])]
         xs, ys = [q[0] for q in cut], [q[1] for q in cut]
-        shapes.append((p["part"], cut, teeth, min(xs), max(xs), min(ys), max(ys)))
-    widest = max((s[4] - s[3]) / a.zoom for s in shapes)
+        shapes.append((p["part"], cut, teeth, kerf, min(xs), max(xs), min(ys), max(ys)))
+    widest = max((s[5] - s[4]) / a.zoom for s in shapes)
     scale = (a.width - 80) / widest
     y = 20.0
     out = []
-    for name, cut, teeth, x0, x1, y0, y1 in shapes:
+    for name, cut, teeth, kerf, x0, x1, y0, y1 in shapes:
         def P(q):
             return 60 + scale * (q[0] - x0), y + scale * (y1 - q[1])
         for tooth in teeth:
             pts = " ".join(f"{u:.2f},{v:.2f}" for u, v in map(P, tooth))
             out.append(f'<polygon points="{pts}" fill="#9bc5f0" stroke="none"/>')
+        for k0, k1 in kerf:
+            (u0, v0), (u1, v1) = P(k0), P(k1)
+            out.append(f'<line x1="{u0:.2f}" y1="{v0:.2f}" x2="{u1:.2f}" y2="{v1:.2f}" '
+                       f'stroke="#303030" stroke-width="0.5"/>')
         pts = " ".join(f"{u:.2f},{v:.2f}" for u, v in map(P, cut))
         out.append(f'<polygon points="{pts}" fill="none" stroke="#d00000" stroke-width="0.8"/>')
         out.append(f'<text x="6" y="{y + scale * (y1 - y0) / 2 + 5:.1f}" '

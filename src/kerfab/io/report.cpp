@@ -304,7 +304,12 @@ nlohmann::json make_parts_dump(const RunResult& run) {
     nlohmann::json teeth = nlohmann::json::array();
     for (const auto& sp : part.spans)
       if (sp.tooth) teeth.push_back(poly(sp.region));
+    nlohmann::json kerf = nlohmann::json::array();
+    if (run.kerf)
+      for (const auto& c : run.kerf->patches[i].cuts)
+        kerf.push_back({c.a.x(), c.a.y(), c.b.x(), c.b.y()});
     parts.push_back({{"part", i},
+                     {"kerf", kerf},
                      {"designed", poly(part.designed)},
                      {"cut", poly(part.cut)},
                      {"teeth", teeth},

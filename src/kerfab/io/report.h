@@ -17,7 +17,7 @@ nlohmann::json make_failure_report(int exit_code, const std::string& kind,
 nlohmann::json make_bending_dump(const PolyMesh& quads, const BendingResult& bending);
 
 /// stages/parts.json: every part's outline with teeth (designed and kerf-compensated, mm, in the
-/// frame of its NNN_2d.obj) and its tooth regions.
+/// frame of its NNN_2d.obj), its tooth regions and its kerf cuts ([x0, y0, x1, y1]).
 nlohmann::json make_parts_dump(const RunResult& run);
 
 }  // namespace kerfab
