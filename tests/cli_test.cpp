@@ -265,6 +265,21 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   while (std::getline(density, line) && line != "end_header")
     if (line.rfind("element face ", 0) == 0) density_faces = std::stol(line.substr(13));
   EXPECT_EQ(density_faces, st["sub_quads"].get<long>());
+  // Layout: sheets written as SVG, one group per part.
+  const auto& lay = report["layout"];
+  ASSERT_GE(lay["sheets"].get<int>(), 1);
+  EXPECT_EQ(lay["sheet_mm"][0].get<double>(), 600.0);
+  EXPECT_GT(lay["utilization"].get<double>(), 0.1);
+  EXPECT_TRUE(lay["unplaced"].empty());
+  int groups = 0;
+  for (int sheet = 1; sheet <= lay["sheets"].get<int>(); ++sheet) {
+    char sheet_name[32];
+    std::snprintf(sheet_name, sizeof sheet_name, "sheet-%03d.svg", sheet);
+    std::ifstream svg(out / "cut" / sheet_name);
+    ASSERT_TRUE(svg) << sheet_name;
+    while (std::getline(svg, line)) groups += line.rfind("<g class=\"part\"", 0) == 0 ? 1 : 0;
+  }
+  EXPECT_EQ(groups, strips);
   const auto parts = nlohmann::json::parse(std::ifstream(out / "stages" / "parts.json"));
   ASSERT_EQ(parts["parts"].size(), static_cast<std::size_t>(strips));
   for (const auto& part : parts["parts"]) {

@@ -219,7 +219,7 @@ TEST(Joints, RealMeshesHaveSoundOutlines) {
 TEST(Joints, RejectsBadOptions) {
   const Case c = folded_sheet(90);
   JointOptions bad;
-  bad.thickness = 0;
+  bad.thickness = -1;  // 0 is allowed: paper
   EXPECT_THROW(make_joints(c.strips, c.flat, bad), InvalidInput);
   bad = {};
   bad.tooth_width = -1;

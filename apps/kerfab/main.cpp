@@ -1,6 +1,7 @@
 // kerfab command line: flags -> options, run the pipeline, write outputs, map errors to exit
 // codes (shared/OUTPUTS.md). No geometry here.
 #include <CLI/CLI.hpp>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -24,6 +25,7 @@ struct RunFlags {
   std::optional<double> features_deg;
   std::string projection = "normal";
   std::string material = "mdf";
+  std::string sheet = "600x450";
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
   std::optional<int> constant_density;
   bool dump = false;
@@ -162,6 +164,14 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "Overhead per separate cut path (pierce, travel) for the time estimate [s]")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--sheet", f.sheet, "Sheet size WxH of the laser bed or stock, e.g. 600x450 [mm]")
+      ->capture_default_str();
+  cmd.add_option("--margin", f.options.layout.margin, "Free border along each sheet edge [mm]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--spacing", f.options.layout.spacing, "Gap between parts on a sheet [mm]")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd.add_option("--quality-spacing", f.options.quality_sample_spacing,
                  "Distance-sample spacing for the Hausdorff and mean distance, as a fraction of "
                  "the target's bbox diagonal [ratio]")
@@ -191,6 +201,18 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   if (f.yield_strength) options.kerf.material.yield_strength = *f.yield_strength;
   if (f.safety) options.kerf.material.safety = *f.safety;
   options.kerf.constant_cuts_per_quad = f.constant_density;
+  {
+    double w = 0, h = 0;
+    char x = 0, rest = 0;
+    if (std::sscanf(f.sheet.c_str(), "%lf%c%lf%c", &w, &x, &h, &rest) != 3 ||
+        (x != 'x' && x != 'X') || !(w > 0) || !(h > 0)) {
+      std::cerr << "kerfab: error: --sheet must be WxH in mm, e.g. 600x450, got '" << f.sheet
+                << "'\n";
+      return kInvalid;
+    }
+    options.layout.sheet_width = w;
+    options.layout.sheet_height = h;
+  }
   if (f.features_deg) options.strips.features = *f.features_deg * M_PI / 180.0;
   options.strips.projection =
       f.projection == "closest" ? kerfab::Projection::kClosest : kerfab::Projection::kNormal;

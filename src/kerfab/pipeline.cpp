@@ -140,24 +140,40 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
     run.flattening = flatten_patches(*run.strips, run.options.flatten);
     // A patch whose unrolled outline crosses itself cannot be cut in one piece: split it at the
     // quad boundary nearest its middle and flatten again, until every outline is simple.
-    for (int round = 0; round < 8 && run.flattening->non_simple_outlines > 0; ++round) {
+    // So is a part larger than the sheet (allowing a plate thickness for its teeth).
+    LayoutOptions usable = run.options.layout;
+    usable.margin += run.options.kerf.material.thickness;
+    auto oversize = [&](std::size_t p) {
+      Polygon2 body;
+      for (const OutlineEdge& e : run.strips->patches[p].outline())
+        body.push_back(run.flattening->patches[p].points[e.v[0]]);
+      return !fits_sheet(body, usable);
+    };
+    for (int round = 0; round < 12; ++round) {
       Strips split = *run.strips;
       int splits = 0;
       for (std::size_t p = 0; p < run.flattening->patches.size(); ++p) {
         const int quads = static_cast<int>(split.patches[p].quads.size());
-        if (run.flattening->patches[p].outline_simple || quads < 2) continue;
+        if (quads < 2) continue;
+        if (!run.flattening->patches[p].outline_simple) {
+          ++run.overlap_splits;
+        } else if (oversize(p)) {
+          ++run.oversize_splits;
+        } else {
+          continue;
+        }
         split = split_patch(split, static_cast<int>(p), quads / 2);
         ++splits;
       }
       if (splits == 0) break;
-      run.overlap_splits += splits;
       run.strips = std::move(split);
       run.flattening = flatten_patches(*run.strips, run.options.flatten);
     }
     const Flattening& f = *run.flattening;
-    if (run.overlap_splits > 0)
-      say(std::to_string(run.overlap_splits) +
-          " patches split because their flat outline crossed itself; now " +
+    if (run.overlap_splits + run.oversize_splits > 0)
+      say(std::to_string(run.overlap_splits) + " patch splits because a flat outline crossed " +
+          "itself, " + std::to_string(run.oversize_splits) +
+          " because a part was larger than the sheet; now " +
           std::to_string(run.strips->patches.size()) + " patches");
     int iterations = 0;
     for (const auto& p : f.patches) iterations = std::max(iterations, p.iterations);
@@ -245,6 +261,32 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
     }
   });
   if (done_after("kerf")) return finish();
+
+  clock.stage("layout", [&] {
+    std::vector<Polygon2> outlines;
+    for (const auto& part : run.joints->parts) outlines.push_back(part.cut);
+    run.layout = nest_parts(outlines, run.options.layout);
+    run.labels.clear();
+    for (std::size_t p = 0; p < run.strips->patches.size(); ++p)
+      run.labels.push_back(
+          part_label(*run.strips, *run.flattening, *run.kerf, static_cast<int>(p)));
+    const LayoutResult& l = *run.layout;
+    std::ostringstream os;
+    os.precision(3);
+    os << outlines.size() << " parts on " << l.sheets << " sheets of "
+       << run.options.layout.sheet_width << " x " << run.options.layout.sheet_height
+       << " mm, material used " << 100 * l.utilization << "%";
+    say(os.str());
+    if (!l.unplaced.empty())
+      run.warnings.push_back(std::to_string(l.unplaced.size()) +
+                             " parts fit no sheet and are missing from cut/ (see layout.unplaced)");
+    int unlabelled = 0;
+    for (const auto& label : run.labels) unlabelled += label ? 0 : 1;
+    if (unlabelled > 0)
+      run.warnings.push_back(std::to_string(unlabelled) +
+                             " parts are too narrow between kerf cuts for an engraved number");
+  });
+  if (done_after("layout")) return finish();
 
   clock.stage("quality", [&] {
     run.target_diagonal = bounding_box(run.input->surface.mesh()).diagonal();

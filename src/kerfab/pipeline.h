@@ -14,6 +14,8 @@
 #include "kerfab/input/prepare.h"
 #include "kerfab/joints/joints.h"
 #include "kerfab/kerf/kerf.h"
+#include "kerfab/layout/labels.h"
+#include "kerfab/layout/layout.h"
 #include "kerfab/strips/strips.h"
 
 namespace kerfab {
@@ -40,6 +42,7 @@ struct PipelineOptions {
   JointOptions joints;  ///< thickness and kerf width are taken from `kerf` and the material
   KerfOptions kerf;
   MachineOptions machine;
+  LayoutOptions layout;
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
                                           ///< fraction of the target's bbox diagonal [-], > 0
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
@@ -63,9 +66,12 @@ struct RunResult {
   std::optional<SurfaceDistance> flatten_mimic;  ///< 3D strips vs their flat-metric deformation
   std::optional<Joints> joints;
   std::optional<KerfResult> kerf;
-  double outline_length = 0;               ///< all parts' laser paths [mm]
-  std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
-  double target_diagonal = 0;              ///< target bbox diagonal [mm]
+  double outline_length = 0;  ///< all parts' laser paths [mm]
+  int oversize_splits = 0;    ///< patches split because they did not fit a sheet
+  std::optional<LayoutResult> layout;
+  std::vector<std::optional<Label>> labels;  ///< per part
+  std::optional<SurfaceDistance> quality;    ///< strip mesh vs target [mm]
+  double target_diagonal = 0;                ///< target bbox diagonal [mm]
   std::vector<StageTiming> timings;
   double total_seconds = 0;
   std::vector<std::string> warnings;

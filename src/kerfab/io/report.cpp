@@ -235,6 +235,24 @@ nlohmann::json make_report(const RunResult& run) {
         {"machine",
          {{"speed_mm_s", run.options.machine.speed}, {"per_cut_s", run.options.machine.per_cut}}}};
   }
+  if (run.layout) {
+    const LayoutResult& l = *run.layout;
+    nlohmann::json parts = nlohmann::json::array();
+    for (std::size_t i = 0; i < l.placements.size(); ++i)
+      parts.push_back({{"part", i},
+                       {"sheet", l.placements[i].sheet + 1},
+                       {"angle_deg", l.placements[i].angle * 180 / M_PI},
+                       {"offset_mm", {l.placements[i].offset.x(), l.placements[i].offset.y()}},
+                       {"label", run.labels.size() > i && run.labels[i].has_value()}});
+    r["layout"] = {{"sheets", l.sheets},
+                   {"sheet_mm", {run.options.layout.sheet_width, run.options.layout.sheet_height}},
+                   {"margin_mm", run.options.layout.margin},
+                   {"spacing_mm", run.options.layout.spacing},
+                   {"utilization", l.utilization},
+                   {"unplaced", l.unplaced},
+                   {"oversize_splits", run.oversize_splits},
+                   {"parts", parts}};
+  }
   if (run.quality) {
     const SurfaceDistance& q = *run.quality;
     const double d = run.target_diagonal > 0 ? run.target_diagonal : 1.0;

@@ -7,6 +7,7 @@
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/io/report.h"
 #include "kerfab/io/strip_files.h"
+#include "kerfab/io/svg_sheets.h"
 
 namespace kerfab {
 namespace fs = std::filesystem;
@@ -77,6 +78,7 @@ void write_run(const RunResult& run, const fs::path& dir, bool dump) {
     }
   }
   if (dump && run.joints) write_json(make_parts_dump(run), dir / "stages" / "parts.json");
+  if (run.layout) write_svg_sheets(run, dir / "cut");
   write_json(make_report(run), dir / "report.json");
 }
 

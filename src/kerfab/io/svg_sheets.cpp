@@ -1,0 +1,77 @@
+#include "kerfab/io/svg_sheets.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "kerfab/core/errors.h"
+
+namespace kerfab {
+
+void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir,
+                      const SheetStyle& style) {
+  const LayoutResult& layout = *run.layout;
+  const LayoutOptions& lo = run.options.layout;
+  std::error_code ec;
+  std::filesystem::create_directories(cut_dir, ec);
+  if (ec) throw IoError("cannot create " + cut_dir.string() + ": " + ec.message());
+  for (int sheet = 0; sheet < layout.sheets; ++sheet) {
+    std::ostringstream svg;
+    svg.precision(10);
+    svg << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+        << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << lo.sheet_width
+        << "mm\" height=\"" << lo.sheet_height << "mm\" viewBox=\"0 0 " << lo.sheet_width << " "
+        << lo.sheet_height << "\">\n"
+        << "<title>kerfab sheet " << sheet + 1 << " of " << layout.sheets << "</title>\n";
+    // Sheet coordinates have y up; SVG's go down.
+    auto point = [&](const Placement& pl, const Vec2& p) {
+      const Vec2 q = pl.apply(p);
+      std::ostringstream os;
+      os.precision(10);
+      os << q.x() << " " << lo.sheet_height - q.y();
+      return os.str();
+    };
+    const std::string line_style =
+        "fill=\"none\" stroke-width=\"" + std::to_string(style.stroke) + "\" stroke=\"";
+    for (std::size_t part = 0; part < layout.placements.size(); ++part) {
+      const Placement& pl = layout.placements[part];
+      if (pl.sheet != sheet) continue;
+      char id[32];
+      std::snprintf(id, sizeof id, "%03zu", part);
+      svg << "<g class=\"part\" id=\"part-" << id << "\">\n";
+      if (run.labels.size() > part && run.labels[part]) {
+        const Label& l = *run.labels[part];
+        svg << "<path class=\"label\" " << line_style << style.engrave << "\" d=\"";
+        for (const auto& s : label_strokes(l))
+          svg << "M " << point(pl, s[0]) << " L " << point(pl, s[1]) << " ";
+        svg << "\"/>\n";
+        // The number as text too, for people and tools reading the file; hidden, so the laser
+        // engraves only the strokes above.
+        svg << "<text class=\"label\" visibility=\"hidden\" font-size=\"" << l.height << "\" x=\""
+            << point(pl, l.origin).substr(0, point(pl, l.origin).find(' ')) << "\" y=\""
+            << point(pl, l.origin).substr(point(pl, l.origin).find(' ') + 1) << "\">" << l.text
+            << "</text>\n";
+      }
+      if (run.kerf && !run.kerf->patches[part].cuts.empty()) {
+        svg << "<path class=\"kerf\" " << line_style << style.cut << "\" d=\"";
+        for (const auto& c : run.kerf->patches[part].cuts)
+          svg << "M " << point(pl, c.a) << " L " << point(pl, c.b) << " ";
+        svg << "\"/>\n";
+      }
+      const Polygon2& outline = run.joints->parts[part].cut;
+      svg << "<path class=\"outline\" " << line_style << style.cut << "\" d=\"";
+      for (std::size_t i = 0; i < outline.size(); ++i)
+        svg << (i ? "L " : "M ") << point(pl, outline[i]) << " ";
+      svg << "Z\"/>\n</g>\n";
+    }
+    svg << "</svg>\n";
+    char name[32];
+    std::snprintf(name, sizeof name, "sheet-%03d.svg", sheet + 1);
+    const auto path = cut_dir / name;
+    std::ofstream out(path);
+    out << svg.str();
+    if (!out) throw IoError("cannot write " + path.string());
+  }
+}
+
+}  // namespace kerfab

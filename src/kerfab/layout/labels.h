@@ -1,0 +1,30 @@
+#pragma once
+/// \file Engraved labels: single-stroke digits (no font needed at the laser), placed on each part
+/// in the widest stretch between its kerf cuts, along the strip.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kerfab/adapters/polygon_ops.h"
+#include "kerfab/flatten/flatten.h"
+#include "kerfab/kerf/kerf.h"
+#include "kerfab/strips/strips.h"
+
+namespace kerfab {
+
+struct Label {
+  std::string text;
+  Vec2 origin{0, 0};  ///< lower left of the first glyph, in the part's flattened frame [mm]
+  double angle = 0;   ///< baseline direction [rad]
+  double height = 0;  ///< glyph height [mm]
+};
+
+/// Stroke segments ({a, b} pairs) drawing \p label in the part's frame. Digits and '-' only.
+std::vector<std::array<Vec2, 2>> label_strokes(const Label& label);
+
+/// The part's number, as large as fits (at most \p max_height mm, at least 1.5 mm) between two
+/// kerf cuts away from the rails; empty when nothing fits.
+std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
+                                const KerfResult& kerf, int patch, double max_height = 5.0);
+
+}  // namespace kerfab

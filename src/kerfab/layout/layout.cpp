@@ -1,0 +1,292 @@
+#include "kerfab/layout/layout.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "kerfab/core/errors.h"
+
+namespace kerfab {
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+struct Box {
+  double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  void add(const Vec2& p) {
+    x0 = std::min(x0, p.x()), y0 = std::min(y0, p.y());
+    x1 = std::max(x1, p.x()), y1 = std::max(y1, p.y());
+  }
+  bool overlaps(const Box& b) const {
+    return !(b.x0 >= x1 || x0 >= b.x1 || b.y0 >= y1 || y0 >= b.y1);
+  }
+};
+
+Box box_of(const Polygon2& p) {
+  Box b;
+  for (const auto& v : p) b.add(v);
+  return b;
+}
+
+Polygon2 transformed(const Polygon2& p, double angle, const Vec2& offset) {
+  const Eigen::Rotation2Dd r(angle);
+  Polygon2 out;
+  out.reserve(p.size());
+  for (const auto& v : p) out.push_back(r * v + offset);
+  return out;
+}
+
+Polygon2 convex_hull(Polygon2 pts) {
+  std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  auto cross = [](const Vec2& o, const Vec2& a, const Vec2& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  Polygon2 hull(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  hull.resize(k > 1 ? k - 1 : k);
+  return hull;
+}
+
+}  // namespace
+
+Vec2 Placement::apply(const Vec2& p) const { return Eigen::Rotation2Dd(angle) * p + offset; }
+
+MinRect min_area_rect(const Polygon2& polygon) {
+  const Polygon2 hull = convex_hull(polygon);
+  MinRect best{0, 0, 0};
+  double best_area = 1e300;
+  for (std::size_t i = 0; i < hull.size(); ++i) {
+    const Vec2 e = hull[(i + 1) % hull.size()] - hull[i];
+    if (e.norm() <= 0) continue;
+    const double angle = std::atan2(e.y(), e.x());
+    const Box b = box_of(transformed(hull, -angle, Vec2(0, 0)));
+    const double area = (b.x1 - b.x0) * (b.y1 - b.y0);
+    if (area < best_area) best_area = area, best = {angle, b.x1 - b.x0, b.y1 - b.y0};
+  }
+  return best;
+}
+
+bool fits_sheet(const Polygon2& outline, const LayoutOptions& o) {
+  const MinRect r = min_area_rect(outline);
+  const double w = o.sheet_width - 2 * o.margin, h = o.sheet_height - 2 * o.margin;
+  return (r.width <= w && r.height <= h) || (r.height <= w && r.width <= h);
+}
+
+namespace {
+
+/// A part turned to one angle, rasterised on the layout grid: per grid row, the covered columns
+/// [from, to) relative to the raster's corner. Conservative: every cell the (grown) outline
+/// touches is covered.
+struct Raster {
+  double angle = 0;
+  Vec2 corner{0, 0};  ///< where the raster's cell (0, 0) starts, in the turned part's frame
+  int width = 0, height = 0;
+  std::vector<std::vector<std::array<int, 2>>> rows;
+};
+
+Raster rasterise(const Polygon2& grown, double angle, double cell) {
+  Raster r;
+  r.angle = angle;
+  const Polygon2 p = transformed(grown, angle, Vec2(0, 0));
+  const Box b = box_of(p);
+  r.corner = Vec2(b.x0, b.y0);
+  r.width = static_cast<int>(std::ceil((b.x1 - b.x0) / cell)) + 1;
+  r.height = static_cast<int>(std::ceil((b.y1 - b.y0) / cell)) + 1;
+  r.rows.resize(r.height);
+  // Each row of cells [y, y + cell): the outline's extent over that band, from its edges'
+  // crossings of the band's two lines and its vertices inside the band.
+  for (int j = 0; j < r.height; ++j) {
+    const double ya = b.y0 + j * cell, yb = ya + cell;
+    std::vector<double> xs;  // crossings at the band's lines, for interior spans
+    std::vector<std::array<double, 2>> spans;
+    for (double y : {ya, yb, 0.5 * (ya + yb)}) {
+      std::vector<double> cross;
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec2 &u = p[i], &v = p[(i + 1) % p.size()];
+        if ((u.y() <= y) != (v.y() <= y))
+          cross.push_back(u.x() + (y - u.y()) / (v.y() - u.y()) * (v.x() - u.x()));
+      }
+      std::sort(cross.begin(), cross.end());
+      for (std::size_t k = 0; k + 1 < cross.size(); k += 2)
+        spans.push_back({cross[k], cross[k + 1]});
+    }
+    // Edges passing through the band add their x extent within it.
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const Vec2 &u = p[i], &v = p[(i + 1) % p.size()];
+      const double lo = std::max(ya, std::min(u.y(), v.y())),
+                   hi = std::min(yb, std::max(u.y(), v.y()));
+      if (lo > hi) continue;
+      auto x_at = [&](double y) {
+        return std::abs(v.y() - u.y()) < 1e-12
+                   ? u.x()
+                   : u.x() + (y - u.y()) / (v.y() - u.y()) * (v.x() - u.x());
+      };
+      const double x0 = x_at(lo), x1 = x_at(hi);
+      spans.push_back(
+          {std::min({x0, x1, std::abs(v.y() - u.y()) < 1e-12 ? std::min(u.x(), v.x()) : x0}),
+           std::max({x0, x1, std::abs(v.y() - u.y()) < 1e-12 ? std::max(u.x(), v.x()) : x1})});
+    }
+    std::vector<std::array<int, 2>> cells;
+    for (const auto& sp : spans)
+      cells.push_back({static_cast<int>(std::floor((sp[0] - b.x0) / cell)),
+                       static_cast<int>(std::floor((sp[1] - b.x0) / cell)) + 1});
+    std::sort(cells.begin(), cells.end());
+    for (const auto& c : cells) {
+      if (!r.rows[j].empty() && c[0] <= r.rows[j].back()[1])
+        r.rows[j].back()[1] = std::max(r.rows[j].back()[1], c[1]);
+      else
+        r.rows[j].push_back(c);
+    }
+  }
+  return r;
+}
+
+/// Occupied cells of one sheet, with per row a prefix count and the last occupied cell at or
+/// before each column, for fast tests and jumps.
+struct SheetGrid {
+  int width = 0, height = 0;
+  std::vector<std::vector<char>> cells;
+  std::vector<std::vector<int>> prefix, last;
+  SheetGrid(int w, int h)
+      : width(w),
+        height(h),
+        cells(h, std::vector<char>(w, 0)),
+        prefix(h, std::vector<int>(w + 1, 0)),
+        last(h, std::vector<int>(w, -1)) {}
+  void refresh(int y) {
+    for (int x = 0; x < width; ++x) {
+      prefix[y][x + 1] = prefix[y][x] + cells[y][x];
+      last[y][x] = cells[y][x] ? x : (x ? last[y][x - 1] : -1);
+    }
+  }
+  /// Smallest x' >= x where the raster at (x', y) is free; -1 if none up to x_max.
+  int first_free(const Raster& r, int x, int y, int x_max) const {
+    while (x <= x_max) {
+      int jump = -1;
+      for (int j = 0; j < r.height && jump < 0; ++j)
+        for (const auto& span : r.rows[j]) {
+          const int a = x + span[0], b = std::min(x + span[1], width);
+          if (b > a && prefix[y + j][b] - prefix[y + j][a] > 0) {
+            jump = last[y + j][b - 1] - span[0] + 1;
+            break;
+          }
+        }
+      if (jump < 0) return x;
+      x = std::max(x + 1, jump);
+    }
+    return -1;
+  }
+  void mark(const Raster& r, int x, int y) {
+    for (int j = 0; j < r.height; ++j) {
+      for (const auto& span : r.rows[j])
+        for (int c = std::max(0, x + span[0]); c < std::min(width, x + span[1]); ++c)
+          cells[y + j][c] = 1;
+      refresh(y + j);
+    }
+  }
+};
+
+}  // namespace
+
+LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& o) {
+  if (!(o.sheet_width > 0) || !(o.sheet_height > 0))
+    throw InvalidInput("--sheet: width and height must be > 0 mm");
+  if (!(o.margin >= 0) || !(o.spacing >= 0))
+    throw InvalidInput("--margin and --spacing must be >= 0 mm");
+  if (!(o.step > 0)) throw InvalidInput("layout step must be > 0 mm");
+  if (2 * o.margin >= std::min(o.sheet_width, o.sheet_height))
+    throw InvalidInput("--margin leaves no room on the sheet");
+  const int n = static_cast<int>(outlines.size());
+  LayoutResult result;
+  result.placements.resize(n);
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<double> area(n);
+  for (int i = 0; i < n; ++i) area[i] = std::abs(polygon_area(outlines[i]));
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
+  const double cell = o.step;
+  const int gw = static_cast<int>(std::floor(o.sheet_width / cell));
+  const int gh = static_cast<int>(std::floor(o.sheet_height / cell));
+  const int lo_x = static_cast<int>(std::ceil(o.margin / cell));
+  const int hi_x = static_cast<int>(std::floor((o.sheet_width - o.margin) / cell));
+  const int lo_y = lo_x, hi_y = static_cast<int>(std::floor((o.sheet_height - o.margin) / cell));
+  std::vector<SheetGrid> sheets;
+  for (int i : order) {
+    const Polygon2& part = outlines[i];
+    if (part.size() < 3 || !fits_sheet(part, o)) {
+      result.unplaced.push_back(i);
+      continue;
+    }
+    const auto grown = polygon_offset({part}, 0.5 * o.spacing);
+    const Polygon2 inflated = grown.empty() ? part : grown.front();
+    const double base = -min_area_rect(part).angle;
+    std::vector<Raster> rasters;
+    std::vector<Box> boxes;  // the turned part itself (not grown), for the margins
+    for (int quarter = 0; quarter < 4; ++quarter) {
+      rasters.push_back(rasterise(inflated, base + quarter * M_PI / 2, cell));
+      boxes.push_back(box_of(transformed(part, base + quarter * M_PI / 2, Vec2(0, 0))));
+    }
+    bool placed = false;
+    for (std::size_t s = 0; s <= sheets.size() && !placed; ++s) {
+      const bool fresh = s == sheets.size();
+      if (fresh) sheets.emplace_back(gw, gh);
+      SheetGrid& grid = sheets[s];
+      int best_q = -1, best_x = 0, best_y = 0;
+      for (int q = 0; q < 4; ++q) {
+        const Raster& r = rasters[q];
+        // Raster cell (0,0) at grid cell (x, y): the part's own box then starts at
+        // (x * cell + (box.x0 - corner.x)), which must be >= margin (same for the far side).
+        const double dx0 = boxes[q].x0 - r.corner.x(), dx1 = boxes[q].x1 - r.corner.x();
+        const double dy0 = boxes[q].y0 - r.corner.y(), dy1 = boxes[q].y1 - r.corner.y();
+        const int x_min = std::max(0, static_cast<int>(std::ceil((o.margin - dx0) / cell)));
+        const int x_max = std::min(
+            gw - r.width, static_cast<int>(std::floor((o.sheet_width - o.margin - dx1) / cell)));
+        const int y_min = std::max(0, static_cast<int>(std::ceil((o.margin - dy0) / cell)));
+        const int y_max = std::min(
+            gh - r.height, static_cast<int>(std::floor((o.sheet_height - o.margin - dy1) / cell)));
+        for (int y = y_min; y <= y_max; ++y) {
+          if (best_q >= 0 && y > best_y) break;
+          const int x = grid.first_free(r, x_min, y, x_max);
+          if (x < 0) continue;
+          if (best_q < 0 || y < best_y || (y == best_y && x < best_x))
+            best_q = q, best_x = x, best_y = y;
+          break;
+        }
+      }
+      (void)lo_x, (void)hi_x, (void)lo_y, (void)hi_y;
+      if (best_q < 0) {
+        if (fresh) {
+          sheets.pop_back();
+          break;  // not even an empty sheet takes it
+        }
+        continue;
+      }
+      grid.mark(rasters[best_q], best_x, best_y);
+      // Turned part frame -> sheet: shift so the raster's corner lands on its grid cell.
+      const Vec2 shift = Vec2(best_x * cell, best_y * cell) - rasters[best_q].corner;
+      result.placements[i] = {static_cast<int>(s), rasters[best_q].angle, shift};
+      placed = true;
+    }
+    if (!placed) result.unplaced.push_back(i);
+  }
+  result.sheets = static_cast<int>(sheets.size());
+  double total = 0;
+  for (int i = 0; i < n; ++i)
+    if (result.placements[i].sheet >= 0) total += area[i];
+  result.utilization =
+      result.sheets > 0 ? total / (result.sheets * o.sheet_width * o.sheet_height) : 0.0;
+  return result;
+}
+
+}  // namespace kerfab

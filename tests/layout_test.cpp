@@ -1,0 +1,167 @@
+#include "kerfab/layout/layout.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <sstream>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/io/mesh_io.h"
+#include "kerfab/io/svg_sheets.h"
+#include "kerfab/pipeline.h"
+#include "shapes.h"
+#include "test_util.h"
+
+namespace kerfab {
+namespace {
+
+struct SvgSheet {
+  double width = 0, height = 0;
+  std::map<std::string, Polygon2> outlines;  // part id -> outline
+};
+
+// Reads back what write_svg_sheets wrote: the size and every part's outline path.
+SvgSheet read_svg(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  SvgSheet sheet;
+  std::smatch m;
+  EXPECT_TRUE(
+      std::regex_search(text, m, std::regex(R"re(width="([0-9.]+)mm" height="([0-9.]+)mm")re")));
+  sheet.width = std::stod(m[1]);
+  sheet.height = std::stod(m[2]);
+  EXPECT_NE(text.find("viewBox=\"0 0 " + std::string(m[1]) + " " + std::string(m[2]) + "\""),
+            std::string::npos);
+  const std::regex group(R"re(<g class="part" id="(part-[0-9]+)">([\s\S]*?)</g>)re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), group);
+       it != std::sregex_iterator(); ++it) {
+    const std::string body = (*it)[2];
+    std::smatch d;
+    EXPECT_TRUE(std::regex_search(body, d, std::regex(R"re(class="outline"[^>]*d="([^"]*)")re")));
+    std::istringstream path_data(d[1].str());
+    Polygon2 poly;
+    std::string token;
+    while (path_data >> token) {
+      if (token == "M" || token == "L") {
+        double x, y;
+        path_data >> x >> y;
+        poly.emplace_back(x, y);
+      }
+    }
+    sheet.outlines[(*it)[1]] = poly;
+  }
+  return sheet;
+}
+
+// Every part inside the margin, no two parts closer than the spacing (checked on the file).
+void expect_sound_sheets(const std::filesystem::path& dir, int sheets, const LayoutOptions& o,
+                         std::size_t parts) {
+  std::size_t seen = 0;
+  for (int s = 1; s <= sheets; ++s) {
+    char name[32];
+    std::snprintf(name, sizeof name, "sheet-%03d.svg", s);
+    const SvgSheet sheet = read_svg(dir / name);
+    EXPECT_DOUBLE_EQ(sheet.width, o.sheet_width);
+    EXPECT_DOUBLE_EQ(sheet.height, o.sheet_height);
+    seen += sheet.outlines.size();
+    std::vector<std::pair<std::string, Polygon2>> list(sheet.outlines.begin(),
+                                                       sheet.outlines.end());
+    for (const auto& [id, poly] : list)
+      for (const auto& v : poly) {
+        EXPECT_GE(v.x(), o.margin - 1e-6) << id;
+        EXPECT_LE(v.x(), o.sheet_width - o.margin + 1e-6) << id;
+        EXPECT_GE(v.y(), o.margin - 1e-6) << id;
+        EXPECT_LE(v.y(), o.sheet_height - o.margin + 1e-6) << id;
+      }
+    for (std::size_t a = 0; a < list.size(); ++a) {
+      const auto grown = polygon_offset({list[a].second}, 0.5 * o.spacing - 1e-3);
+      for (std::size_t b = a + 1; b < list.size(); ++b) {
+        const auto other = polygon_offset({list[b].second}, 0.5 * o.spacing - 1e-3);
+        double area = 0;
+        for (const auto& p : polygon_intersection(grown.front(), other.front()))
+          area += std::abs(polygon_area(p));
+        EXPECT_LT(area, 1e-6) << list[a].first << " and " << list[b].first << " on sheet " << s;
+      }
+    }
+  }
+  EXPECT_EQ(seen, parts);
+}
+
+RunResult run_shape(const test::Shape& shape, const PipelineOptions& options) {
+  const auto dir = test::fresh_dir(shape.name);
+  PolyMesh target;
+  for (const auto& v : shape.target.vertices) target.add_vertex(to_openmesh(v));
+  for (const auto& t : shape.target.triangles)
+    target.add_face(
+        {target.vertex_handle(t[0]), target.vertex_handle(t[1]), target.vertex_handle(t[2])});
+  write_mesh(target, dir / "target.obj");
+  write_mesh(shape.quads, dir / "quads.obj");
+  RunInputs inputs{.target = dir / "target.obj", .quad = dir / "quads.obj"};
+  return run_pipeline(inputs, options, {});
+}
+
+TEST(Layout, EveryTestShapeGivesSoundSheets) {
+  std::vector<test::Shape> shapes;
+  shapes.push_back(test::quad_plane(150, 6));
+  shapes.push_back(test::open_cylinder(40, 80, 12, 3));
+  shapes.push_back(test::closed_cylinder(40, 80, 3));
+  shapes.push_back(test::sphere(60, 3));
+  shapes.push_back(test::torus(70, 25, 16, 8));
+  for (const auto& shape : shapes) {
+    SCOPED_TRACE(shape.name);
+    PipelineOptions o;
+    o.layout.sheet_width = 300;
+    o.layout.sheet_height = 200;
+    const RunResult run = run_shape(shape, o);
+    ASSERT_TRUE(run.layout);
+    EXPECT_TRUE(run.layout->unplaced.empty());
+    const auto dir = test::fresh_dir(shape.name + "_cut");
+    write_svg_sheets(run, dir);
+    expect_sound_sheets(dir, run.layout->sheets, o.layout, run.joints->parts.size());
+    EXPECT_GT(run.layout->utilization, 0.05);
+  }
+}
+
+TEST(Layout, OversizedPartsAreSplitUntilTheyFit) {
+  // A ring of radius 100 mm unrolls to 628 mm: longer than a 300 x 200 mm sheet.
+  const auto ring = test::open_cylinder(100, 40, 24, 1, 8);
+  PipelineOptions o;
+  o.layout.sheet_width = 300;
+  o.layout.sheet_height = 200;
+  const RunResult run = run_shape(ring, o);
+  EXPECT_GE(run.oversize_splits, 2);
+  EXPECT_GE(run.strips->patches.size(), 3u);
+  EXPECT_TRUE(run.layout->unplaced.empty());
+  for (const auto& part : run.joints->parts) EXPECT_TRUE(fits_sheet(part.cut, o.layout));
+  const auto dir = test::fresh_dir("cut");
+  write_svg_sheets(run, dir);
+  expect_sound_sheets(dir, run.layout->sheets, o.layout, run.joints->parts.size());
+}
+
+TEST(Layout, MinimumRectangleAndBadSheets) {
+  // A 100 x 20 rectangle turned by 30 degrees: its minimum rectangle is 100 x 20 again.
+  Polygon2 r = {{0, 0}, {100, 0}, {100, 20}, {0, 20}};
+  for (auto& v : r) v = Eigen::Rotation2Dd(M_PI / 6) * v;
+  const MinRect m = min_area_rect(r);
+  EXPECT_NEAR(std::max(m.width, m.height), 100, 1e-9);
+  EXPECT_NEAR(std::min(m.width, m.height), 20, 1e-9);
+  LayoutOptions o;
+  o.sheet_width = 90;
+  o.sheet_height = 90;
+  o.margin = 0;
+  EXPECT_FALSE(fits_sheet(r, o));  // 100 mm fits neither way
+  o.sheet_width = 110;
+  EXPECT_TRUE(fits_sheet(r, o));
+  const LayoutResult l = nest_parts({r, r, r}, o);
+  EXPECT_EQ(l.sheets, 1);
+  o.margin = 60;
+  EXPECT_THROW(nest_parts({r}, o), InvalidInput);
+}
+
+}  // namespace
+}  // namespace kerfab
