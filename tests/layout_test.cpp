@@ -11,6 +11,7 @@
 #include "kerfab/core/errors.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/io/svg_sheets.h"
+#include "kerfab/layout/labels.h"
 #include "kerfab/pipeline.h"
 #include "shapes.h"
 #include "test_util.h"
@@ -161,6 +162,35 @@ TEST(Layout, MinimumRectangleAndBadSheets) {
   EXPECT_EQ(l.sheets, 1);
   o.margin = 60;
   EXPECT_THROW(nest_parts({r}, o), InvalidInput);
+}
+
+}  // namespace
+}  // namespace kerfab
+
+namespace kerfab {
+namespace {
+
+TEST(Layout, LabelsReadLeftToRightOnTheSheet) {
+  Label l;
+  l.text = "52";
+  l.height = 4;
+  l.origin = Vec2(10, 10);
+  for (double part_angle : {0.0, 1.0, 2.0, 3.0, -2.5}) {
+    l.angle = part_angle;
+    for (double placement : {0.0, 1.7, 3.1, -1.2}) {
+      const Label u = upright(l, placement);
+      EXPECT_GE(std::cos(u.angle + placement), -1e-9);
+      // Same strokes, up to order: the label's centre stays put.
+      Vec2 c0(0, 0), c1(0, 0);
+      for (const auto& s : label_strokes(l)) c0 += s[0] + s[1];
+      for (const auto& s : label_strokes(u)) c1 += s[0] + s[1];
+      const double n = 2.0 * label_strokes(l).size();
+      EXPECT_LT((c0 / n - c1 / n).norm(), 1.0);  // centres of stroke ends, digits 2 and 5 differ
+    }
+  }
+  // Seven segments: "8" has all seven strokes, "1" two.
+  l.text = "81";
+  EXPECT_EQ(label_strokes(l).size(), 9u);
 }
 
 }  // namespace

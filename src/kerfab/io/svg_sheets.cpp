@@ -40,7 +40,7 @@ void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir
       std::snprintf(id, sizeof id, "%03zu", part);
       svg << "<g class=\"part\" id=\"part-" << id << "\">\n";
       if (run.labels.size() > part && run.labels[part]) {
-        const Label& l = *run.labels[part];
+        const Label l = upright(*run.labels[part], pl.angle);
         svg << "<path class=\"label\" " << line_style << style.engrave << "\" d=\"";
         for (const auto& s : label_strokes(l))
           svg << "M " << point(pl, s[0]) << " L " << point(pl, s[1]) << " ";

@@ -65,6 +65,15 @@ std::vector<std::array<Vec2, 2>> label_strokes(const Label& label) {
   return out;
 }
 
+Label upright(const Label& label, double placement_angle) {
+  if (std::cos(label.angle + placement_angle) >= -1e-9) return label;
+  const double length = (kAdvance * label.text.size() - 0.3) * label.height;
+  Label out = label;
+  out.angle = label.angle + M_PI;
+  out.origin = label.origin + Eigen::Rotation2Dd(label.angle) * Vec2(length, label.height);
+  return out;
+}
+
 std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
                                 const KerfResult& kerf, int patch, double max_height) {
   const Patch& p = strips.patches[patch];

@@ -22,6 +22,11 @@ struct Label {
 /// Stroke segments ({a, b} pairs) drawing \p label in the part's frame. Digits and '-' only.
 std::vector<std::array<Vec2, 2>> label_strokes(const Label& label);
 
+/// The same label turned half a turn about its centre if, once the part is turned by
+/// \p placement_angle on the sheet, it would read upside down (7-segment "52" upside down is
+/// "25").
+Label upright(const Label& label, double placement_angle);
+
 /// The part's number, as large as fits (at most \p max_height mm, at least 1.5 mm) between two
 /// kerf cuts away from the rails; empty when nothing fits.
 std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
