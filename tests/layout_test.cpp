@@ -185,12 +185,12 @@ TEST(Layout, LabelsReadLeftToRightOnTheSheet) {
       for (const auto& s : label_strokes(l)) c0 += s[0] + s[1];
       for (const auto& s : label_strokes(u)) c1 += s[0] + s[1];
       const double n = 2.0 * label_strokes(l).size();
-      EXPECT_LT((c0 / n - c1 / n).norm(), 1.0);  // centres of stroke ends, digits 2 and 5 differ
+      EXPECT_LT((c0 / n - c1 / n).norm(), 1.0);  // stroke sets differ, their middles do not
     }
   }
-  // Seven segments: "8" has all seven strokes, "1" two.
+  // Seven segments: "8" has all seven strokes, "1" two, plus the underline.
   l.text = "81";
-  EXPECT_EQ(label_strokes(l).size(), 9u);
+  EXPECT_EQ(label_strokes(l).size(), 10u);
 }
 
 }  // namespace

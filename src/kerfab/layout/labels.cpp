@@ -54,6 +54,10 @@ std::vector<std::array<Vec2, 2>> label_strokes(const Label& label) {
   std::vector<std::array<Vec2, 2>> out;
   const Eigen::Rotation2Dd r(label.angle);
   const double u = 0.5 * label.height;  // the cell is 1 x 2 units
+  // An underline marks which way is down, so "52" can never be read as "25" however turned.
+  const double length = (kAdvance * label.text.size() - 0.3) * label.height;
+  out.push_back({label.origin + r * Vec2(0, -0.3 * label.height),
+                 label.origin + r * Vec2(length, -0.3 * label.height)});
   for (std::size_t i = 0; i < label.text.size(); ++i) {
     const double x0 = i * kAdvance * label.height;
     for (const char* s = segments_of(label.text[i]); *s; ++s) {
@@ -70,7 +74,8 @@ Label upright(const Label& label, double placement_angle) {
   const double length = (kAdvance * label.text.size() - 0.3) * label.height;
   Label out = label;
   out.angle = label.angle + M_PI;
-  out.origin = label.origin + Eigen::Rotation2Dd(label.angle) * Vec2(length, label.height);
+  // Half a turn about the middle of the label's box [0, length] x [-0.3 h, h].
+  out.origin = label.origin + Eigen::Rotation2Dd(label.angle) * Vec2(length, 0.7 * label.height);
   return out;
 }
 
@@ -88,7 +93,8 @@ std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
   stops.push_back(s[n]);
   std::sort(stops.begin(), stops.end());
   const std::string text = std::to_string(patch);
-  const double length_per_height = kAdvance * text.size() - 0.3;
+  const double length_per_height = kAdvance * text.size() - 0.3;  // along the strip
+  // (the underline sits 0.3 h below the digits: the label is 1.3 h tall across the strip)
   std::optional<Label> best;
   for (std::size_t k = 0; k + 1 < stops.size(); ++k) {
     const double a = stops[k] + 0.6, b = stops[k + 1] - 0.6;  // clear of the cut's kerf
@@ -101,7 +107,7 @@ std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
     const Vec2 r1 = (1 - u) * x[2 * f + 1] + u * x[2 * (f + 1) + 1];
     const double width = (r1 - r0).norm();  // across the strip
     const double height =
-        std::min({max_height, 0.35 * width, (b - a) / std::max(length_per_height, 0.5)});
+        std::min({max_height, 0.3 * width, (b - a) / std::max(length_per_height, 0.5)});
     if (height < 1.5 || (best && height <= best->height)) continue;
     // Baseline along the strip, centred on the strip's middle line.
     Vec2 along = mid(std::min(f + 1, n)) - mid(f);
@@ -113,7 +119,7 @@ std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
     l.text = text;
     l.height = height;
     l.angle = std::atan2(along.y(), along.x());
-    l.origin = centre_point - 0.5 * length_per_height * height * along - 0.5 * height * up;
+    l.origin = centre_point - 0.5 * length_per_height * height * along - 0.35 * height * up;
     best = l;
   }
   return best;

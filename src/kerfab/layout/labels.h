@@ -19,7 +19,8 @@ struct Label {
   double height = 0;  ///< glyph height [mm]
 };
 
-/// Stroke segments ({a, b} pairs) drawing \p label in the part's frame. Digits and '-' only.
+/// Stroke segments ({a, b} pairs) drawing \p label in the part's frame: seven-segment digits
+/// (and '-') over an underline. Other characters are skipped.
 std::vector<std::array<Vec2, 2>> label_strokes(const Label& label);
 
 /// The same label turned half a turn about its centre if, once the part is turned by
