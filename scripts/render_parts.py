@@ -6,7 +6,8 @@ extent is horizontal, all at one scale. Standard library only.
 Usage: render_parts.py parts.json out.svg [--first N] [--count N] [--width PX] [--zoom PART]"""
 import argparse
 import json
-import math
+
+from plot2d import principal_frame
 
 
 def main():
@@ -24,16 +25,7 @@ def main():
     shapes = []
     for p in parts:
         pts = p["cut"]
-        cx = sum(q[0] for q in pts) / len(pts)
-        cy = sum(q[1] for q in pts) / len(pts)
-        sxx = sum((q[0] - cx) ** 2 for q in pts)
-        syy = sum((q[1] - cy) ** 2 for q in pts)
-        sxy = sum((q[0] - cx) * (q[1] - cy) for q in pts)
-        t = -0.5 * math.atan2(2 * sxy, sxx - syy)
-        c, s = math.cos(t), math.sin(t)
-
-        def tr(q):
-            return ((q[0] - cx) * c - (q[1] - cy) * s, (q[0] - cx) * s + (q[1] - cy) * c)
+        tr = principal_frame(pts)
         cut = [tr(q) for q in pts]
         teeth = [[tr(q) for q in tooth] for tooth in p["teeth"]]
         kerf = [(tr(k[:2]), tr(k[2:])) for k in p.get("kerf", [])]

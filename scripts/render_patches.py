@@ -5,8 +5,9 @@ thin, patch number beside it. Standard library only.
 Usage: render_patches.py PATCH_DIR out.svg [--first N] [--count N] [--width PX]"""
 import argparse
 import glob
-import math
 import os
+
+from plot2d import principal_frame
 
 
 def read_obj(path):
@@ -34,15 +35,8 @@ def main():
     shapes = []
     for f in files:
         v, faces = read_obj(f)
-        # Principal direction -> horizontal.
-        cx = sum(p[0] for p in v) / len(v)
-        cy = sum(p[1] for p in v) / len(v)
-        sxx = sum((p[0] - cx) ** 2 for p in v)
-        syy = sum((p[1] - cy) ** 2 for p in v)
-        sxy = sum((p[0] - cx) * (p[1] - cy) for p in v)
-        t = -0.5 * math.atan2(2 * sxy, sxx - syy)
-        c, s = math.cos(t), math.sin(t)
-        v = [((p[0] - cx) * c - (p[1] - cy) * s, (p[0] - cx) * s + (p[1] - cy) * c) for p in v]
+        tr = principal_frame(v)  # principal direction -> horizontal
+        v = [tr(p) for p in v]
         xs, ys = [p[0] for p in v], [p[1] for p in v]
         shapes.append((os.path.basename(f)[:3], v, faces, min(xs), max(xs), min(ys), max(ys)))
     widest = max(s[4] - s[3] for s in shapes)
