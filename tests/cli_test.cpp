@@ -277,6 +277,8 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     std::snprintf(sheet_name, sizeof sheet_name, "sheet-%03d.svg", sheet);
     std::ifstream svg(out / "cut" / sheet_name);
     ASSERT_TRUE(svg) << sheet_name;
+    std::snprintf(sheet_name, sizeof sheet_name, "sheet-%03d.dxf", sheet);
+    EXPECT_TRUE(fs::exists(out / "cut" / sheet_name)) << sheet_name;
     while (std::getline(svg, line)) groups += line.rfind("<g class=\"part\"", 0) == 0 ? 1 : 0;
   }
   EXPECT_EQ(groups, strips);

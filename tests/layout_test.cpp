@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/io/dxf_sheets.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/io/svg_sheets.h"
 #include "kerfab/layout/labels.h"
@@ -93,6 +94,82 @@ void expect_sound_sheets(const std::filesystem::path& dir, int sheets, const Lay
   EXPECT_EQ(seen, parts);
 }
 
+struct DxfSheet {
+  std::vector<Polygon2> outlines;                    // in file order
+  std::vector<std::array<Eigen::Vector2d, 2>> kerf;  // in file order
+  bool millimetres = false;
+};
+
+DxfSheet read_dxf(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<std::pair<int, std::string>> pairs;
+  std::string code, value;
+  while (std::getline(in, code) && std::getline(in, value))
+    pairs.emplace_back(std::stoi(code), value);
+  DxfSheet d;
+  for (std::size_t i = 0; i + 1 < pairs.size(); ++i)
+    if (pairs[i].second == "$INSUNITS" && pairs[i + 1].first == 70)
+      d.millimetres = pairs[i + 1].second == "4";
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (pairs[i].first != 0) continue;
+    if (pairs[i].second == "POLYLINE") d.outlines.emplace_back();
+    if (pairs[i].second == "VERTEX" || pairs[i].second == "LINE") {
+      std::map<int, double> v;
+      std::string layer;
+      for (std::size_t j = i + 1; j < pairs.size() && pairs[j].first != 0; ++j) {
+        if (pairs[j].first == 8)
+          layer = pairs[j].second;
+        else
+          v[pairs[j].first] = std::stod(pairs[j].second);
+      }
+      if (pairs[i].second == "VERTEX") d.outlines.back().emplace_back(v[10], v[20]);
+      if (pairs[i].second == "LINE" && layer == "KERF")
+        d.kerf.push_back({Eigen::Vector2d(v[10], v[20]), Eigen::Vector2d(v[11], v[21])});
+    }
+  }
+  return d;
+}
+
+// The SVG's outline and kerf paths of one sheet, in file order, y turned back up.
+void expect_same_geometry(const std::filesystem::path& svg_path,
+                          const std::filesystem::path& dxf_path, double height) {
+  std::ifstream in(svg_path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  const DxfSheet dxf = read_dxf(dxf_path);
+  EXPECT_TRUE(dxf.millimetres);
+  std::vector<Polygon2> outlines;
+  std::vector<std::array<Eigen::Vector2d, 2>> kerf;
+  const std::regex path_re(R"re(<path class="(outline|kerf)"[^>]*d="([^"]*)")re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), path_re);
+       it != std::sregex_iterator(); ++it) {
+    std::istringstream data((*it)[2].str());
+    std::string token;
+    std::vector<Eigen::Vector2d> pts;
+    while (data >> token)
+      if (token == "M" || token == "L") {
+        double x, y;
+        data >> x >> y;
+        pts.emplace_back(x, height - y);
+      }
+    if ((*it)[1] == "outline") {
+      outlines.push_back(pts);
+    } else {
+      for (std::size_t k = 0; k + 1 < pts.size(); k += 2) kerf.push_back({pts[k], pts[k + 1]});
+    }
+  }
+  ASSERT_EQ(outlines.size(), dxf.outlines.size());
+  ASSERT_EQ(kerf.size(), dxf.kerf.size());
+  for (std::size_t i = 0; i < outlines.size(); ++i) {
+    ASSERT_EQ(outlines[i].size(), dxf.outlines[i].size());
+    for (std::size_t k = 0; k < outlines[i].size(); ++k)
+      EXPECT_LT((outlines[i][k] - dxf.outlines[i][k]).norm(), 0.01);
+  }
+  for (std::size_t i = 0; i < kerf.size(); ++i)
+    for (int e = 0; e < 2; ++e) EXPECT_LT((kerf[i][e] - dxf.kerf[i][e]).norm(), 0.01);
+}
+
 RunResult run_shape(const test::Shape& shape, const PipelineOptions& options) {
   const auto dir = test::fresh_dir(shape.name);
   PolyMesh target;
@@ -123,7 +200,14 @@ TEST(Layout, EveryTestShapeGivesSoundSheets) {
     EXPECT_TRUE(run.layout->unplaced.empty());
     const auto dir = test::fresh_dir(shape.name + "_cut");
     write_svg_sheets(run, dir);
+    write_dxf_sheets(run, dir);
     expect_sound_sheets(dir, run.layout->sheets, o.layout, run.joints->parts.size());
+    for (int s = 1; s <= run.layout->sheets; ++s) {
+      char svg[32], dxf[32];
+      std::snprintf(svg, sizeof svg, "sheet-%03d.svg", s);
+      std::snprintf(dxf, sizeof dxf, "sheet-%03d.dxf", s);
+      expect_same_geometry(dir / svg, dir / dxf, o.layout.sheet_height);
+    }
     EXPECT_GT(run.layout->utilization, 0.05);
   }
 }

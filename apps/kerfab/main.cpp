@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "kerfab/core/errors.h"
@@ -26,6 +27,7 @@ struct RunFlags {
   std::string projection = "normal";
   std::string material = "mdf";
   std::string sheet = "600x450";
+  std::string format = "svg,dxf";
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
   std::optional<int> constant_density;
   bool dump = false;
@@ -166,6 +168,9 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--sheet", f.sheet, "Sheet size WxH of the laser bed or stock, e.g. 600x450 [mm]")
       ->capture_default_str();
+  cmd.add_option("--format", f.format,
+                 "Cut-sheet files to write, comma separated: svg, dxf (PDF is not available yet)")
+      ->capture_default_str();
   cmd.add_option("--margin", f.options.layout.margin, "Free border along each sheet edge [mm]")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
@@ -212,6 +217,22 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     }
     options.layout.sheet_width = w;
     options.layout.sheet_height = h;
+  }
+  {
+    options.formats = {false, false};
+    std::stringstream list(f.format);
+    std::string item;
+    while (std::getline(list, item, ',')) {
+      if (item == "svg") {
+        options.formats.svg = true;
+      } else if (item == "dxf") {
+        options.formats.dxf = true;
+      } else {
+        std::cerr << "kerfab: error: --format: unknown or unavailable format '" << item
+                  << "' (svg, dxf)\n";
+        return kInvalid;
+      }
+    }
   }
   if (f.features_deg) options.strips.features = *f.features_deg * M_PI / 180.0;
   options.strips.projection =

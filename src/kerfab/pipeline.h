@@ -34,6 +34,12 @@ inline const std::vector<std::string>& stage_names() {
   return names;
 }
 
+/// Cut-sheet file formats to write.
+struct SheetFormats {
+  bool svg = true;
+  bool dxf = true;
+};
+
 struct PipelineOptions {
   InputOptions input;
   BendingOptions bending;  ///< guidance is filled from RunInputs::guidance
@@ -43,6 +49,7 @@ struct PipelineOptions {
   KerfOptions kerf;
   MachineOptions machine;
   LayoutOptions layout;
+  SheetFormats formats;
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
                                           ///< fraction of the target's bbox diagonal [-], > 0
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all

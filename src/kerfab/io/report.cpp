@@ -251,6 +251,13 @@ nlohmann::json make_report(const RunResult& run) {
                    {"utilization", l.utilization},
                    {"unplaced", l.unplaced},
                    {"oversize_splits", run.oversize_splits},
+                   {"formats",
+                    [&] {
+                      nlohmann::json f = nlohmann::json::array();
+                      if (run.options.formats.svg) f.push_back("svg");
+                      if (run.options.formats.dxf) f.push_back("dxf");
+                      return f;
+                    }()},
                    {"parts", parts}};
   }
   if (run.quality) {

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/io/dxf_sheets.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/io/report.h"
 #include "kerfab/io/strip_files.h"
@@ -78,7 +79,10 @@ void write_run(const RunResult& run, const fs::path& dir, bool dump) {
     }
   }
   if (dump && run.joints) write_json(make_parts_dump(run), dir / "stages" / "parts.json");
-  if (run.layout) write_svg_sheets(run, dir / "cut");
+  if (run.layout) {
+    if (run.options.formats.svg) write_svg_sheets(run, dir / "cut");
+    if (run.options.formats.dxf) write_dxf_sheets(run, dir / "cut");
+  }
   write_json(make_report(run), dir / "report.json");
 }
 

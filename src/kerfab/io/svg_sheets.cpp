@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/io/sheet_files.h"
 
 namespace kerfab {
 
@@ -12,9 +13,6 @@ void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir
                       const SheetStyle& style) {
   const LayoutResult& layout = *run.layout;
   const LayoutOptions& lo = run.options.layout;
-  std::error_code ec;
-  std::filesystem::create_directories(cut_dir, ec);
-  if (ec) throw IoError("cannot create " + cut_dir.string() + ": " + ec.message());
   for (int sheet = 0; sheet < layout.sheets; ++sheet) {
     std::ostringstream svg;
     svg.precision(10);
@@ -65,12 +63,7 @@ void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir
       svg << "Z\"/>\n</g>\n";
     }
     svg << "</svg>\n";
-    char name[32];
-    std::snprintf(name, sizeof name, "sheet-%03d.svg", sheet + 1);
-    const auto path = cut_dir / name;
-    std::ofstream out(path);
-    out << svg.str();
-    if (!out) throw IoError("cannot write " + path.string());
+    write_text_file(sheet_file(cut_dir, sheet, "svg"), svg.str());
   }
 }
 

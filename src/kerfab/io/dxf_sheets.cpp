@@ -1,0 +1,102 @@
+#include "kerfab/io/dxf_sheets.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/io/sheet_files.h"
+
+namespace kerfab {
+namespace {
+
+void pair(std::ostream& out, int code, const std::string& value) {
+  out << code << "\n" << value << "\n";
+}
+void pair(std::ostream& out, int code, double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.6f", value);
+  pair(out, code, std::string(buffer));
+}
+
+void line(std::ostream& out, const char* layer, const Vec2& a, const Vec2& b) {
+  pair(out, 0, "LINE");
+  pair(out, 8, layer);
+  pair(out, 10, a.x());
+  pair(out, 20, a.y());
+  pair(out, 30, 0.0);
+  pair(out, 11, b.x());
+  pair(out, 21, b.y());
+  pair(out, 31, 0.0);
+}
+
+}  // namespace
+
+void write_dxf_sheets(const RunResult& run, const std::filesystem::path& cut_dir) {
+  const LayoutResult& layout = *run.layout;
+  const LayoutOptions& lo = run.options.layout;
+  for (int sheet = 0; sheet < layout.sheets; ++sheet) {
+    std::ostringstream out;
+    pair(out, 0, "SECTION");
+    pair(out, 2, "HEADER");
+    pair(out, 9, "$ACADVER");
+    pair(out, 1, "AC1009");
+    pair(out, 9, "$INSUNITS");
+    pair(out, 70, "4");  // millimetres
+    pair(out, 9, "$MEASUREMENT");
+    pair(out, 70, "1");  // metric
+    pair(out, 9, "$EXTMIN");
+    pair(out, 10, 0.0);
+    pair(out, 20, 0.0);
+    pair(out, 9, "$EXTMAX");
+    pair(out, 10, lo.sheet_width);
+    pair(out, 20, lo.sheet_height);
+    pair(out, 0, "ENDSEC");
+    pair(out, 0, "SECTION");
+    pair(out, 2, "TABLES");
+    pair(out, 0, "TABLE");
+    pair(out, 2, "LAYER");
+    pair(out, 70, "3");
+    for (const auto& [name, colour] : {std::pair{"CUT", "1"}, {"KERF", "1"}, {"LABEL", "5"}}) {
+      pair(out, 0, "LAYER");
+      pair(out, 2, name);
+      pair(out, 70, "0");
+      pair(out, 62, colour);  // 1 red (cut), 5 blue (engrave)
+      pair(out, 6, "CONTINUOUS");
+    }
+    pair(out, 0, "ENDTAB");
+    pair(out, 0, "ENDSEC");
+    pair(out, 0, "SECTION");
+    pair(out, 2, "ENTITIES");
+    for (std::size_t part = 0; part < layout.placements.size(); ++part) {
+      const Placement& pl = layout.placements[part];
+      if (pl.sheet != sheet) continue;
+      // Inside first: engraving, kerf cuts, then the outline.
+      if (run.labels.size() > part && run.labels[part])
+        for (const auto& s : label_strokes(upright(*run.labels[part], pl.angle)))
+          line(out, "LABEL", pl.apply(s[0]), pl.apply(s[1]));
+      if (run.kerf)
+        for (const auto& c : run.kerf->patches[part].cuts)
+          line(out, "KERF", pl.apply(c.a), pl.apply(c.b));
+      pair(out, 0, "POLYLINE");
+      pair(out, 8, "CUT");
+      pair(out, 66, "1");
+      pair(out, 70, "1");  // closed
+      for (const auto& v : run.joints->parts[part].cut) {
+        const Vec2 p = pl.apply(v);
+        pair(out, 0, "VERTEX");
+        pair(out, 8, "CUT");
+        pair(out, 10, p.x());
+        pair(out, 20, p.y());
+        pair(out, 30, 0.0);
+      }
+      pair(out, 0, "SEQEND");
+      pair(out, 8, "CUT");
+    }
+    pair(out, 0, "ENDSEC");
+    pair(out, 0, "EOF");
+    write_text_file(sheet_file(cut_dir, sheet, "dxf"), out.str());
+  }
+}
+
+}  // namespace kerfab
