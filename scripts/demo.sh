@@ -24,12 +24,7 @@ rsvg-convert "$root/out/demo/parts.svg" -o "$root/out/demo/parts.png"
 python3 "$root/scripts/render_strips.py" "$root/out/demo/model/kerf_density.ply" \
   "$root/out/demo/kerf_density.svg" --azimuth 35 --elevation 10
 rsvg-convert "$root/out/demo/kerf_density.svg" -o "$root/out/demo/kerf_density.png"
-# Preview of the first cut sheet (hairlines drawn thicker so they show at screen size).
-sed 's/stroke-width="0.010000"/stroke-width="0.4"/g' "$root/out/demo/cut/sheet-001.svg" \
-  > "$root/out/demo/sheet-001-preview.svg"
-rsvg-convert -w 1400 -b white "$root/out/demo/sheet-001-preview.svg" \
-  -o "$root/out/demo/sheet-001-preview.png"
-echo "kerfab demo: cut sheets in $root/out/demo/cut/ (preview $root/out/demo/sheet-001-preview.png)"
+echo "kerfab demo: cut sheets (SVG, DXF, PDF, PNG previews, contact sheet) in $root/out/demo/cut/"
 echo "kerfab demo: report $root/out/demo/report.json, pictures $root/out/demo/strips.png," \
   "$root/out/demo/bending.png, $root/out/demo/patches.png, $root/out/demo/parts.png and" \
   "$root/out/demo/kerf_density.png"

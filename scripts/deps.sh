@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(
   cmake ninja-build g++ pkg-config
-  libeigen3-dev libopenmesh-dev coinor-libcbc-dev libcgal-dev libpolyclipping-dev
+  libeigen3-dev libopenmesh-dev coinor-libcbc-dev libcgal-dev libpolyclipping-dev libcairo2-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
   librsvg2-bin python3
 )

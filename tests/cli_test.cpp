@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -277,11 +278,20 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     std::snprintf(sheet_name, sizeof sheet_name, "sheet-%03d.svg", sheet);
     std::ifstream svg(out / "cut" / sheet_name);
     ASSERT_TRUE(svg) << sheet_name;
-    std::snprintf(sheet_name, sizeof sheet_name, "sheet-%03d.dxf", sheet);
-    EXPECT_TRUE(fs::exists(out / "cut" / sheet_name)) << sheet_name;
+    for (const char* ext : {"dxf", "pdf", "png"}) {
+      std::snprintf(sheet_name, sizeof sheet_name, "sheet-%03d.%s", sheet, ext);
+      EXPECT_GT(fs::file_size(out / "cut" / sheet_name), 1000u) << sheet_name;
+    }
+    // The PDF page is the sheet: 600 x 450 mm in points.
+    std::snprintf(sheet_name, sizeof sheet_name, "sheet-%03d.pdf", sheet);
+    std::ifstream pdf(out / "cut" / sheet_name, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(pdf)),
+                            std::istreambuf_iterator<char>());
+    EXPECT_NE(bytes.find("MediaBox [ 0 0 1700.787402 1275.590551 ]"), std::string::npos);
     while (std::getline(svg, line)) groups += line.rfind("<g class=\"part\"", 0) == 0 ? 1 : 0;
   }
   EXPECT_EQ(groups, strips);
+  EXPECT_GT(fs::file_size(out / "cut" / "contact-sheet.png"), 1000u);
   const auto parts = nlohmann::json::parse(std::ifstream(out / "stages" / "parts.json"));
   ASSERT_EQ(parts["parts"].size(), static_cast<std::size_t>(strips));
   for (const auto& part : parts["parts"]) {

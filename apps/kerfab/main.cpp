@@ -27,7 +27,7 @@ struct RunFlags {
   std::string projection = "normal";
   std::string material = "mdf";
   std::string sheet = "600x450";
-  std::string format = "svg,dxf";
+  std::string format = "svg,dxf,pdf";
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
   std::optional<int> constant_density;
   bool dump = false;
@@ -169,7 +169,7 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--sheet", f.sheet, "Sheet size WxH of the laser bed or stock, e.g. 600x450 [mm]")
       ->capture_default_str();
   cmd.add_option("--format", f.format,
-                 "Cut-sheet files to write, comma separated: svg, dxf (PDF is not available yet)")
+                 "Cut-sheet files to write, comma separated: svg, dxf, pdf (PNG previews always)")
       ->capture_default_str();
   cmd.add_option("--margin", f.options.layout.margin, "Free border along each sheet edge [mm]")
       ->capture_default_str()
@@ -219,7 +219,7 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     options.layout.sheet_height = h;
   }
   {
-    options.formats = {false, false};
+    options.formats = {false, false, false};
     std::stringstream list(f.format);
     std::string item;
     while (std::getline(list, item, ',')) {
@@ -227,9 +227,11 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
         options.formats.svg = true;
       } else if (item == "dxf") {
         options.formats.dxf = true;
+      } else if (item == "pdf") {
+        options.formats.pdf = true;
       } else {
         std::cerr << "kerfab: error: --format: unknown or unavailable format '" << item
-                  << "' (svg, dxf)\n";
+                  << "' (svg, dxf, pdf)\n";
         return kInvalid;
       }
     }

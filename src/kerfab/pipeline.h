@@ -38,6 +38,7 @@ inline const std::vector<std::string>& stage_names() {
 struct SheetFormats {
   bool svg = true;
   bool dxf = true;
+  bool pdf = true;
 };
 
 struct PipelineOptions {

@@ -256,6 +256,7 @@ nlohmann::json make_report(const RunResult& run) {
                       nlohmann::json f = nlohmann::json::array();
                       if (run.options.formats.svg) f.push_back("svg");
                       if (run.options.formats.dxf) f.push_back("dxf");
+                      if (run.options.formats.pdf) f.push_back("pdf");
                       return f;
                     }()},
                    {"parts", parts}};

@@ -6,6 +6,7 @@
 #include "kerfab/core/errors.h"
 #include "kerfab/io/dxf_sheets.h"
 #include "kerfab/io/mesh_io.h"
+#include "kerfab/io/pdf_sheets.h"
 #include "kerfab/io/report.h"
 #include "kerfab/io/strip_files.h"
 #include "kerfab/io/svg_sheets.h"
@@ -82,6 +83,8 @@ void write_run(const RunResult& run, const fs::path& dir, bool dump) {
   if (run.layout) {
     if (run.options.formats.svg) write_svg_sheets(run, dir / "cut");
     if (run.options.formats.dxf) write_dxf_sheets(run, dir / "cut");
+    if (run.options.formats.pdf) write_pdf_sheets(run, dir / "cut");
+    write_sheet_previews(run, dir / "cut");
   }
   write_json(make_report(run), dir / "report.json");
 }

@@ -1,0 +1,139 @@
+#include "kerfab/io/pdf_sheets.h"
+
+#include <cairo-pdf.h>
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/io/sheet_files.h"
+
+namespace kerfab {
+namespace {
+
+/// Draws one sheet in millimetres (the caller scales), y up as in the layout.
+void draw_sheet(cairo_t* cr, const RunResult& run, int sheet, double line_mm) {
+  const LayoutResult& layout = *run.layout;
+  const double height = run.options.layout.sheet_height;
+  auto move = [&](const Placement& pl, const Vec2& p) {
+    const Vec2 q = pl.apply(p);
+    cairo_move_to(cr, q.x(), height - q.y());
+  };
+  auto line = [&](const Placement& pl, const Vec2& p) {
+    const Vec2 q = pl.apply(p);
+    cairo_line_to(cr, q.x(), height - q.y());
+  };
+  cairo_set_line_width(cr, line_mm);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  for (std::size_t part = 0; part < layout.placements.size(); ++part) {
+    const Placement& pl = layout.placements[part];
+    if (pl.sheet != sheet) continue;
+    if (run.labels.size() > part && run.labels[part]) {
+      cairo_set_source_rgb(cr, 0, 0, 1);
+      for (const auto& s : label_strokes(upright(*run.labels[part], pl.angle))) {
+        move(pl, s[0]);
+        line(pl, s[1]);
+      }
+      cairo_stroke(cr);
+    }
+    cairo_set_source_rgb(cr, 1, 0, 0);
+    if (run.kerf)
+      for (const auto& c : run.kerf->patches[part].cuts) {
+        move(pl, c.a);
+        line(pl, c.b);
+      }
+    const Polygon2& outline = run.joints->parts[part].cut;
+    for (std::size_t i = 0; i < outline.size(); ++i)
+      i == 0 ? move(pl, outline[i]) : line(pl, outline[i]);
+    cairo_close_path(cr);
+    cairo_stroke(cr);
+  }
+}
+
+void check(cairo_status_t status, const std::string& what) {
+  if (status != CAIRO_STATUS_SUCCESS)
+    throw IoError("cannot write " + what + ": " + cairo_status_to_string(status));
+}
+
+}  // namespace
+
+void write_pdf_sheets(const RunResult& run, const std::filesystem::path& cut_dir) {
+  const double w = run.options.layout.sheet_width, h = run.options.layout.sheet_height;
+  const double pt = 72.0 / 25.4;  // PDF points per mm
+  for (int sheet = 0; sheet < run.layout->sheets; ++sheet) {
+    const auto path = sheet_file(cut_dir, sheet, "pdf");
+    cairo_surface_t* surface = cairo_pdf_surface_create(path.c_str(), w * pt, h * pt);
+    cairo_t* cr = cairo_create(surface);
+    cairo_scale(cr, pt, pt);
+    draw_sheet(cr, run, sheet, 0.01);
+    cairo_show_page(cr);
+    const cairo_status_t status = cairo_status(cr);
+    cairo_destroy(cr);
+    cairo_surface_finish(surface);
+    const cairo_status_t surface_status = cairo_surface_status(surface);
+    cairo_surface_destroy(surface);
+    check(status, path.string());
+    check(surface_status, path.string());
+  }
+}
+
+void write_sheet_previews(const RunResult& run, const std::filesystem::path& cut_dir,
+                          double pixels_per_mm) {
+  const double w = run.options.layout.sheet_width, h = run.options.layout.sheet_height;
+  const int pw = static_cast<int>(std::ceil(w * pixels_per_mm));
+  const int ph = static_cast<int>(std::ceil(h * pixels_per_mm));
+  const int sheets = run.layout->sheets;
+  // Contact sheet: up to three sheets per row, each 500 px wide.
+  const int columns = std::max(1, std::min(3, sheets));
+  const int rows = std::max(1, (sheets + columns - 1) / columns);
+  const double thumb = 500.0 / w;  // pixels per mm in the contact sheet
+  const int tw = static_cast<int>(std::ceil(w * thumb)),
+            th = static_cast<int>(std::ceil(h * thumb));
+  cairo_surface_t* contact = cairo_image_surface_create(
+      CAIRO_FORMAT_RGB24, columns * (tw + 20) + 20, rows * (th + 20) + 20);
+  cairo_t* cc = cairo_create(contact);
+  cairo_set_source_rgb(cc, 0.85, 0.85, 0.85);
+  cairo_paint(cc);
+  for (int sheet = 0; sheet < sheets; ++sheet) {
+    cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, pw, ph);
+    cairo_t* cr = cairo_create(surface);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    cairo_scale(cr, pixels_per_mm, pixels_per_mm);
+    draw_sheet(cr, run, sheet, 0.4);
+    cairo_destroy(cr);
+    const auto path = sheet_file(cut_dir, sheet, "png");
+    check(cairo_surface_write_to_png(surface, path.c_str()), path.string());
+    cairo_surface_destroy(surface);
+    // The same sheet, small, on the contact sheet.
+    cairo_save(cc);
+    cairo_translate(cc, 20 + (sheet % columns) * (tw + 20), 20 + (sheet / columns) * (th + 20));
+    cairo_rectangle(cc, 0, 0, tw, th);
+    cairo_set_source_rgb(cc, 1, 1, 1);
+    cairo_fill(cc);
+    cairo_scale(cc, thumb, thumb);
+    draw_sheet(cc, run, sheet, 0.8);
+    // The sheet's number, 20 mm tall, in the top left corner.
+    Label number;
+    number.text = std::to_string(sheet + 1);
+    number.height = 20;
+    number.origin = Vec2(10, h - 30);
+    cairo_set_source_rgb(cc, 0.2, 0.2, 0.2);
+    cairo_set_line_width(cc, 2.5);
+    for (const auto& stroke : label_strokes(number)) {
+      cairo_move_to(cc, stroke[0].x(), h - stroke[0].y());
+      cairo_line_to(cc, stroke[1].x(), h - stroke[1].y());
+    }
+    cairo_stroke(cc);
+    cairo_restore(cc);
+  }
+  cairo_destroy(cc);
+  const auto path = cut_dir / "contact-sheet.png";
+  check(cairo_surface_write_to_png(contact, path.c_str()), path.string());
+  cairo_surface_destroy(contact);
+}
+
+}  // namespace kerfab
