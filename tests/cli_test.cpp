@@ -292,6 +292,21 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   }
   EXPECT_EQ(groups, strips);
   EXPECT_GT(fs::file_size(out / "cut" / "contact-sheet.png"), 1000u);
+  // Assembly aid: every part listed with its neighbours, symmetric, and as a page.
+  const auto& assembly = lay["assembly"];
+  ASSERT_EQ(assembly.size(), static_cast<std::size_t>(strips));
+  for (const auto& entry : assembly) {
+    EXPECT_GE(entry["sheet"].get<int>(), 1);
+    for (const auto& n : entry["neighbours"]) {
+      bool back = false;
+      for (const auto& m : assembly[n["part"].get<int>()]["neighbours"])
+        back =
+            back || (m["part"] == entry["part"] &&
+                     std::abs(m["length_mm"].get<double>() - n["length_mm"].get<double>()) < 1e-9);
+      EXPECT_TRUE(back) << entry["part"] << " -> " << n["part"];
+    }
+  }
+  EXPECT_GT(fs::file_size(out / "cut" / "assembly.html"), 1000u);
   const auto parts = nlohmann::json::parse(std::ifstream(out / "stages" / "parts.json"));
   ASSERT_EQ(parts["parts"].size(), static_cast<std::size_t>(strips));
   for (const auto& part : parts["parts"]) {

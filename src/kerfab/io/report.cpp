@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "kerfab/io/assembly_page.h"
+
 namespace kerfab {
 namespace {
 
@@ -259,7 +261,8 @@ nlohmann::json make_report(const RunResult& run) {
                       if (run.options.formats.pdf) f.push_back("pdf");
                       return f;
                     }()},
-                   {"parts", parts}};
+                   {"parts", parts},
+                   {"assembly", make_assembly_json(run)}};
   }
   if (run.quality) {
     const SurfaceDistance& q = *run.quality;

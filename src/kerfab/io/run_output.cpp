@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/io/assembly_page.h"
 #include "kerfab/io/dxf_sheets.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/io/pdf_sheets.h"
@@ -85,6 +86,7 @@ void write_run(const RunResult& run, const fs::path& dir, bool dump) {
     if (run.options.formats.dxf) write_dxf_sheets(run, dir / "cut");
     if (run.options.formats.pdf) write_pdf_sheets(run, dir / "cut");
     write_sheet_previews(run, dir / "cut");
+    write_assembly_page(run, dir / "cut");
   }
   write_json(make_report(run), dir / "report.json");
 }
