@@ -267,9 +267,15 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
     for (const auto& part : run.joints->parts) outlines.push_back(part.cut);
     run.layout = nest_parts(outlines, run.options.layout);
     run.labels.clear();
-    for (std::size_t p = 0; p < run.strips->patches.size(); ++p)
-      run.labels.push_back(
-          part_label(*run.strips, *run.flattening, *run.kerf, static_cast<int>(p)));
+    run.engravings.clear();
+    for (std::size_t p = 0; p < run.strips->patches.size(); ++p) {
+      const int id = static_cast<int>(p);
+      run.labels.push_back(part_label(*run.strips, *run.flattening, *run.kerf, id));
+      run.engravings.push_back(border_labels(*run.strips, *run.flattening, *run.kerf, *run.joints,
+                                             id, run.labels.back()));
+      if (run.labels.back())
+        run.engravings.back().insert(run.engravings.back().begin(), *run.labels.back());
+    }
     const LayoutResult& l = *run.layout;
     std::ostringstream os;
     os.precision(3);

@@ -77,9 +77,10 @@ struct RunResult {
   double outline_length = 0;  ///< all parts' laser paths [mm]
   int oversize_splits = 0;    ///< patches split because they did not fit a sheet
   std::optional<LayoutResult> layout;
-  std::vector<std::optional<Label>> labels;  ///< per part
-  std::optional<SurfaceDistance> quality;    ///< strip mesh vs target [mm]
-  double target_diagonal = 0;                ///< target bbox diagonal [mm]
+  std::vector<std::optional<Label>> labels;    ///< per part: its number
+  std::vector<std::vector<Label>> engravings;  ///< per part: its number and border labels
+  std::optional<SurfaceDistance> quality;      ///< strip mesh vs target [mm]
+  double target_diagonal = 0;                  ///< target bbox diagonal [mm]
   std::vector<StageTiming> timings;
   double total_seconds = 0;
   std::vector<std::string> warnings;

@@ -72,9 +72,10 @@ void write_dxf_sheets(const RunResult& run, const std::filesystem::path& cut_dir
       const Placement& pl = layout.placements[part];
       if (pl.sheet != sheet) continue;
       // Inside first: engraving, kerf cuts, then the outline.
-      if (run.labels.size() > part && run.labels[part])
-        for (const auto& s : label_strokes(upright(*run.labels[part], pl.angle)))
-          line(out, "LABEL", pl.apply(s[0]), pl.apply(s[1]));
+      if (run.engravings.size() > part)
+        for (const Label& label : run.engravings[part])
+          for (const auto& s : label_strokes(upright(label, pl.angle)))
+            line(out, "LABEL", pl.apply(s[0]), pl.apply(s[1]));
       if (run.kerf)
         for (const auto& c : run.kerf->patches[part].cuts)
           line(out, "KERF", pl.apply(c.a), pl.apply(c.b));

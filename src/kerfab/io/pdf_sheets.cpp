@@ -31,12 +31,13 @@ void draw_sheet(cairo_t* cr, const RunResult& run, int sheet, double line_mm) {
   for (std::size_t part = 0; part < layout.placements.size(); ++part) {
     const Placement& pl = layout.placements[part];
     if (pl.sheet != sheet) continue;
-    if (run.labels.size() > part && run.labels[part]) {
+    if (run.engravings.size() > part && !run.engravings[part].empty()) {
       cairo_set_source_rgb(cr, 0, 0, 1);
-      for (const auto& s : label_strokes(upright(*run.labels[part], pl.angle))) {
-        move(pl, s[0]);
-        line(pl, s[1]);
-      }
+      for (const Label& label : run.engravings[part])
+        for (const auto& s : label_strokes(upright(label, pl.angle))) {
+          move(pl, s[0]);
+          line(pl, s[1]);
+        }
       cairo_stroke(cr);
     }
     cairo_set_source_rgb(cr, 1, 0, 0);

@@ -262,7 +262,18 @@ nlohmann::json make_report(const RunResult& run) {
                       return f;
                     }()},
                    {"parts", parts},
-                   {"assembly", make_assembly_json(run)}};
+                   {"assembly", make_assembly_json(run)},
+                   {"border_labels", [&] {
+                      int placed = 0, wanted = 0;
+                      const auto neighbours = part_neighbours(run);
+                      for (std::size_t p = 0; p < neighbours.size(); ++p) {
+                        wanted += static_cast<int>(neighbours[p].size() - neighbours[p].count(p));
+                        if (p < run.engravings.size())
+                          for (const auto& label : run.engravings[p])
+                            placed += label.text[0] == '-' ? 1 : 0;
+                      }
+                      return nlohmann::json{{"placed", placed}, {"wanted", wanted}};
+                    }()}};
   }
   if (run.quality) {
     const SurfaceDistance& q = *run.quality;

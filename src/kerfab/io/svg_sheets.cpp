@@ -37,18 +37,21 @@ void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir
       char id[32];
       std::snprintf(id, sizeof id, "%03zu", part);
       svg << "<g class=\"part\" id=\"part-" << id << "\">\n";
-      if (run.labels.size() > part && run.labels[part]) {
-        const Label l = upright(*run.labels[part], pl.angle);
+      if (run.engravings.size() > part && !run.engravings[part].empty()) {
         svg << "<path class=\"label\" " << line_style << style.engrave << "\" d=\"";
-        for (const auto& s : label_strokes(l))
-          svg << "M " << point(pl, s[0]) << " L " << point(pl, s[1]) << " ";
+        for (const Label& label : run.engravings[part])
+          for (const auto& s : label_strokes(upright(label, pl.angle)))
+            svg << "M " << point(pl, s[0]) << " L " << point(pl, s[1]) << " ";
         svg << "\"/>\n";
-        // The number as text too, for people and tools reading the file; hidden, so the laser
-        // engraves only the strokes above.
-        svg << "<text class=\"label\" visibility=\"hidden\" font-size=\"" << l.height << "\" x=\""
-            << point(pl, l.origin).substr(0, point(pl, l.origin).find(' ')) << "\" y=\""
-            << point(pl, l.origin).substr(point(pl, l.origin).find(' ') + 1) << "\">" << l.text
-            << "</text>\n";
+        // The texts too, for people and tools reading the file; hidden, so the laser engraves
+        // only the strokes above.
+        for (const Label& label : run.engravings[part]) {
+          const Label l = upright(label, pl.angle);
+          const std::string at = point(pl, l.origin);
+          svg << "<text class=\"label\" visibility=\"hidden\" font-size=\"" << l.height << "\" x=\""
+              << at.substr(0, at.find(' ')) << "\" y=\"" << at.substr(at.find(' ') + 1) << "\">"
+              << l.text << "</text>\n";
+        }
       }
       if (run.kerf && !run.kerf->patches[part].cuts.empty()) {
         svg << "<path class=\"kerf\" " << line_style << style.cut << "\" d=\"";

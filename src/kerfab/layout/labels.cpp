@@ -2,7 +2,9 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 
 namespace kerfab {
 namespace {
@@ -46,6 +48,35 @@ const char* segments_of(char c) {
   }
 }
 
+/// The flattened strip seen along its length: arc length of the rulings' midpoints, and the
+/// cross-section (both rails) at any position.
+struct StripFrame {
+  const std::vector<Vec2>& x;
+  int n;
+  std::vector<double> s;
+  StripFrame(const std::vector<Vec2>& points, int faces) : x(points), n(faces), s(faces + 1, 0.0) {
+    for (int i = 0; i < n; ++i) s[i + 1] = s[i] + (mid(i + 1) - mid(i)).norm();
+  }
+  Vec2 mid(int i) const { return 0.5 * (x[2 * i] + x[2 * i + 1]); }
+  int face_at(double at) const {
+    return std::clamp(static_cast<int>(std::upper_bound(s.begin(), s.end(), at) - s.begin()) - 1, 0,
+                      n - 1);
+  }
+  /// The two rail points of the cross-section at \p at.
+  std::array<Vec2, 2> section(double at) const {
+    const int f = face_at(at);
+    const double u = s[f + 1] > s[f] ? (at - s[f]) / (s[f + 1] - s[f]) : 0.5;
+    return {(1 - u) * x[2 * f] + u * x[2 * (f + 1)],
+            (1 - u) * x[2 * f + 1] + u * x[2 * (f + 1) + 1]};
+  }
+  /// Unit direction along the strip at \p at.
+  Vec2 along(double at) const {
+    const int f = face_at(at);
+    const Vec2 d = mid(std::min(f + 1, n)) - mid(f);
+    return d.norm() > 0 ? Vec2(d.normalized()) : Vec2(1, 0);
+  }
+};
+
 constexpr double kAdvance = 0.8;  // glyph advance per unit height
 
 }  // namespace
@@ -79,50 +110,120 @@ Label upright(const Label& label, double placement_angle) {
   return out;
 }
 
-std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
-                                const KerfResult& kerf, int patch, double max_height) {
-  const Patch& p = strips.patches[patch];
-  const auto& x = flat.patches[patch].points;
-  const int n = static_cast<int>(p.faces.size());
-  auto mid = [&](int i) { return Vec2(0.5 * (x[2 * i] + x[2 * i + 1])); };
-  std::vector<double> s(n + 1, 0.0);
-  for (int i = 0; i < n; ++i) s[i + 1] = s[i] + (mid(i + 1) - mid(i)).norm();
-  // Free stretches along the strip: between consecutive cuts (and the strip's ends).
+namespace {
+
+/// Kerf-free stretches along the strip: the positions of the cuts, with the strip's ends.
+std::vector<double> cut_stops(const KerfResult& kerf, int patch, double length) {
   std::vector<double> stops = {0.0};
   for (const auto& c : kerf.patches[patch].cuts) stops.push_back(c.position);
-  stops.push_back(s[n]);
+  stops.push_back(length);
   std::sort(stops.begin(), stops.end());
+  return stops;
+}
+
+/// A label of \p text and \p height centred at \p spot, its baseline along the strip.
+Label label_at(const std::string& text, double height, const Vec2& spot, const Vec2& along) {
+  const double length = (kAdvance * text.size() - 0.3) * height;
+  const Vec2 up(-along.y(), along.x());
+  Label l;
+  l.text = text;
+  l.height = height;
+  l.angle = std::atan2(along.y(), along.x());
+  // The box [0, length] x [-0.3 h, h] (digits over the underline) centred on the spot.
+  l.origin = spot - 0.5 * length * along - 0.35 * height * up;
+  return l;
+}
+
+constexpr double kClear = 0.6;  // distance kept from a kerf cut [mm]
+
+}  // namespace
+
+std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
+                                const KerfResult& kerf, int patch, double max_height) {
+  const StripFrame frame(flat.patches[patch].points,
+                         static_cast<int>(strips.patches[patch].faces.size()));
+  const auto stops = cut_stops(kerf, patch, frame.s.back());
   const std::string text = std::to_string(patch);
   const double length_per_height = kAdvance * text.size() - 0.3;  // along the strip
-  // (the underline sits 0.3 h below the digits: the label is 1.3 h tall across the strip)
   std::optional<Label> best;
   for (std::size_t k = 0; k + 1 < stops.size(); ++k) {
-    const double a = stops[k] + 0.6, b = stops[k + 1] - 0.6;  // clear of the cut's kerf
+    const double a = stops[k] + kClear, b = stops[k + 1] - kClear;
     if (b <= a) continue;
     const double centre = 0.5 * (a + b);
-    const int f = std::clamp(
-        static_cast<int>(std::upper_bound(s.begin(), s.end(), centre) - s.begin()) - 1, 0, n - 1);
-    const double u = s[f + 1] > s[f] ? (centre - s[f]) / (s[f + 1] - s[f]) : 0.5;
-    const Vec2 r0 = (1 - u) * x[2 * f] + u * x[2 * (f + 1)];
-    const Vec2 r1 = (1 - u) * x[2 * f + 1] + u * x[2 * (f + 1) + 1];
-    const double width = (r1 - r0).norm();  // across the strip
+    const auto [r0, r1] = frame.section(centre);
     const double height =
-        std::min({max_height, 0.3 * width, (b - a) / std::max(length_per_height, 0.5)});
+        std::min({max_height, 0.3 * (r1 - r0).norm(), (b - a) / std::max(length_per_height, 0.5)});
     if (height < 1.5 || (best && height <= best->height)) continue;
-    // Baseline along the strip, centred on the strip's middle line.
-    Vec2 along = mid(std::min(f + 1, n)) - mid(f);
-    if (along.norm() <= 0) continue;
-    along.normalize();
-    Vec2 up(-along.y(), along.x());
-    const Vec2 centre_point = 0.5 * (r0 + r1);
-    Label l;
-    l.text = text;
-    l.height = height;
-    l.angle = std::atan2(along.y(), along.x());
-    l.origin = centre_point - 0.5 * length_per_height * height * along - 0.35 * height * up;
-    best = l;
+    best = label_at(text, height, 0.5 * (r0 + r1), frame.along(centre));
   }
   return best;
+}
+
+std::vector<Label> border_labels(const Strips& strips, const Flattening& flat,
+                                 const KerfResult& kerf, const Joints& joints, int patch,
+                                 const std::optional<Label>& part_label) {
+  const Patch& p = strips.patches[patch];
+  const StripFrame frame(flat.patches[patch].points, static_cast<int>(p.faces.size()));
+  const auto& s = frame.s;
+  // Where along the strip, and on which side, each neighbour's border lies.
+  std::map<int, std::vector<std::pair<double, int>>> places;  // neighbour -> (s, side)
+  for (const OutlineEdge& e : p.outline()) {
+    const double at = e.side == 2   ? 0.0
+                      : e.side == 3 ? s.back()
+                                    : 0.5 * (s[e.face] + s[e.face + 1]);
+    for (const BorderJoint& b : joints.borders) {
+      if (b.edge != e.coarse_edge) continue;
+      for (int k = 0; k < 2; ++k)
+        if (b.patches[k] == patch && b.patches[1 - k] != patch)
+          places[b.patches[1 - k]].push_back({at, e.side});
+    }
+  }
+  const auto stops = cut_stops(kerf, patch, s.back());
+  std::vector<Label> out;
+  std::vector<std::array<double, 3>> taken;  // s0, s1, across-position of placed labels
+  if (part_label) {
+    // The part's number: its middle, found on the strip's middle line, and its length.
+    const double length = (kAdvance * part_label->text.size() - 0.3) * part_label->height;
+    const Vec2 centre = part_label->origin + Eigen::Rotation2Dd(part_label->angle) *
+                                                 Vec2(0.5 * length, 0.35 * part_label->height);
+    int nearest = 0;
+    for (int i = 0; i <= frame.n; ++i)
+      if ((frame.mid(i) - centre).norm() < (frame.mid(nearest) - centre).norm()) nearest = i;
+    taken.push_back({s[nearest] - length, s[nearest] + length, 0.5});
+  }
+  for (const auto& [neighbour, list] : places) {
+    // The middle of this neighbour's border stretch, on that side.
+    std::vector<std::pair<double, int>> sorted = list;
+    std::sort(sorted.begin(), sorted.end());
+    const auto [target, side] = sorted[sorted.size() / 2];
+    std::string text = std::to_string(neighbour);
+    text.insert(text.begin(), '-');
+    const double length_per_height = kAdvance * text.size() - 0.3;
+    // Kerf-free stretches, nearest to the target first.
+    std::vector<std::pair<double, std::size_t>> gaps;
+    for (std::size_t k = 0; k + 1 < stops.size(); ++k)
+      gaps.push_back({std::abs(0.5 * (stops[k] + stops[k + 1]) - target), k});
+    std::sort(gaps.begin(), gaps.end());
+    for (const auto& [distance, k] : gaps) {
+      if (distance > 40) break;  // too far from its border to be useful
+      const double a = stops[k] + kClear, b = stops[k + 1] - kClear;
+      if (b <= a) continue;
+      const double centre = 0.5 * (a + b);
+      const auto [r0, r1] = frame.section(centre);
+      const double height =
+          std::min({3.0, 0.15 * (r1 - r0).norm(), (b - a) / std::max(length_per_height, 0.5)});
+      if (height < 1.0) continue;
+      const double across = side == 0 ? 0.2 : side == 1 ? 0.8 : 0.5;
+      bool clash = false;  // another label in an overlapping stretch at the same height
+      for (const auto& t : taken)
+        if (std::abs(t[2] - across) < 0.35 && std::min(t[1], b) > std::max(t[0], a)) clash = true;
+      if (clash) continue;
+      out.push_back(label_at(text, height, r0 + across * (r1 - r0), frame.along(centre)));
+      taken.push_back({a, b, across});
+      break;
+    }
+  }
+  return out;
 }
 
 }  // namespace kerfab

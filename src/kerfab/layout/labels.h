@@ -7,6 +7,7 @@
 
 #include "kerfab/adapters/polygon_ops.h"
 #include "kerfab/flatten/flatten.h"
+#include "kerfab/joints/joints.h"
 #include "kerfab/kerf/kerf.h"
 #include "kerfab/strips/strips.h"
 
@@ -32,5 +33,14 @@ Label upright(const Label& label, double placement_angle);
 /// kerf cuts away from the rails; empty when nothing fits.
 std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
                                 const KerfResult& kerf, int patch, double max_height = 5.0);
+
+/// For every part this one joins, "-N" (N: the neighbour's number) engraved next to the shared
+/// border: in the kerf-free stretch nearest the middle of that border, a fifth of the strip's
+/// width in from the border's rail (or in the first or last stretch for a border at the strip's
+/// end), at most 3 mm and at least 1 mm tall, within 40 mm of the border's middle; borders with no
+/// room get no label.
+std::vector<Label> border_labels(const Strips& strips, const Flattening& flat,
+                                 const KerfResult& kerf, const Joints& joints, int patch,
+                                 const std::optional<Label>& part_label);
 
 }  // namespace kerfab
