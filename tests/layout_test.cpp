@@ -94,6 +94,67 @@ void expect_sound_sheets(const std::filesystem::path& dir, int sheets, const Lay
   EXPECT_EQ(seen, parts);
 }
 
+// Shop hygiene on a written sheet: every outline closed, no zero-length and no duplicated
+// segment among all cut paths (outlines and kerf cuts), kerf cuts before the outline in each
+// part's group (inside first).
+void expect_clean_paths(const std::filesystem::path& svg_path) {
+  std::ifstream in(svg_path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  std::vector<std::array<double, 4>> segments;
+  const std::regex group(R"re(<g class="part" id="part-[0-9]+">([\s\S]*?)</g>)re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), group);
+       it != std::sregex_iterator(); ++it) {
+    const std::string body = (*it)[1];
+    const auto kerf_at = body.find("class=\"kerf\""), outline_at = body.find("class=\"outline\"");
+    ASSERT_NE(outline_at, std::string::npos);
+    if (kerf_at != std::string::npos) {
+      EXPECT_LT(kerf_at, outline_at);
+    }
+    const std::regex path_re(R"re(<path class="(outline|kerf)"[^>]*d="([^"]*)")re");
+    for (auto p = std::sregex_iterator(body.begin(), body.end(), path_re);
+         p != std::sregex_iterator(); ++p) {
+      const std::string d = (*p)[2];
+      std::istringstream data(d);
+      std::string token;
+      std::vector<std::array<double, 2>> pts;
+      bool closed = false;
+      auto flush = [&](bool close) {
+        for (std::size_t k = 0; k + 1 < pts.size(); ++k)
+          segments.push_back({pts[k][0], pts[k][1], pts[k + 1][0], pts[k + 1][1]});
+        if (close && pts.size() > 2)
+          segments.push_back({pts.back()[0], pts.back()[1], pts[0][0], pts[0][1]});
+        pts.clear();
+      };
+      while (data >> token) {
+        if (token == "M") flush(false);
+        if (token == "M" || token == "L") {
+          double x, y;
+          data >> x >> y;
+          pts.push_back({x, y});
+        }
+        if (token == "Z") closed = true, flush(true);
+      }
+      flush(false);
+      if ((*p)[1] == "outline") {
+        EXPECT_TRUE(closed);
+      }
+    }
+  }
+  for (auto& sgm : segments) {
+    EXPECT_GT(std::hypot(sgm[2] - sgm[0], sgm[3] - sgm[1]), 1e-6) << "zero-length segment";
+    if (std::make_pair(sgm[2], sgm[3]) < std::make_pair(sgm[0], sgm[1]))
+      sgm = {sgm[2], sgm[3], sgm[0], sgm[1]};
+  }
+  std::sort(segments.begin(), segments.end());
+  for (std::size_t k = 1; k < segments.size(); ++k) {
+    double gap = 0;
+    for (int c = 0; c < 4; ++c) gap = std::max(gap, std::abs(segments[k][c] - segments[k - 1][c]));
+    EXPECT_GT(gap, 1e-6) << "duplicate segment";
+  }
+}
+
 struct DxfSheet {
   std::vector<Polygon2> outlines;                    // in file order
   std::vector<std::array<Eigen::Vector2d, 2>> kerf;  // in file order
@@ -207,6 +268,7 @@ TEST(Layout, EveryTestShapeGivesSoundSheets) {
       std::snprintf(svg, sizeof svg, "sheet-%03d.svg", s);
       std::snprintf(dxf, sizeof dxf, "sheet-%03d.dxf", s);
       expect_same_geometry(dir / svg, dir / dxf, o.layout.sheet_height);
+      expect_clean_paths(dir / svg);
     }
     EXPECT_GT(run.layout->utilization, 0.05);
   }
