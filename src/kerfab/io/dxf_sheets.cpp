@@ -1,10 +1,8 @@
 #include "kerfab/io/dxf_sheets.h"
 
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
-#include "kerfab/core/errors.h"
 #include "kerfab/io/sheet_files.h"
 
 namespace kerfab {
@@ -68,27 +66,19 @@ void write_dxf_sheets(const RunResult& run, const std::filesystem::path& cut_dir
     pair(out, 0, "ENDSEC");
     pair(out, 0, "SECTION");
     pair(out, 2, "ENTITIES");
-    for (std::size_t part = 0; part < layout.placements.size(); ++part) {
-      const Placement& pl = layout.placements[part];
-      if (pl.sheet != sheet) continue;
+    for (const PlacedPart& p : sheet_parts(run, sheet)) {
       // Inside first: engraving, kerf cuts, then the outline.
-      if (run.engravings.size() > part)
-        for (const Label& label : run.engravings[part])
-          for (const auto& s : label_strokes(upright(label, pl.angle)))
-            line(out, "LABEL", pl.apply(s[0]), pl.apply(s[1]));
-      if (run.kerf)
-        for (const auto& c : run.kerf->patches[part].cuts)
-          line(out, "KERF", pl.apply(c.a), pl.apply(c.b));
+      for (const auto& s : p.engraving) line(out, "LABEL", s[0], s[1]);
+      for (const auto& c : p.kerf) line(out, "KERF", c[0], c[1]);
       pair(out, 0, "POLYLINE");
       pair(out, 8, "CUT");
       pair(out, 66, "1");
       pair(out, 70, "1");  // closed
-      for (const auto& v : run.joints->parts[part].cut) {
-        const Vec2 p = pl.apply(v);
+      for (const auto& v : p.outline) {
         pair(out, 0, "VERTEX");
         pair(out, 8, "CUT");
-        pair(out, 10, p.x());
-        pair(out, 20, p.y());
+        pair(out, 10, v.x());
+        pair(out, 20, v.y());
         pair(out, 30, 0.0);
       }
       pair(out, 0, "SEQEND");

@@ -14,41 +14,28 @@ namespace kerfab {
 namespace {
 
 /// Draws one sheet in millimetres (the caller scales), y up as in the layout.
-void draw_sheet(cairo_t* cr, const RunResult& run, int sheet, double line_mm) {
-  const LayoutResult& layout = *run.layout;
-  const double height = run.options.layout.sheet_height;
-  auto move = [&](const Placement& pl, const Vec2& p) {
-    const Vec2 q = pl.apply(p);
-    cairo_move_to(cr, q.x(), height - q.y());
-  };
-  auto line = [&](const Placement& pl, const Vec2& p) {
-    const Vec2 q = pl.apply(p);
-    cairo_line_to(cr, q.x(), height - q.y());
-  };
+void draw_sheet(cairo_t* cr, const std::vector<PlacedPart>& parts, double height, double line_mm) {
+  auto move = [&](const Vec2& q) { cairo_move_to(cr, q.x(), height - q.y()); };
+  auto line = [&](const Vec2& q) { cairo_line_to(cr, q.x(), height - q.y()); };
   cairo_set_line_width(cr, line_mm);
   cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
-  for (std::size_t part = 0; part < layout.placements.size(); ++part) {
-    const Placement& pl = layout.placements[part];
-    if (pl.sheet != sheet) continue;
-    if (run.engravings.size() > part && !run.engravings[part].empty()) {
+  for (const PlacedPart& p : parts) {
+    if (!p.engraving.empty()) {
       cairo_set_source_rgb(cr, 0, 0, 1);
-      for (const Label& label : run.engravings[part])
-        for (const auto& s : label_strokes(upright(label, pl.angle))) {
-          move(pl, s[0]);
-          line(pl, s[1]);
-        }
+      for (const auto& s : p.engraving) {
+        move(s[0]);
+        line(s[1]);
+      }
       cairo_stroke(cr);
     }
     cairo_set_source_rgb(cr, 1, 0, 0);
-    if (run.kerf)
-      for (const auto& c : run.kerf->patches[part].cuts) {
-        move(pl, c.a);
-        line(pl, c.b);
-      }
-    const Polygon2& outline = run.joints->parts[part].cut;
-    for (std::size_t i = 0; i < outline.size(); ++i)
-      i == 0 ? move(pl, outline[i]) : line(pl, outline[i]);
+    for (const auto& c : p.kerf) {
+      move(c[0]);
+      line(c[1]);
+    }
+    for (std::size_t i = 0; i < p.outline.size(); ++i)
+      i == 0 ? move(p.outline[i]) : line(p.outline[i]);
     cairo_close_path(cr);
     cairo_stroke(cr);
   }
@@ -69,7 +56,7 @@ void write_pdf_sheets(const RunResult& run, const std::filesystem::path& cut_dir
     cairo_surface_t* surface = cairo_pdf_surface_create(path.c_str(), w * pt, h * pt);
     cairo_t* cr = cairo_create(surface);
     cairo_scale(cr, pt, pt);
-    draw_sheet(cr, run, sheet, 0.01);
+    draw_sheet(cr, sheet_parts(run, sheet), h, 0.01);
     cairo_show_page(cr);
     const cairo_status_t status = cairo_status(cr);
     cairo_destroy(cr);
@@ -99,12 +86,13 @@ void write_sheet_previews(const RunResult& run, const std::filesystem::path& cut
   cairo_set_source_rgb(cc, 0.85, 0.85, 0.85);
   cairo_paint(cc);
   for (int sheet = 0; sheet < sheets; ++sheet) {
+    const std::vector<PlacedPart> parts = sheet_parts(run, sheet);
     cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, pw, ph);
     cairo_t* cr = cairo_create(surface);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     cairo_scale(cr, pixels_per_mm, pixels_per_mm);
-    draw_sheet(cr, run, sheet, 0.4);
+    draw_sheet(cr, parts, h, 0.4);
     cairo_destroy(cr);
     const auto path = sheet_file(cut_dir, sheet, "png");
     check(cairo_surface_write_to_png(surface, path.c_str()), path.string());
@@ -116,7 +104,7 @@ void write_sheet_previews(const RunResult& run, const std::filesystem::path& cut
     cairo_set_source_rgb(cc, 1, 1, 1);
     cairo_fill(cc);
     cairo_scale(cc, thumb, thumb);
-    draw_sheet(cc, run, sheet, 0.8);
+    draw_sheet(cc, parts, h, 0.8);
     // The sheet's number, 20 mm tall, in the top left corner.
     Label number;
     number.text = std::to_string(sheet + 1);

@@ -1,10 +1,8 @@
 #include "kerfab/io/svg_sheets.h"
 
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
-#include "kerfab/core/errors.h"
 #include "kerfab/io/sheet_files.h"
 
 namespace kerfab {
@@ -22,8 +20,7 @@ void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir
         << lo.sheet_height << "\">\n"
         << "<title>kerfab sheet " << sheet + 1 << " of " << layout.sheets << "</title>\n";
     // Sheet coordinates have y up; SVG's go down.
-    auto point = [&](const Placement& pl, const Vec2& p) {
-      const Vec2 q = pl.apply(p);
+    auto point = [&](const Vec2& q) {
       std::ostringstream os;
       os.precision(10);
       os << q.x() << " " << lo.sheet_height - q.y();
@@ -31,38 +28,29 @@ void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir
     };
     const std::string line_style =
         "fill=\"none\" stroke-width=\"" + std::to_string(style.stroke) + "\" stroke=\"";
-    for (std::size_t part = 0; part < layout.placements.size(); ++part) {
-      const Placement& pl = layout.placements[part];
-      if (pl.sheet != sheet) continue;
+    for (const PlacedPart& p : sheet_parts(run, sheet)) {
       char id[32];
-      std::snprintf(id, sizeof id, "%03zu", part);
+      std::snprintf(id, sizeof id, "%03d", p.part);
       svg << "<g class=\"part\" id=\"part-" << id << "\">\n";
-      if (run.engravings.size() > part && !run.engravings[part].empty()) {
+      if (!p.engraving.empty()) {
         svg << "<path class=\"label\" " << line_style << style.engrave << "\" d=\"";
-        for (const Label& label : run.engravings[part])
-          for (const auto& s : label_strokes(upright(label, pl.angle)))
-            svg << "M " << point(pl, s[0]) << " L " << point(pl, s[1]) << " ";
+        for (const auto& s : p.engraving) svg << "M " << point(s[0]) << " L " << point(s[1]) << " ";
         svg << "\"/>\n";
         // The texts too, for people and tools reading the file; hidden, so the laser engraves
         // only the strokes above.
-        for (const Label& label : run.engravings[part]) {
-          const Label l = upright(label, pl.angle);
-          const std::string at = point(pl, l.origin);
+        for (const Label& l : p.labels)
           svg << "<text class=\"label\" visibility=\"hidden\" font-size=\"" << l.height << "\" x=\""
-              << at.substr(0, at.find(' ')) << "\" y=\"" << at.substr(at.find(' ') + 1) << "\">"
-              << l.text << "</text>\n";
-        }
+              << l.origin.x() << "\" y=\"" << lo.sheet_height - l.origin.y() << "\">" << l.text
+              << "</text>\n";
       }
-      if (run.kerf && !run.kerf->patches[part].cuts.empty()) {
+      if (!p.kerf.empty()) {
         svg << "<path class=\"kerf\" " << line_style << style.cut << "\" d=\"";
-        for (const auto& c : run.kerf->patches[part].cuts)
-          svg << "M " << point(pl, c.a) << " L " << point(pl, c.b) << " ";
+        for (const auto& c : p.kerf) svg << "M " << point(c[0]) << " L " << point(c[1]) << " ";
         svg << "\"/>\n";
       }
-      const Polygon2& outline = run.joints->parts[part].cut;
       svg << "<path class=\"outline\" " << line_style << style.cut << "\" d=\"";
-      for (std::size_t i = 0; i < outline.size(); ++i)
-        svg << (i ? "L " : "M ") << point(pl, outline[i]) << " ";
+      for (std::size_t i = 0; i < p.outline.size(); ++i)
+        svg << (i ? "L " : "M ") << point(p.outline[i]) << " ";
       svg << "Z\"/>\n</g>\n";
     }
     svg << "</svg>\n";
