@@ -86,9 +86,7 @@ void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j,
               1e-4);
     EXPECT_GT(polygon_area(part.cut), polygon_area(part.designed));
     // The body: the flattened patch.
-    Polygon2 body;
-    for (const OutlineEdge& e : s.patches[p].outline()) body.push_back(f.patches[p].points[e.v[0]]);
-    if (polygon_area(body) < 0) std::reverse(body.begin(), body.end());
+    const Polygon2 body = flat_outline(s, f, static_cast<int>(p));  // the flattened patch
     std::vector<const JointSpan*> teeth;
     for (const JointSpan& sp : part.spans)
       if (sp.tooth) teeth.push_back(&sp);

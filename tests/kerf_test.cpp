@@ -135,10 +135,7 @@ TEST(Kerf, TightBendsAreCriticalAndCutsStayInsideTheirPart) {
   for (const auto& c : k.critical) EXPECT_LT(c.spacing, o.min_cut_spacing);
   EXPECT_LT(k.patches[0].min_spacing, o.min_cut_spacing);
   // Every cut end lies inside the part, a margin away from its outline, and off its teeth.
-  Polygon2 body;
-  for (const OutlineEdge& e : b.strips.patches[0].outline())
-    body.push_back(b.flat.patches[0].points[e.v[0]]);
-  if (polygon_area(body) < 0) std::reverse(body.begin(), body.end());
+  const Polygon2 body = flat_outline(b.strips, b.flat, 0);
   const auto shrunk =
       polygon_offset(polygon_intersection(b.joints.parts[0].designed, body), -o.margin + 1e-3);
   ASSERT_EQ(shrunk.size(), 1u);

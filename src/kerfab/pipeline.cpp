@@ -78,6 +78,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
 
   clock.stage("prepare", [&] {
     run.input = prepare_input(target, quad, options.input);
+    run.target_diagonal = bounding_box(run.input->surface.mesh()).diagonal();
     const PreparedInput& in = *run.input;
     say(summary_line("target", in.target_summary));
     say(summary_line(in.quads_from_target ? "quads (from target)" : "quads", in.quad_summary));
@@ -144,10 +145,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
     LayoutOptions usable = run.options.layout;
     usable.margin += run.options.kerf.material.thickness;
     auto oversize = [&](std::size_t p) {
-      Polygon2 body;
-      for (const OutlineEdge& e : run.strips->patches[p].outline())
-        body.push_back(run.flattening->patches[p].points[e.v[0]]);
-      return !fits_sheet(body, usable);
+      return !fits_sheet(flat_outline(*run.strips, *run.flattening, static_cast<int>(p)), usable);
     };
     for (int round = 0; round < 12; ++round) {
       Strips split = *run.strips;
@@ -187,7 +185,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
        << 100 * f.max_shared_border_mismatch_rel << "% per shared border";
     say(os.str());
     if (run.options.flatten.mimic_3d) {
-      const double diag = bounding_box(run.input->surface.mesh()).diagonal();
+      const double diag = run.target_diagonal;
       SurfaceDistanceOptions d;
       d.sample_spacing = 5 * run.options.quality_sample_spacing * diag;  // smooth difference
       run.flatten_mimic = surface_distance(patch_triangles(*run.strips, f, false),
@@ -295,7 +293,6 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& options,
   if (done_after("layout")) return finish();
 
   clock.stage("quality", [&] {
-    run.target_diagonal = bounding_box(run.input->surface.mesh()).diagonal();
     SurfaceDistanceOptions d;
     d.sample_spacing = run.options.quality_sample_spacing * run.target_diagonal;
     run.quality = surface_distance(triangulate(*run.strips), run.input->surface.mesh(), d);

@@ -80,7 +80,7 @@ struct RunResult {
   std::vector<std::optional<Label>> labels;    ///< per part: its number
   std::vector<std::vector<Label>> engravings;  ///< per part: its number and border labels
   std::optional<SurfaceDistance> quality;      ///< strip mesh vs target [mm]
-  double target_diagonal = 0;                  ///< target bbox diagonal [mm]
+  double target_diagonal = 0;                  ///< target bbox diagonal [mm] (set by prepare)
   std::vector<StageTiming> timings;
   double total_seconds = 0;
   std::vector<std::string> warnings;

@@ -1,6 +1,7 @@
 #include "kerfab/core/mesh.h"
 
 #include <cassert>
+#include <cmath>
 #include <map>
 
 namespace kerfab {
@@ -94,6 +95,28 @@ std::array<int, 4> quad_vertices(const PolyMesh& mesh, OpenMesh::FaceHandle f) {
     h = mesh.next_halfedge_handle(h);
   }
   return verts;
+}
+
+double angle_between(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+Vec3 corner_normal(const std::vector<Vec3>& points, const std::array<int, 4>& f, int v) {
+  for (int j = 0; j < 4; ++j) {
+    if (f[j] != v) continue;
+    const Vec3& p = points[v];
+    const Vec3 n = (points[f[(j + 1) % 4]] - p).cross(points[f[(j + 3) % 4]] - p);
+    const double len = n.norm();
+    return len > 0 ? Vec3(n / len) : Vec3::Zero();
+  }
+  return Vec3::Zero();
+}
+
+Vec3 sector_normal(const std::vector<Vec3>& points, const std::array<int, 4>& f, int v) {
+  const Vec3 n = corner_normal(points, f, v);
+  if (!n.isZero()) return n;
+  const Vec3 d = (points[f[2]] - points[f[0]]).cross(points[f[3]] - points[f[1]]);
+  return d.norm() > 0 ? Vec3(d.normalized()) : Vec3::UnitZ();
 }
 
 }  // namespace kerfab

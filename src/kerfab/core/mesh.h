@@ -69,4 +69,15 @@ std::array<int, 4> quad_edges(const PolyMesh& mesh, OpenMesh::FaceHandle f);
 /// The four vertices of quad \p f, corner k being the start of local edge k. \pre f is a quad.
 std::array<int, 4> quad_vertices(const PolyMesh& mesh, OpenMesh::FaceHandle f);
 
+/// Angle between two vectors [rad], accurate near 0 and pi.
+double angle_between(const Vec3& a, const Vec3& b);
+
+/// Unit normal of quad \p f (vertex ids into \p points) at its corner holding vertex \p v;
+/// zero when that corner is degenerate or \p v is not a corner of \p f.
+Vec3 corner_normal(const std::vector<Vec3>& points, const std::array<int, 4>& f, int v);
+
+/// The sector normal: corner_normal, or where that corner is degenerate the quad's normal from
+/// its diagonals, or +z when the quad has no area at all.
+Vec3 sector_normal(const std::vector<Vec3>& points, const std::array<int, 4>& f, int v);
+
 }  // namespace kerfab

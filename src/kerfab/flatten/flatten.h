@@ -71,6 +71,25 @@ struct Flattening {
   int unconverged = 0;
 };
 
+/// A flattened patch seen along its length: the strip coordinate is the arc length through the
+/// rulings' midpoints (shared by the kerf cuts and the labels placed between them).
+struct StripFrame {
+  const std::vector<Vec2>& x;  ///< the patch's flattened points, 2 * ruling + rail
+  int n;                       ///< sub-quads
+  std::vector<double> s;       ///< strip coordinate of each ruling [mm]
+  StripFrame(const std::vector<Vec2>& points, int faces);
+  Vec2 mid(int ruling) const { return 0.5 * (x[2 * ruling] + x[2 * ruling + 1]); }
+  /// The sub-quad holding strip coordinate \p at (clamped to the strip).
+  int face_at(double at) const;
+  /// The two rail points of the cross-section at \p at.
+  std::array<Vec2, 2> section(double at) const;
+  /// Unit direction along the strip at \p at.
+  Vec2 along(double at) const;
+};
+
+/// The patch's flattened outline, counter-clockwise [mm].
+std::vector<Vec2> flat_outline(const Strips& strips, const Flattening& flat, int patch);
+
 /// Quads of \p quads (counter-clockwise corner order expected) that are inverted or not
 /// strictly convex in the plane: some corner angle, measured counter-clockwise, outside (0, pi).
 int count_inverted_quads(const std::vector<Vec2>& points,

@@ -173,8 +173,7 @@ nlohmann::json make_report(const RunResult& run) {
                     {"patches", patches},
                     {"borders", borders}};
     if (run.flatten_mimic) {
-      const double d = run.target_diagonal > 0 ? run.target_diagonal
-                                               : bounding_box(run.input->surface.mesh()).diagonal();
+      const double d = run.target_diagonal;
       r["flatten"]["deformed_3d_hausdorff_mm"] = run.flatten_mimic->hausdorff;
       r["flatten"]["deformed_3d_hausdorff_rel"] = run.flatten_mimic->hausdorff / d;
     }

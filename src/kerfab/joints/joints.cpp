@@ -10,27 +10,10 @@
 namespace kerfab {
 namespace {
 
-double angle_between(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
 Vec3 slerp(const Vec3& a, const Vec3& b, double t) {
   const double w = angle_between(a, b), sw = std::sin(w);
   if (sw < 1e-9) return ((1 - t) * a + t * b).normalized();
   return (std::sin((1 - t) * w) / sw * a + std::sin(t * w) / sw * b).normalized();
-}
-
-Vec3 sector_normal(const Strips& s, const std::array<int, 4>& f, int v) {
-  for (int j = 0; j < 4; ++j) {
-    if (f[j] != v) continue;
-    const Vec3& p = s.vertices[v];
-    const Vec3 n = (s.vertices[f[(j + 1) % 4]] - p).cross(s.vertices[f[(j + 3) % 4]] - p);
-    if (n.norm() > 0) return n.normalized();
-    break;
-  }
-  // Degenerate corner: the face normal from the diagonals.
-  const Vec3 n = (s.vertices[f[2]] - s.vertices[f[0]]).cross(s.vertices[f[3]] - s.vertices[f[1]]);
-  return n.norm() > 0 ? Vec3(n.normalized()) : Vec3::UnitZ();
 }
 
 Vec2 right_of(const Vec2& d) { return {d.y(), -d.x()}; }
@@ -176,8 +159,8 @@ class Builder {
           if (side.reversed) std::swap(a, b);
           side.s.push_back(side.s.back() + (p3(side.patch, b) - p3(side.patch, a)).norm());
           const auto& face = s_.faces[s_.patches[side.patch].faces[e.face]];
-          side.n0.push_back(sector_normal(s_, face, global(side.patch, a)));
-          side.n1.push_back(sector_normal(s_, face, global(side.patch, b)));
+          side.n0.push_back(sector_normal(s_.vertices, face, global(side.patch, a)));
+          side.n1.push_back(sector_normal(s_.vertices, face, global(side.patch, b)));
         }
         (void)m;
       }

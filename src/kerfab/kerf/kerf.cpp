@@ -10,21 +10,6 @@
 namespace kerfab {
 namespace {
 
-double angle_between(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
-Vec3 sector_normal(const Strips& s, const std::array<int, 4>& f, int v) {
-  for (int j = 0; j < 4; ++j) {
-    if (f[j] != v) continue;
-    const Vec3 n = (s.vertices[f[(j + 1) % 4]] - s.vertices[v])
-                       .cross(s.vertices[f[(j + 3) % 4]] - s.vertices[v]);
-    if (n.norm() > 0) return n.normalized();
-  }
-  const Vec3 n = (s.vertices[f[2]] - s.vertices[f[0]]).cross(s.vertices[f[3]] - s.vertices[f[1]]);
-  return n.norm() > 0 ? Vec3(n.normalized()) : Vec3::UnitZ();
-}
-
 /// Parameters in [0, 1] where segment a-b crosses the polygons' boundaries.
 std::vector<double> crossings(const Vec2& a, const Vec2& b, const std::vector<Polygon2>& polys) {
   std::vector<double> t;
@@ -62,18 +47,15 @@ class PatchKerfBuilder {
       : s_(s), patch_(s.patches[p]), x_(f.patches[p].points), o_(o), p_(p) {
     // The region cuts may use: the part's body (the flattened patch, so no cut enters a
     // tooth) without its slots, shrunk by the margin.
-    Polygon2 body;
-    for (const OutlineEdge& e : patch_.outline()) body.push_back(x_[e.v[0]]);
-    if (polygon_area(body) < 0) std::reverse(body.begin(), body.end());
-    region_ = polygon_offset(polygon_intersection(j.parts[p].designed, body), -o.margin);
+    region_ =
+        polygon_offset(polygon_intersection(j.parts[p].designed, flat_outline(s, f, p)), -o.margin);
   }
 
   PatchKerf run(std::vector<CriticalRegion>& critical) {
     const int n = static_cast<int>(patch_.faces.size());
     PatchKerf out;
-    // Strip coordinate: arc length through the rulings' midpoints.
-    std::vector<double> s(n + 1, 0.0);
-    for (int i = 0; i < n; ++i) s[i + 1] = s[i] + (mid(i + 1) - mid(i)).norm();
+    const StripFrame frame(x_, n);
+    const std::vector<double>& s = frame.s;
     std::vector<double> positions;  // cut positions along the strip
     if (o_.constant_cuts_per_quad) {
       // Baseline: N cuts spread evenly over each coarse quad.
@@ -88,7 +70,7 @@ class PatchKerfBuilder {
     } else if (n >= 2) {
       positions = adaptive_positions(s, out);
     }
-    place(positions, s, out, critical);
+    place(positions, frame, out, critical);
     return out;
   }
 
@@ -101,7 +83,6 @@ class PatchKerfBuilder {
   std::vector<Polygon2> region_;
 
   Vec2 rail(int ruling, int r) const { return x_[2 * ruling + r]; }
-  Vec2 mid(int ruling) const { return 0.5 * (rail(ruling, 0) + rail(ruling, 1)); }
   double face_width(int f) const {
     return std::min((rail(f + 1, 0) - rail(f, 0)).norm(), (rail(f + 1, 1) - rail(f, 1)).norm());
   }
@@ -117,8 +98,9 @@ class PatchKerfBuilder {
       double angle = 0;  // largest normal angle across the ruling, at either end
       for (int r = 0; r < 2; ++r) {
         const int v = patch_.rulings[e][r];
-        angle = std::max(angle, angle_between(sector_normal(s_, s_.faces[patch_.faces[e - 1]], v),
-                                              sector_normal(s_, s_.faces[patch_.faces[e]], v)));
+        angle = std::max(angle,
+                         angle_between(sector_normal(s_.vertices, s_.faces[patch_.faces[e - 1]], v),
+                                       sector_normal(s_.vertices, s_.faces[patch_.faces[e]], v)));
       }
       beams[e] = beams_needed(angle, width[e], length, m.thickness, shear_over_yield);
     }
@@ -166,22 +148,16 @@ class PatchKerfBuilder {
     return positions;
   }
 
-  void place(const std::vector<double>& positions, const std::vector<double>& s, PatchKerf& out,
+  void place(const std::vector<double>& positions, const StripFrame& frame, PatchKerf& out,
              std::vector<CriticalRegion>& critical) {
     const int n = static_cast<int>(patch_.faces.size());
+    const std::vector<double>& s = frame.s;
     out.face_density.assign(n, 0.0);
     out.face_critical.assign(n, 0);
-    auto face_at = [&](double pos) {
-      const int f = static_cast<int>(std::upper_bound(s.begin(), s.end(), pos) - s.begin()) - 1;
-      return std::clamp(f, 0, n - 1);
-    };
+    auto face_at = [&](double pos) { return frame.face_at(pos); };
     int index = 0;
     for (double pos : positions) {
-      const int f = face_at(pos);
-      const double len = s[f + 1] - s[f];
-      const double u = len > 0 ? std::clamp((pos - s[f]) / len, 0.0, 1.0) : 0.5;
-      const Vec2 a = (1 - u) * rail(f, 0) + u * rail(f + 1, 0);
-      const Vec2 b = (1 - u) * rail(f, 1) + u * rail(f + 1, 1);
+      const auto [a, b] = frame.section(pos);
       // Extend across the outline, keep the stretch inside the shrunk part around the middle.
       const Vec2 d = (b - a).normalized();
       const double reach = (b - a).norm() + 20.0;
@@ -201,7 +177,7 @@ class PatchKerfBuilder {
         cb -= o_.bridge * d;
       ++index;
       if ((cb - ca).dot(d) <= 0) continue;
-      out.cuts.push_back({ca, cb, pos, f});
+      out.cuts.push_back({ca, cb, pos, face_at(pos)});
     }
     // Density at each sub-quad: one over the spacing of the two cuts around its middle.
     for (int f = 0; f < n; ++f) {

@@ -48,35 +48,6 @@ const char* segments_of(char c) {
   }
 }
 
-/// The flattened strip seen along its length: arc length of the rulings' midpoints, and the
-/// cross-section (both rails) at any position.
-struct StripFrame {
-  const std::vector<Vec2>& x;
-  int n;
-  std::vector<double> s;
-  StripFrame(const std::vector<Vec2>& points, int faces) : x(points), n(faces), s(faces + 1, 0.0) {
-    for (int i = 0; i < n; ++i) s[i + 1] = s[i] + (mid(i + 1) - mid(i)).norm();
-  }
-  Vec2 mid(int i) const { return 0.5 * (x[2 * i] + x[2 * i + 1]); }
-  int face_at(double at) const {
-    return std::clamp(static_cast<int>(std::upper_bound(s.begin(), s.end(), at) - s.begin()) - 1, 0,
-                      n - 1);
-  }
-  /// The two rail points of the cross-section at \p at.
-  std::array<Vec2, 2> section(double at) const {
-    const int f = face_at(at);
-    const double u = s[f + 1] > s[f] ? (at - s[f]) / (s[f + 1] - s[f]) : 0.5;
-    return {(1 - u) * x[2 * f] + u * x[2 * (f + 1)],
-            (1 - u) * x[2 * f + 1] + u * x[2 * (f + 1) + 1]};
-  }
-  /// Unit direction along the strip at \p at.
-  Vec2 along(double at) const {
-    const int f = face_at(at);
-    const Vec2 d = mid(std::min(f + 1, n)) - mid(f);
-    return d.norm() > 0 ? Vec2(d.normalized()) : Vec2(1, 0);
-  }
-};
-
 constexpr double kAdvance = 0.8;  // glyph advance per unit height
 
 }  // namespace

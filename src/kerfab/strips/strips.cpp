@@ -36,30 +36,13 @@ bool in_bending_pair(const QuadBending& q, int local) {
   return q.axis >= 0 && (local % 2) == q.axis;
 }
 
-/// Angle between two unit vectors [rad].
-double angle_between(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
-/// Unit normal of face \p f at its corner holding vertex \p v (sector normal), zero if degenerate.
-Vec3 sector_normal(const std::vector<Vec3>& pts, const std::array<int, 4>& f, int v) {
-  for (int j = 0; j < 4; ++j) {
-    if (f[j] != v) continue;
-    const Vec3& p = pts[v];
-    const Vec3 n = (pts[f[(j + 1) % 4]] - p).cross(pts[f[(j + 3) % 4]] - p);
-    const double len = n.norm();
-    return len > 0 ? Vec3(n / len) : Vec3::Zero();
-  }
-  return Vec3::Zero();
-}
-
 /// Largest angle between the sector normals of faces \p a and \p b at the two ends of the
 /// ruling (x, y) they share [rad].
 double fold_across(const std::vector<Vec3>& pts, const std::array<int, 4>& a,
                    const std::array<int, 4>& b, int x, int y) {
   double fold = 0;
   for (int v : {x, y}) {
-    const Vec3 na = sector_normal(pts, a, v), nb = sector_normal(pts, b, v);
+    const Vec3 na = corner_normal(pts, a, v), nb = corner_normal(pts, b, v);
     if (na.isZero() || nb.isZero()) continue;
     fold = std::max(fold, angle_between(na, nb));
   }
@@ -114,7 +97,11 @@ class Builder {
  public:
   Builder(const PolyMesh& quads, const BendingResult& bending, const TargetSurface& target,
           const StripsOptions& options)
-      : m_(quads), bending_(bending), target_(target), opt_(options) {}
+      : m_(quads),
+        bending_(bending),
+        target_(target),
+        opt_(options),
+        target_diagonal_(bounding_box(target.mesh()).diagonal()) {}
 
   Strips run() {
     const int nf = static_cast<int>(m_.n_faces());
@@ -141,6 +128,7 @@ class Builder {
   const BendingResult& bending_;
   const TargetSurface& target_;
   const StripsOptions& opt_;
+  const double target_diagonal_;  // [mm]
   Strips out_;
   std::vector<std::array<int, 4>> face_edges_, face_verts_;
   std::vector<Vec3> coarse_normals_;
@@ -245,8 +233,7 @@ class Builder {
   Vec3 project(const Vec3& p, const Vec3& normal) {
     const SurfacePoint c = target_.closest(p);
     if (opt_.projection == Projection::kClosest || normal.isZero()) return c.point;
-    const double diag = bounding_box(target_.mesh()).diagonal();
-    const double reach = 3.0 * c.distance + 0.005 * diag;
+    const double reach = 3.0 * c.distance + 0.005 * target_diagonal_;
     const auto hit = target_.nearest_hit_along_line(p, normal, reach);
     // A hit on a part of the surface facing away from the quad mesh (the far side of a thin
     // part) is no projection: use the closest point then.
