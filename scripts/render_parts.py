@@ -7,7 +7,7 @@ Usage: render_parts.py parts.json out.svg [--first N] [--count N] [--width PX] [
 import argparse
 import json
 
-from plot2d import principal_frame
+from plotting import principal_frame
 
 
 def main():

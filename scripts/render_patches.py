@@ -7,7 +7,7 @@ import argparse
 import glob
 import os
 
-from plot2d import principal_frame
+from plotting import principal_frame
 
 
 def read_obj(path):
