@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "kerfab/pipeline.h"
 #include "test_util.h"
 
 namespace kerfab {
@@ -157,7 +158,10 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   EXPECT_EQ(b["status"], "optimal");
   EXPECT_GE(b["bound"].get<double>(), b["objective"].get<double>() - 1e-9);
   EXPECT_GT(b["aligned_fraction"].get<double>(), 0.8);
-  EXPECT_TRUE(report["timings_s"].contains("bending"));
+  // Every stage ran, timed under the name --stop-after accepts, and no other.
+  EXPECT_EQ(report["timings_s"].size(), kerfab::stage_names().size() + 1);  // + "total"
+  for (const auto& stage : kerfab::stage_names())
+    EXPECT_TRUE(report["timings_s"].contains(stage)) << stage;
   const auto dump = nlohmann::json::parse(std::ifstream(out / "stages" / "bending.json"));
   EXPECT_EQ(dump["vertices"].size(), 734u);
   EXPECT_EQ(dump["quads"].size(), 732u);

@@ -29,8 +29,8 @@ struct RunInputs {
 
 /// The stages, in order. `stop_after` ends the run after the named one.
 inline const std::vector<std::string>& stage_names() {
-  static const std::vector<std::string> names = {"load",   "prepare", "bending",
-                                                 "strips", "flatten", "quality"};
+  static const std::vector<std::string> names = {
+      "load", "prepare", "bending", "strips", "flatten", "joints", "kerf", "layout", "quality"};
   return names;
 }
 
