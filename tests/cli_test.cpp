@@ -139,6 +139,18 @@ TEST(Cli, ExitCodesForMissingFileBadOptionAndUnits) {
   EXPECT_NE(r.out.find("[mm]"), std::string::npos);
 }
 
+TEST(Cli, SheetStyleOptionsAreCheckedAndReported) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = fs::path(KERFAB_SHARED_MESHES) / "quad-plane.obj";
+  const CliRun bad =
+      run_cli("run --target " + target.string() + " --out out --cut-colour red", scratch);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("#rrggbb"), std::string::npos) << bad.err;
+  const CliRun bad_stroke =
+      run_cli("run --target " + target.string() + " --out out --stroke 0", scratch);
+  EXPECT_EQ(bad_stroke.exit_code, 1);
+}
+
 // The bundled example end to end: report and the bending dump follow shared/OUTPUTS.md.
 TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   const fs::path scratch = test::fresh_dir();

@@ -171,6 +171,25 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--format", f.format,
                  "Cut-sheet files to write, comma separated: svg, dxf, pdf (PNG previews always)")
       ->capture_default_str();
+  cmd.add_option("--stroke", f.options.style.stroke,
+                 "Line width of cut and engrave lines in the SVG and PDF sheets; the default "
+                 "hairline is what laser drivers expect [mm]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  const auto colour = CLI::Validator(
+      [](std::string& c) {
+        const bool ok = c.size() == 7 && c[0] == '#' &&
+                        c.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos;
+        return ok ? std::string() : "colour must be #rrggbb, got '" + c + "'";
+      },
+      "#rrggbb");
+  cmd.add_option("--cut-colour", f.options.style.cut, "Colour of cut lines in SVG and PDF")
+      ->capture_default_str()
+      ->check(colour);
+  cmd.add_option("--engrave-colour", f.options.style.engrave,
+                 "Colour of engraved labels in SVG and PDF")
+      ->capture_default_str()
+      ->check(colour);
   cmd.add_option("--margin", f.options.layout.margin, "Free border along each sheet edge [mm]")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

@@ -51,6 +51,7 @@ struct PipelineOptions {
   MachineOptions machine;
   LayoutOptions layout;
   SheetFormats formats;
+  SheetStyle style;
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
                                           ///< fraction of the target's bbox diagonal [-], > 0
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all

@@ -4,6 +4,7 @@
 #include <cairo.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -14,7 +15,15 @@ namespace kerfab {
 namespace {
 
 /// Draws one sheet in millimetres (the caller scales), y up as in the layout.
-void draw_sheet(cairo_t* cr, const std::vector<PlacedPart>& parts, double height, double line_mm) {
+/// #rrggbb -> (r, g, b) in [0, 1]; the style was checked when the options were read.
+std::array<double, 3> rgb(const std::string& hex) {
+  const unsigned v = static_cast<unsigned>(std::stoul(hex.substr(1), nullptr, 16));
+  return {((v >> 16) & 255) / 255.0, ((v >> 8) & 255) / 255.0, (v & 255) / 255.0};
+}
+
+void draw_sheet(cairo_t* cr, const std::vector<PlacedPart>& parts, const SheetStyle& style,
+                double height, double line_mm) {
+  const auto cut = rgb(style.cut), engrave = rgb(style.engrave);
   auto move = [&](const Vec2& q) { cairo_move_to(cr, q.x(), height - q.y()); };
   auto line = [&](const Vec2& q) { cairo_line_to(cr, q.x(), height - q.y()); };
   cairo_set_line_width(cr, line_mm);
@@ -22,14 +31,14 @@ void draw_sheet(cairo_t* cr, const std::vector<PlacedPart>& parts, double height
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   for (const PlacedPart& p : parts) {
     if (!p.engraving.empty()) {
-      cairo_set_source_rgb(cr, 0, 0, 1);
+      cairo_set_source_rgb(cr, engrave[0], engrave[1], engrave[2]);
       for (const auto& s : p.engraving) {
         move(s[0]);
         line(s[1]);
       }
       cairo_stroke(cr);
     }
-    cairo_set_source_rgb(cr, 1, 0, 0);
+    cairo_set_source_rgb(cr, cut[0], cut[1], cut[2]);
     for (const auto& c : p.kerf) {
       move(c[0]);
       line(c[1]);
@@ -56,7 +65,7 @@ void write_pdf_sheets(const RunResult& run, const std::filesystem::path& cut_dir
     cairo_surface_t* surface = cairo_pdf_surface_create(path.c_str(), w * pt, h * pt);
     cairo_t* cr = cairo_create(surface);
     cairo_scale(cr, pt, pt);
-    draw_sheet(cr, sheet_parts(run, sheet), h, 0.01);
+    draw_sheet(cr, sheet_parts(run, sheet), run.options.style, h, run.options.style.stroke);
     cairo_show_page(cr);
     const cairo_status_t status = cairo_status(cr);
     cairo_destroy(cr);
@@ -92,7 +101,7 @@ void write_sheet_previews(const RunResult& run, const std::filesystem::path& cut
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     cairo_scale(cr, pixels_per_mm, pixels_per_mm);
-    draw_sheet(cr, parts, h, 0.4);
+    draw_sheet(cr, parts, run.options.style, h, 0.4);
     cairo_destroy(cr);
     const auto path = sheet_file(cut_dir, sheet, "png");
     check(cairo_surface_write_to_png(surface, path.c_str()), path.string());
@@ -104,7 +113,7 @@ void write_sheet_previews(const RunResult& run, const std::filesystem::path& cut
     cairo_set_source_rgb(cc, 1, 1, 1);
     cairo_fill(cc);
     cairo_scale(cc, thumb, thumb);
-    draw_sheet(cc, parts, h, 0.8);
+    draw_sheet(cc, parts, run.options.style, h, 0.8);
     // The sheet's number, 20 mm tall, in the top left corner.
     Label number;
     number.text = std::to_string(sheet + 1);

@@ -50,6 +50,9 @@ nlohmann::json options_json(const RunResult& run) {
   j["tooth_width_mm"] = o.joints.tooth_width;
   j["min_tooth_depth_mm"] = o.joints.min_depth;
   j["kerf_width_mm"] = o.joints.kerf_width;
+  j["stroke_mm"] = o.style.stroke;
+  j["cut_colour"] = o.style.cut;
+  j["engrave_colour"] = o.style.engrave;
   j["quality_sample_spacing_rel"] = o.quality_sample_spacing;
   j["stop_after"] = o.stop_after ? nlohmann::json(*o.stop_after) : nlohmann::json(nullptr);
   return j;

@@ -7,8 +7,8 @@
 
 namespace kerfab {
 
-void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir,
-                      const SheetStyle& style) {
+void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir) {
+  const SheetStyle& style = run.options.style;
   const LayoutResult& layout = *run.layout;
   const LayoutOptions& lo = run.options.layout;
   for (int sheet = 0; sheet < layout.sheets; ++sheet) {

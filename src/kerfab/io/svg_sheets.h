@@ -7,14 +7,8 @@
 
 namespace kerfab {
 
-struct SheetStyle {
-  const char* cut = "#ff0000";
-  const char* engrave = "#0000ff";
-  double stroke = 0.01;  ///< hairline [mm]
-};
-
 /// Writes cut/sheet-001.svg ... for a run with a layout. \throw IoError on write failure.
-void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir,
-                      const SheetStyle& style = {});
+/// Colours and stroke come from run.options.style.
+void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir);
 
 }  // namespace kerfab

@@ -2,6 +2,7 @@
 /// \file Cut-sheet layout: every part (its laser path, with its kerf cuts) is turned and placed
 /// on as few sheets as possible, testing the real outlines for overlap (Clipper), not only their
 /// bounding boxes.
+#include <string>
 #include <vector>
 
 #include "kerfab/adapters/polygon_ops.h"
@@ -14,6 +15,13 @@ struct LayoutOptions {
   double margin = 10;         ///< kept free along the sheet's edges [mm], >= 0
   double spacing = 3;         ///< between parts [mm], >= 0
   double step = 1.0;          ///< cell of the occupancy grid parts are placed on [mm], > 0
+};
+
+/// How cut sheets draw their lines.
+struct SheetStyle {
+  std::string cut = "#ff0000";      ///< colour of cut lines (outlines, kerf cuts), #rrggbb
+  std::string engrave = "#0000ff";  ///< colour of engraved labels, #rrggbb
+  double stroke = 0.01;             ///< line width in SVG and PDF [mm], > 0 (hairline)
 };
 
 /// Where a part goes: p_sheet = R(angle) * p_part + offset.
