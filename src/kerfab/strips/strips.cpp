@@ -1,6 +1,7 @@
 #include "kerfab/strips/strips.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -529,11 +530,13 @@ class Builder {
     // Every later occurrence of a vertex at another ladder position gets its own copy, so the
     // patch is a disk and the contact is a border like any other.
     std::set<int> seen;
+    std::map<int, int> original;  // copy -> the vertex it copies
     bool changed = false;
     for (auto& ruling : p.rulings)
       for (int& v : ruling) {
         if (seen.insert(v).second) continue;
         const int copy = static_cast<int>(out_.vertices.size());
+        original[copy] = v;
         out_.vertices.push_back(out_.vertices[v]);
         out_.vertex_on_straight_edge.push_back(out_.vertex_on_straight_edge[v]);
         v = copy;
@@ -543,9 +546,26 @@ class Builder {
       }
     if (changed)
       for (std::size_t i = 0; i < p.faces.size(); ++i) {
+        // The face's cycle from its two rulings, then turned so that it starts where the face
+        // did (face[0] -> face[1] runs along the bending edge; later stages rely on that).
         const auto &a = p.rulings[i], &b = p.rulings[i + 1];
-        out_.faces[p.faces[i]] = p.face_flipped[i] ? std::array<int, 4>{a[0], a[1], b[1], b[0]}
-                                                   : std::array<int, 4>{a[0], b[0], b[1], a[1]};
+        const std::array<int, 4> cycle = p.face_flipped[i]
+                                             ? std::array<int, 4>{a[0], a[1], b[1], b[0]}
+                                             : std::array<int, 4>{a[0], b[0], b[1], a[1]};
+        auto& face = out_.faces[p.faces[i]];
+        auto source = [&](int v) {
+          const auto it = original.find(v);
+          return it == original.end() ? v : it->second;
+        };
+        for (int r = 0; r < 4; ++r) {
+          bool match = true;
+          for (int j = 0; j < 4; ++j) match = match && source(cycle[(j + r) % 4]) == face[j];
+          if (match) {
+            face = {cycle[r], cycle[(r + 1) % 4], cycle[(r + 2) % 4], cycle[(r + 3) % 4]};
+            break;
+          }
+          assert(r < 3 && "a rebuilt face must be a turn of the original");
+        }
       }
     const int id = static_cast<int>(out_.patches.size());
     for (int q : p.quads) out_.quad_patch[q] = id;
