@@ -21,27 +21,9 @@ Vec3 edge_vector(const PolyMesh& m, int e) {
 
 // Objective of the best selection by enumeration over all 2^|E| subsets.
 double exhaustive_optimum(const PolyMesh& m, const BendingResult& r) {
-  const int n = static_cast<int>(m.n_edges());
-  std::vector<std::pair<int, int>> conflicts;
-  for (auto f : m.faces()) {
-    const auto e = quad_edges(m, f);
-    for (int k = 0; k < 4; ++k) conflicts.emplace_back(e[k], e[(k + 1) % 4]);
-  }
-  double best = 0;
-  for (std::uint64_t mask = 0; mask < (std::uint64_t{1} << n); ++mask) {
-    bool ok = true;
-    for (auto [a, b] : conflicts)
-      if ((mask >> a & 1) && (mask >> b & 1)) {
-        ok = false;
-        break;
-      }
-    if (!ok) continue;
-    double f = 0;
-    for (int i = 0; i < n; ++i)
-      if (mask >> i & 1) f += r.variance[i] + r.w0;
-    best = std::max(best, f);
-  }
-  return best;
+  std::vector<double> weight(r.variance.size());
+  for (std::size_t i = 0; i < weight.size(); ++i) weight[i] = r.variance[i] + r.w0;
+  return test::exhaustive_packing_optimum(m, weight);
 }
 
 void expect_feasible(const PolyMesh& m, const BendingResult& r) {

@@ -90,3 +90,32 @@ TEST(PackingProgram, Deterministic) {
 
 }  // namespace
 }  // namespace kerfab
+
+namespace kerfab {
+namespace {
+
+// The relaxation of a 5-cycle of conflicts is worth 5/2 at x = 1/2; the odd-cycle row brings it
+// to the integer optimum 2, solved again from the previous basis; the start is used when better.
+TEST(PackingRelaxation, OddCycleRowTightensTheBound) {
+  PackingProblem p;
+  p.weights.assign(5, 1.0);
+  for (int i = 0; i < 5; ++i) p.conflicts.emplace_back(i, (i + 1) % 5);
+  PackingRelaxationSolver relaxation(p);
+  const PackingRelaxation first = relaxation.solve();
+  EXPECT_NEAR(first.objective, 2.5, 1e-9);
+  for (double v : first.x) EXPECT_NEAR(v, 0.5, 1e-9);
+  relaxation.add_limit({0, 1, 2, 3, 4}, 2);
+  EXPECT_NEAR(relaxation.solve().objective, 2.0, 1e-9);
+
+  p.start = {1, 0, 1, 0, 0};
+  const PackingResult r = solve_packing(p, {});
+  EXPECT_EQ(r.status, PackingStatus::kOptimal);
+  EXPECT_DOUBLE_EQ(r.objective, 2.0);
+  // An infeasible start is ignored, not used.
+  p.start = {1, 1, 0, 0, 0};
+  EXPECT_DOUBLE_EQ(solve_packing(p, {}).objective, 2.0);
+  EXPECT_THROW(PackingRelaxationSolver({.weights = {1.0}, .conflicts = {{0, 1}}}), InvalidInput);
+}
+
+}  // namespace
+}  // namespace kerfab

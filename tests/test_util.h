@@ -2,9 +2,14 @@
 // Small helpers shared by the tests: temporary files and the real-mesh folder.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
+
+#include "kerfab/core/mesh.h"
 
 namespace kerfab::test {
 
@@ -25,6 +30,32 @@ inline std::filesystem::path write_text(const std::filesystem::path& path,
                                         const std::string& text) {
   std::ofstream(path) << text;
   return path;
+}
+
+/// Best sum of weight[e] over selections of quad-mesh edges with no two consecutive edges of a
+/// quad, by enumerating all 2^|E| subsets (small meshes only, |E| <= 30).
+inline double exhaustive_packing_optimum(const PolyMesh& m, const std::vector<double>& weight) {
+  const int n = static_cast<int>(m.n_edges());
+  std::vector<std::pair<int, int>> conflicts;
+  for (auto f : m.faces()) {
+    const auto e = quad_edges(m, f);
+    for (int k = 0; k < 4; ++k) conflicts.emplace_back(e[k], e[(k + 1) % 4]);
+  }
+  double best = 0;
+  for (std::uint64_t mask = 0; mask < (std::uint64_t{1} << n); ++mask) {
+    bool ok = true;
+    for (auto [a, b] : conflicts)
+      if ((mask >> a & 1) && (mask >> b & 1)) {
+        ok = false;
+        break;
+      }
+    if (!ok) continue;
+    double f = 0;
+    for (int i = 0; i < n; ++i)
+      if (mask >> i & 1) f += weight[i];
+    best = std::max(best, f);
+  }
+  return best;
 }
 
 }  // namespace kerfab::test

@@ -1,6 +1,7 @@
 #include "kerfab/adapters/packing_program.h"
 
 #include <coin/Cbc_C_Interface.h>
+#include <coin/Clp_C_Interface.h>
 
 #include <algorithm>
 #include <chrono>
@@ -49,6 +50,20 @@ double objective_of(const PackingProblem& p, const std::vector<char>& x) {
   return f;
 }
 
+// x respects every conflict, fixing and set limit.
+bool is_feasible(const PackingProblem& p, const std::vector<char>& x) {
+  for (const auto& [a, b] : p.conflicts)
+    if (x[a] && x[b]) return false;
+  for (std::size_t i = 0; i < p.fixed.size(); ++i)
+    if (p.fixed[i] && static_cast<bool>(x[i]) != *p.fixed[i]) return false;
+  for (const auto& [vars, limit] : p.set_limits) {
+    int count = 0;
+    for (int i : vars) count += x[i] ? 1 : 0;
+    if (count > limit) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::string to_string(PackingStatus status) {
@@ -63,8 +78,12 @@ std::string to_string(PackingStatus status) {
   return "unknown";
 }
 
-PackingResult solve_packing(const PackingProblem& problem, const PackingOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+using CbcModelPtr = std::unique_ptr<Cbc_Model, CbcDeleter>;
+
+// Checks the problem and returns each variable's conflict neighbours.
+std::vector<std::vector<int>> conflict_adjacency(const PackingProblem& problem) {
   const int n = static_cast<int>(problem.weights.size());
   if (!problem.fixed.empty() && static_cast<int>(problem.fixed.size()) != n)
     throw InvalidInput("packing program: 'fixed' has " + std::to_string(problem.fixed.size()) +
@@ -80,63 +99,152 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
     adj[a].push_back(b);
     adj[b].push_back(a);
   }
+  for (const auto& [vars, limit] : problem.set_limits)
+    for (int i : vars)
+      if (i < 0 || i >= n)
+        throw InvalidInput("packing program: set limit names variable " + std::to_string(i) +
+                           " out of range");
+  return adj;
+}
 
-  PackingResult result;
-  result.x = greedy_start(problem, adj);
-  if (n == 0) {
-    result.status = PackingStatus::kOptimal;
-    return result;
-  }
+// The program in column-wise form, minimising -w.x (both solvers minimise).
+struct ColumnMatrix {
+  int n = 0, m = 0;
+  std::vector<int> start, index;
+  std::vector<double> value, col_lb, col_ub, cost, row_lb, row_ub;
+};
 
-  // Column-wise matrix: one row per conflict (two nonzeros), then one per set limit.
+ColumnMatrix column_matrix(const PackingProblem& problem) {
+  ColumnMatrix c;
+  c.n = static_cast<int>(problem.weights.size());
+  // One row per conflict (two nonzeros), then one per set limit.
   const int m_pairs = static_cast<int>(problem.conflicts.size());
-  const int m = m_pairs + static_cast<int>(problem.set_limits.size());
-  std::vector<std::vector<int>> col_rows(n);
+  c.m = m_pairs + static_cast<int>(problem.set_limits.size());
+  std::vector<std::vector<int>> col_rows(c.n);
   for (int r = 0; r < m_pairs; ++r) {
     col_rows[problem.conflicts[r].first].push_back(r);
     col_rows[problem.conflicts[r].second].push_back(r);
   }
-  std::vector<double> row_ub(m, 1.0);
+  c.row_ub.assign(c.m, 1.0);
   for (int k = 0; k < static_cast<int>(problem.set_limits.size()); ++k) {
     const auto& [vars, limit] = problem.set_limits[k];
-    for (int i : vars) {
-      if (i < 0 || i >= n)
-        throw InvalidInput("packing program: set limit names variable " + std::to_string(i) +
-                           " out of range");
-      col_rows[i].push_back(m_pairs + k);
-    }
-    row_ub[m_pairs + k] = limit;
+    for (int i : vars) col_rows[i].push_back(m_pairs + k);
+    c.row_ub[m_pairs + k] = limit;
   }
-  std::vector<int> start_idx(n + 1, 0), index;
-  std::vector<double> value;
-  for (int i = 0; i < n; ++i) {
-    start_idx[i + 1] = start_idx[i] + static_cast<int>(col_rows[i].size());
+  c.row_lb.assign(c.m, -std::numeric_limits<double>::infinity());
+  c.start.assign(c.n + 1, 0);
+  for (int i = 0; i < c.n; ++i) {
+    c.start[i + 1] = c.start[i] + static_cast<int>(col_rows[i].size());
     for (int r : col_rows[i]) {
-      index.push_back(r);
-      value.push_back(1.0);
+      c.index.push_back(r);
+      c.value.push_back(1.0);
     }
   }
-  std::vector<double> col_lb(n, 0.0), col_ub(n, 1.0),
-      row_lb(m, -std::numeric_limits<double>::infinity());
-  for (int i = 0; i < n; ++i) {
-    if (fixed_to(problem, i, true)) col_lb[i] = 1.0;
-    if (fixed_to(problem, i, false)) col_ub[i] = 0.0;
+  c.col_lb.assign(c.n, 0.0);
+  c.col_ub.assign(c.n, 1.0);
+  c.cost.resize(c.n);
+  for (int i = 0; i < c.n; ++i) {
+    if (fixed_to(problem, i, true)) c.col_lb[i] = 1.0;
+    if (fixed_to(problem, i, false)) c.col_ub[i] = 0.0;
+    c.cost[i] = -problem.weights[i];
   }
-  // CBC minimises: use -w.
-  std::vector<double> cost(n);
-  for (int i = 0; i < n; ++i) cost[i] = -problem.weights[i];
+  return c;
+}
 
-  std::unique_ptr<Cbc_Model, CbcDeleter> model(Cbc_newModel());
+template <class T>
+const T* data_or_null(const std::vector<T>& v) {
+  return v.empty() ? nullptr : v.data();
+}
+
+// The program as a CBC model with continuous columns (integers are set by the caller).
+CbcModelPtr load_model(const PackingProblem& problem) {
+  const ColumnMatrix c = column_matrix(problem);
+  CbcModelPtr model(Cbc_newModel());
   if (!model) throw SolverError("CBC: could not create a model");
-  Cbc_loadProblem(model.get(), n, m, start_idx.data(), index.empty() ? nullptr : index.data(),
-                  value.empty() ? nullptr : value.data(), col_lb.data(), col_ub.data(), cost.data(),
-                  m ? row_lb.data() : nullptr, m ? row_ub.data() : nullptr);
-  for (int i = 0; i < n; ++i) Cbc_setInteger(model.get(), i);
+  Cbc_loadProblem(model.get(), c.n, c.m, c.start.data(), data_or_null(c.index),
+                  data_or_null(c.value), c.col_lb.data(), c.col_ub.data(), c.cost.data(),
+                  data_or_null(c.row_lb), data_or_null(c.row_ub));
   Cbc_setObjSense(model.get(), 1.0);
+  return model;
+}
+
+struct ClpDeleter {
+  void operator()(Clp_Simplex* m) const { Clp_deleteModel(m); }
+};
+
+}  // namespace
+
+struct PackingRelaxationSolver::Model {
+  std::unique_ptr<Clp_Simplex, ClpDeleter> clp;
+  bool solved = false;
+};
+
+PackingRelaxationSolver::PackingRelaxationSolver(const PackingProblem& problem)
+    : model_(nullptr), n_(static_cast<int>(problem.weights.size())) {
+  conflict_adjacency(problem);
+  const ColumnMatrix c = column_matrix(problem);
+  model_ = new Model{std::unique_ptr<Clp_Simplex, ClpDeleter>(Clp_newModel())};
+  Clp_Simplex* clp = model_->clp.get();
+  if (!clp) throw SolverError("CLP: could not create a model");
+  Clp_setLogLevel(clp, 0);
+  Clp_loadProblem(clp, c.n, c.m, c.start.data(), data_or_null(c.index), data_or_null(c.value),
+                  c.col_lb.data(), c.col_ub.data(), c.cost.data(), data_or_null(c.row_lb),
+                  data_or_null(c.row_ub));
+  Clp_setOptimizationDirection(clp, 1.0);
+}
+
+PackingRelaxationSolver::~PackingRelaxationSolver() { delete model_; }
+
+void PackingRelaxationSolver::add_limit(const std::vector<int>& vars, int limit) {
+  const std::vector<double> ones(vars.size(), 1.0);
+  const double lower = -std::numeric_limits<double>::infinity();
+  const double upper = limit;
+  const CoinBigIndex starts[2] = {0, static_cast<CoinBigIndex>(vars.size())};
+  Clp_addRows(model_->clp.get(), 1, &lower, &upper, starts, vars.data(), ones.data());
+}
+
+PackingRelaxation PackingRelaxationSolver::solve() {
+  const auto start = std::chrono::steady_clock::now();
+  PackingRelaxation result;
+  if (n_ == 0) return result;
+  Clp_Simplex* clp = model_->clp.get();
+  // Dual simplex from the last basis: added rows keep it dual feasible.
+  if (!model_->solved)
+    Clp_initialSolve(clp);
+  else
+    Clp_dual(clp, 0);
+  model_->solved = true;
+  if (!Clp_isProvenOptimal(clp))
+    throw SolverError("CLP: the relaxation of the packing program did not solve");
+  const double* x = Clp_getColSolution(clp);
+  result.x.assign(x, x + n_);
+  for (double& v : result.x) v = std::clamp(v, 0.0, 1.0);
+  result.objective = -Clp_getObjValue(clp);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+PackingResult solve_packing(const PackingProblem& problem, const PackingOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const int n = static_cast<int>(problem.weights.size());
+  const auto adj = conflict_adjacency(problem);
+
+  PackingResult result;
+  result.x = greedy_start(problem, adj);
+  if (static_cast<int>(problem.start.size()) == n && is_feasible(problem, problem.start) &&
+      objective_of(problem, problem.start) > objective_of(problem, result.x))
+    result.x = problem.start;
+  if (n == 0) {
+    result.status = PackingStatus::kOptimal;
+    return result;
+  }
+  const CbcModelPtr model = load_model(problem);
+  for (int i = 0; i < n; ++i) Cbc_setInteger(model.get(), i);
   Cbc_setLogLevel(model.get(), options.log ? 1 : 0);
   Cbc_setMaximumSeconds(model.get(), options.time_limit_s);
   Cbc_setAllowableFractionGap(model.get(), options.relative_gap);
   Cbc_setParameter(model.get(), "threads", "1");  // deterministic
+  Cbc_setParameter(model.get(), "preprocess", "off");
   {
     std::vector<int> idx(n);
     std::vector<double> val(n);
@@ -153,9 +261,8 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
     std::vector<char> x(n);
     for (int i = 0; i < n; ++i) x[i] = sol[i] > 0.5 ? 1 : 0;
     // Keep CBC's answer only if it is feasible and at least as good as the start.
-    bool feasible = true;
-    for (const auto& [a, b] : problem.conflicts) feasible &= !(x[a] && x[b]);
-    if (feasible && objective_of(problem, x) >= objective_of(problem, result.x) - 1e-12)
+    if (is_feasible(problem, x) &&
+        objective_of(problem, x) >= objective_of(problem, result.x) - 1e-12)
       result.x = std::move(x);
   } else if (Cbc_isProvenInfeasible(model.get())) {
     throw SolverError("CBC: the bending program is infeasible");

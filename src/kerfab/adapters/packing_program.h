@@ -15,6 +15,9 @@ struct PackingProblem {
   /// conflicts (e.g. an odd-cycle cut): they tighten the relaxation, never the feasible set.
   std::vector<std::pair<std::vector<int>, int>> set_limits;
   std::vector<std::optional<bool>> fixed;  ///< per variable: unset = free; empty = all free
+  /// A known feasible selection (0/1 per variable) to start from; empty = none. Used when it
+  /// respects the conflicts and fixings and beats the solver's own greedy start.
+  std::vector<char> start;
 };
 
 struct PackingOptions {
@@ -39,8 +42,36 @@ struct PackingResult {
   double seconds = 0;  ///< solve time [s]
 };
 
-/// Solves the packing program. A greedy selection is handed to CBC as a start, so a feasible
-/// answer exists even when the time limit stops the search early.
+struct PackingRelaxation {
+  std::vector<double> x;  ///< optimal point of the linear relaxation, each in [0, 1]
+  double objective = 0;   ///< w.x at that point: an upper bound on the integer optimum
+  double seconds = 0;     ///< solve time [s]
+};
+
+/// The linear relaxation (0 <= x_i <= 1 and every inequality of the program), solved by CLP's
+/// simplex, to which further "at most limit of these" rows can be added; each solve after an
+/// addition starts from the previous basis (dual simplex), so a cutting-plane loop stays cheap.
+class PackingRelaxationSolver {
+ public:
+  /// \throw InvalidInput as solve_packing.
+  explicit PackingRelaxationSolver(const PackingProblem& problem);
+  ~PackingRelaxationSolver();
+  PackingRelaxationSolver(const PackingRelaxationSolver&) = delete;
+  PackingRelaxationSolver& operator=(const PackingRelaxationSolver&) = delete;
+
+  /// Adds the row sum_{i in vars} x_i <= limit. \pre indices in range.
+  void add_limit(const std::vector<int>& vars, int limit);
+  /// \throw SolverError the simplex did not reach an optimum.
+  PackingRelaxation solve();
+
+ private:
+  struct Model;
+  Model* model_;
+  int n_;
+};
+
+/// Solves the packing program. The better of problem.start and a greedy selection is handed to
+/// CBC as a start, so a feasible answer exists even when the time limit stops the search early.
 /// \throw InvalidInput a conflict names a variable out of range, or two variables fixed to 1
 ///        conflict (the program is infeasible).
 /// \throw SolverError CBC failed outright.

@@ -52,11 +52,21 @@ struct BendingResult {
   double objective = 0;            ///< sum over bendable edges of (w_e + w0) [mm^2]
   double bound = 0;                ///< proven upper bound on the objective [mm^2]
   PackingStatus status = PackingStatus::kStopped;
-  double solve_seconds = 0;     ///< integer-program time [s]
+  double solve_seconds = 0;     ///< integer-program time, cut rounds included [s]
   int interior_edges = 0;       ///< edges with a face on both sides
   int aligned_edges = 0;        ///< interior edges whose two quads agree on bending direction
   double aligned_fraction = 0;  ///< aligned_edges / interior_edges (paper n_aligned/|E|)
   int bendable_count = 0;
+  // How the program was solved (seams.h, odd_cycles.h).
+  int odd_vertices = 0;               ///< interior odd-valence vertices (seam ends)
+  int seam_edges = 0;                 ///< edges on the seams of the start selection
+  bool seam_pairing_optimal = false;  ///< the seams pair the odd vertices at minimum length
+  double start_objective = 0;         ///< objective of the seam start [mm^2]
+  int ring_cuts = 0;                  ///< odd rings added as cuts
+  int separated_cuts = 0;             ///< odd cycles separated from the relaxation
+  int cut_rounds = 0;                 ///< separation rounds
+  double relaxation_bound = 0;        ///< relaxation optimum with all cuts [mm^2]
+  double cut_seconds = 0;             ///< time for start, rings and separation [s]
 };
 
 /// Variance of the signed distance to the target along each straight quad edge, sampled at

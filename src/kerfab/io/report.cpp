@@ -113,7 +113,17 @@ nlohmann::json make_report(const RunResult& run) {
                     {"aligned_fraction", b.aligned_fraction},
                     {"quads_bending", kinds[static_cast<int>(QuadKind::kBending)]},
                     {"quads_one_sided", kinds[static_cast<int>(QuadKind::kOneSided)]},
-                    {"quads_rigid", kinds[static_cast<int>(QuadKind::kRigid)]}};
+                    {"quads_rigid", kinds[static_cast<int>(QuadKind::kRigid)]},
+                    {"program",
+                     {{"odd_vertices", b.odd_vertices},
+                      {"seam_edges", b.seam_edges},
+                      {"seam_pairing_optimal", b.seam_pairing_optimal},
+                      {"start_objective", b.start_objective},
+                      {"ring_cuts", b.ring_cuts},
+                      {"separated_cuts", b.separated_cuts},
+                      {"cut_rounds", b.cut_rounds},
+                      {"relaxation_bound", b.relaxation_bound},
+                      {"cut_seconds", b.cut_seconds}}}};
   }
   if (run.strips) {
     const Strips& s = *run.strips;
