@@ -14,6 +14,9 @@ namespace kerfab {
 namespace {
 
 constexpr int kFar = std::numeric_limits<int>::max() / 4;
+constexpr int kMaxSeamEnds = 1000;                 // odd vertices: the pairing is quadratic in them
+constexpr long long kMaxTreeEntries = 20'000'000;  // odd vertices x vertices: seams planned
+constexpr int kMaxExactMatchingNodes = 400;        // matching program up to this many nodes
 
 // Breadth-first distances (in edges) from the given sources over the mesh's vertex graph, and
 // for each reached vertex the edge it was reached by (-1 at a source).
@@ -119,76 +122,82 @@ SeamSelection seam_selection(const PolyMesh& quads) {
   const int unit = static_cast<int>(quads.n_edges()) + 1;
   std::vector<int> edge_cost(ne);
   for (int e = 0; e < ne; ++e) edge_cost[e] = unit - sharp[e];
-  // Matching graph: odd vertex i (node i) and, if there is a boundary, its boundary twin (node
-  // k + i): i-j costs their distance, i-twin(i) the distance to the boundary, twin-twin 0.
-  std::vector<Tree> trees;
-  trees.reserve(k);
-  for (int v : odd) trees.push_back(shortest_paths(quads, {v}, edge_cost));
-  const bool has_boundary = !boundary.empty();
-  const Tree to_boundary = has_boundary ? shortest_paths(quads, boundary, edge_cost) : Tree{};
-  const int nodes = has_boundary ? 2 * k : k;
-  auto cost = [&](int a, int b) -> long long {
-    if (a > b) std::swap(a, b);
-    if (b < k) return trees[a].dist[odd[b]];
-    if (a >= k) return 0;                             // twin - twin
-    if (b - k == a) return to_boundary.dist[odd[a]];  // vertex - own twin
-    return kFar;                                      // vertex - other's twin: unused
-  };
+  // Meshes with very many odd vertices keep the plain field (no seams planned): the per-vertex
+  // path trees cost |T| x |V| memory (capped at 20 million entries, 160 MB) and the pairing
+  // |T|^2 (capped at 1000 odd vertices).
+  if (k <= kMaxSeamEnds &&
+      static_cast<long long>(k) * static_cast<long long>(quads.n_vertices()) <= kMaxTreeEntries) {
+    // Matching graph: odd vertex i (node i) and, if there is a boundary, its boundary twin (node
+    // k + i): i-j costs their distance, i-twin(i) the distance to the boundary, twin-twin 0.
+    std::vector<Tree> trees;
+    trees.reserve(k);
+    for (int v : odd) trees.push_back(shortest_paths(quads, {v}, edge_cost));
+    const bool has_boundary = !boundary.empty();
+    const Tree to_boundary = has_boundary ? shortest_paths(quads, boundary, edge_cost) : Tree{};
+    const int nodes = has_boundary ? 2 * k : k;
+    auto cost = [&](int a, int b) -> long long {
+      if (a > b) std::swap(a, b);
+      if (b < k) return trees[a].dist[odd[b]];
+      if (a >= k) return 0;                             // twin - twin
+      if (b - k == a) return to_boundary.dist[odd[a]];  // vertex - own twin
+      return kFar;                                      // vertex - other's twin: unused
+    };
 
-  // Greedy by cost, then 2-opt exchanges between pairs until none shortens the total.
-  std::vector<int> mate(nodes, -1);
-  {
-    std::vector<std::tuple<long long, int, int>> pairs;
-    for (int a = 0; a < nodes; ++a)
-      for (int b = a + 1; b < nodes; ++b)
-        if (cost(a, b) < kFar) pairs.emplace_back(cost(a, b), a, b);
-    std::sort(pairs.begin(), pairs.end());
-    for (const auto& [c, a, b] : pairs)
-      if (mate[a] < 0 && mate[b] < 0) {
-        mate[a] = b;
-        mate[b] = a;
-      }
-  }
-  // Nodes left unmatched (a component without boundary and an odd count cannot happen on a
-  // closed component: the odd-valence count there is even) would only arise from kFar costs.
-  for (bool improved = true; improved;) {
-    improved = false;
-    for (int a = 0; a < nodes; ++a) {
-      for (int c = a + 1; c < nodes; ++c) {
-        const int b = mate[a], d = mate[c];
-        if (b < 0 || d < 0 || c == b) continue;
-        const long long now = cost(a, b) + cost(c, d);
-        if (cost(a, c) + cost(b, d) < now) {
-          mate[a] = c, mate[c] = a, mate[b] = d, mate[d] = b;
-          improved = true;
-        } else if (cost(a, d) + cost(b, c) < now) {
-          mate[a] = d, mate[d] = a, mate[b] = c, mate[c] = b;
-          improved = true;
+    // Greedy by cost, then 2-opt exchanges between pairs until none shortens the total.
+    std::vector<int> mate(nodes, -1);
+    {
+      std::vector<std::tuple<long long, int, int>> pairs;
+      for (int a = 0; a < nodes; ++a)
+        for (int b = a + 1; b < nodes; ++b)
+          if (cost(a, b) < kFar) pairs.emplace_back(cost(a, b), a, b);
+      std::sort(pairs.begin(), pairs.end());
+      for (const auto& [c, a, b] : pairs)
+        if (mate[a] < 0 && mate[b] < 0) {
+          mate[a] = b;
+          mate[b] = a;
+        }
+    }
+    // Nodes left unmatched (a component without boundary and an odd count cannot happen on a
+    // closed component: the odd-valence count there is even) would only arise from kFar costs.
+    for (bool improved = true; improved;) {
+      improved = false;
+      for (int a = 0; a < nodes; ++a) {
+        for (int c = a + 1; c < nodes; ++c) {
+          const int b = mate[a], d = mate[c];
+          if (b < 0 || d < 0 || c == b) continue;
+          const long long now = cost(a, b) + cost(c, d);
+          if (cost(a, c) + cost(b, d) < now) {
+            mate[a] = c, mate[c] = a, mate[b] = d, mate[d] = b;
+            improved = true;
+          } else if (cost(a, d) + cost(b, c) < now) {
+            mate[a] = d, mate[d] = a, mate[b] = c, mate[c] = b;
+            improved = true;
+          }
         }
       }
     }
-  }
-  // The exact pairing: the matching program over all pairs at finite cost, started from nothing
-  // but usually closed at CBC's root (its zero-half cuts are the blossom inequalities).
-  {
-    std::vector<MatchingPair> candidates;
-    long long heuristic = 0;
-    for (int a = 0; a < nodes; ++a) {
-      if (mate[a] > a) heuristic += cost(a, mate[a]);
-      for (int b = a + 1; b < nodes; ++b)
-        if (cost(a, b) < kFar) candidates.push_back({a, b, static_cast<double>(cost(a, b))});
+    // The exact pairing: the matching program over all pairs at finite cost, started from nothing
+    // but usually closed at CBC's root (its zero-half cuts are the blossom inequalities).
+    if (nodes <= kMaxExactMatchingNodes) {
+      std::vector<MatchingPair> candidates;
+      long long heuristic = 0;
+      for (int a = 0; a < nodes; ++a) {
+        if (mate[a] > a) heuristic += cost(a, mate[a]);
+        for (int b = a + 1; b < nodes; ++b)
+          if (cost(a, b) < kFar) candidates.push_back({a, b, static_cast<double>(cost(a, b))});
+      }
+      const MatchingResult exact = min_cost_perfect_matching(nodes, candidates, 20.0);
+      r.pairing_optimal = exact.optimal;
+      if (!exact.mate.empty() && exact.cost < heuristic - 0.5) mate = exact.mate;
     }
-    const MatchingResult exact = min_cost_perfect_matching(nodes, candidates, 20.0);
-    r.pairing_optimal = exact.optimal;
-    if (!exact.mate.empty() && exact.cost < heuristic - 0.5) mate = exact.mate;
-  }
-  for (int a = 0; a < k; ++a) {
-    const int b = mate[a];
-    if (b < 0) continue;
-    if (b < k) {
-      if (a < b) flip_path(quads, trees[a], odd[b], r.seam);
-    } else if (b - k == a) {
-      flip_path(quads, to_boundary, odd[a], r.seam);
+    for (int a = 0; a < k; ++a) {
+      const int b = mate[a];
+      if (b < 0) continue;
+      if (b < k) {
+        if (a < b) flip_path(quads, trees[a], odd[b], r.seam);
+      } else if (b - k == a) {
+        flip_path(quads, to_boundary, odd[a], r.seam);
+      }
     }
   }
 

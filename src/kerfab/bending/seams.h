@@ -29,7 +29,10 @@ struct SeamSelection {
 /// shortest edge paths, the pairing chosen greedily by distance and improved by exchanging
 /// partners between two pairs until no exchange shortens the total (2-opt); then every edge on
 /// the axis of all its quads is bendable. Always a feasible selection for the bending program
-/// (no two consecutive edges of a quad). \pre quads is all quads.
+/// (no two consecutive edges of a quad). The pairing is made exact by a matching program up to
+/// 400 nodes (odd vertices, twice that with a boundary); with more than 1000 odd vertices
+/// or odd vertices x vertices above 2e7 no seams are planned (the field alone, still feasible).
+/// \pre quads is all quads.
 SeamSelection seam_selection(const PolyMesh& quads);
 
 /// Odd rings around the odd-valence vertices: valid cuts for the bending program that tell its
