@@ -102,6 +102,7 @@ TEST(PackingRelaxation, OddCycleRowTightensTheBound) {
   for (int i = 0; i < 5; ++i) p.conflicts.emplace_back(i, (i + 1) % 5);
   PackingRelaxationSolver relaxation(p);
   const PackingRelaxation first = relaxation.solve();
+  EXPECT_TRUE(first.optimal);
   EXPECT_NEAR(first.objective, 2.5, 1e-9);
   for (double v : first.x) EXPECT_NEAR(v, 0.5, 1e-9);
   relaxation.add_limit({0, 1, 2, 3, 4}, 2);

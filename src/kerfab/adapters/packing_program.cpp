@@ -206,7 +206,10 @@ void PackingRelaxationSolver::add_limit(const std::vector<int>& vars, int limit)
 PackingRelaxation PackingRelaxationSolver::solve() {
   const auto start = std::chrono::steady_clock::now();
   PackingRelaxation result;
-  if (n_ == 0) return result;
+  if (n_ == 0) {
+    result.optimal = true;
+    return result;
+  }
   Clp_Simplex* clp = model_->clp.get();
   // Dual simplex from the last basis: added rows keep it dual feasible.
   if (!model_->solved)
@@ -214,8 +217,8 @@ PackingRelaxation PackingRelaxationSolver::solve() {
   else
     Clp_dual(clp, 0);
   model_->solved = true;
-  if (!Clp_isProvenOptimal(clp))
-    throw SolverError("CLP: the relaxation of the packing program did not solve");
+  if (!Clp_isProvenOptimal(clp)) return result;
+  result.optimal = true;
   const double* x = Clp_getColSolution(clp);
   result.x.assign(x, x + n_);
   for (double& v : result.x) v = std::clamp(v, 0.0, 1.0);

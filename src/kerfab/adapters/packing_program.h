@@ -43,6 +43,7 @@ struct PackingResult {
 };
 
 struct PackingRelaxation {
+  bool optimal = false;   ///< the simplex reached an optimum (else x and objective are unset)
   std::vector<double> x;  ///< optimal point of the linear relaxation, each in [0, 1]
   double objective = 0;   ///< w.x at that point: an upper bound on the integer optimum
   double seconds = 0;     ///< solve time [s]
@@ -61,7 +62,7 @@ class PackingRelaxationSolver {
 
   /// Adds the row sum_{i in vars} x_i <= limit. \pre indices in range.
   void add_limit(const std::vector<int>& vars, int limit);
-  /// \throw SolverError the simplex did not reach an optimum.
+  /// Solves the relaxation as it now stands; a simplex that fails says so in `optimal`.
   PackingRelaxation solve();
 
  private:

@@ -98,6 +98,7 @@ void separate_odd_cycles(PackingProblem& problem, BendingResult& r, double known
   PackingRelaxationSolver relaxation(problem);
   for (;;) {
     const PackingRelaxation lp = relaxation.solve();
+    if (!lp.optimal) break;  // the cuts only help; CBC still solves the program
     r.relaxation_bound = lp.objective;
     if (lp.objective < proven_below) break;
     if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > budget_s)
