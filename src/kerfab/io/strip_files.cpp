@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
+#include <string>
 
 #include "kerfab/core/errors.h"
 
@@ -18,6 +20,29 @@ std::ofstream open_for_writing(const std::filesystem::path& path) {
 
 void check_written(const std::ofstream& out, const std::filesystem::path& path) {
   if (!out) throw IoError("cannot write " + path.string());
+}
+
+// ASCII PLY of the strip mesh in mm: vertices, and per face its four indices and its strip
+// (patch) id followed by the properties declared in `face_properties` (header lines), whose
+// values `face_values(out, f)` writes, each after a space.
+void write_strip_mesh_ply(const Strips& strips, const std::filesystem::path& path,
+                          const std::string& comment, const std::string& face_properties,
+                          const std::function<void(std::ostream&, std::size_t)>& face_values) {
+  auto out = open_for_writing(path);
+  out << "ply\nformat ascii 1.0\ncomment " << comment << "\n"
+      << "element vertex " << strips.vertices.size()
+      << "\nproperty double x\nproperty double y\nproperty double z\n"
+      << "element face " << strips.faces.size()
+      << "\nproperty list uchar int vertex_indices\nproperty int strip\n"
+      << face_properties << "end_header\n";
+  for (const Vec3& v : strips.vertices) out << v.x() << " " << v.y() << " " << v.z() << "\n";
+  for (std::size_t f = 0; f < strips.faces.size(); ++f) {
+    const auto& q = strips.faces[f];
+    out << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << " " << strips.face_patch[f];
+    face_values(out, f);
+    out << "\n";
+  }
+  check_written(out, path);
 }
 
 }  // namespace
@@ -53,22 +78,12 @@ std::array<int, 3> strip_colour(int id) {
 }
 
 void write_strips_ply(const Strips& strips, const std::filesystem::path& path) {
-  auto out = open_for_writing(path);
-  out << "ply\nformat ascii 1.0\ncomment kerfab strip mesh, millimetres\n"
-      << "element vertex " << strips.vertices.size()
-      << "\nproperty double x\nproperty double y\nproperty double z\n"
-      << "element face " << strips.faces.size()
-      << "\nproperty list uchar int vertex_indices\nproperty int strip\n"
-      << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
-  for (const Vec3& v : strips.vertices) out << v.x() << " " << v.y() << " " << v.z() << "\n";
-  for (std::size_t f = 0; f < strips.faces.size(); ++f) {
-    const auto& q = strips.faces[f];
-    const int id = strips.face_patch[f];
-    const auto c = strip_colour(id);
-    out << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << " " << id << " " << c[0]
-        << " " << c[1] << " " << c[2] << "\n";
-  }
-  check_written(out, path);
+  write_strip_mesh_ply(strips, path, "kerfab strip mesh, millimetres",
+                       "property uchar red\nproperty uchar green\nproperty uchar blue\n",
+                       [&](std::ostream& out, std::size_t f) {
+                         const auto c = strip_colour(strips.face_patch[f]);
+                         out << " " << c[0] << " " << c[1] << " " << c[2];
+                       });
 }
 
 namespace {
@@ -105,24 +120,16 @@ void write_kerf_density_ply(const Strips& strips, const KerfResult& kerf,
     std::nth_element(nonzero.begin(), nonzero.begin() + k, nonzero.end());
     top = nonzero[k];
   }
-  auto out = open_for_writing(path);
-  out << "ply\nformat ascii 1.0\ncomment kerfab kerf cut density (cuts/mm), millimetres\n"
-      << "element vertex " << strips.vertices.size()
-      << "\nproperty double x\nproperty double y\nproperty double z\n"
-      << "element face " << strips.faces.size()
-      << "\nproperty list uchar int vertex_indices\nproperty int strip\nproperty float density\n"
-      << "property uchar critical\nproperty uchar red\nproperty uchar green\nproperty uchar "
-         "blue\nend_header\n";
-  for (const Vec3& v : strips.vertices) out << v.x() << " " << v.y() << " " << v.z() << "\n";
-  for (std::size_t f = 0; f < strips.faces.size(); ++f) {
-    const auto& q = strips.faces[f];
-    const auto c =
-        critical[f] ? std::array<int, 3>{230, 20, 20} : viridis(top > 0 ? density[f] / top : 0.0);
-    out << "4 " << q[0] << " " << q[1] << " " << q[2] << " " << q[3] << " " << strips.face_patch[f]
-        << " " << density[f] << " " << int(critical[f]) << " " << c[0] << " " << c[1] << " " << c[2]
-        << "\n";
-  }
-  check_written(out, path);
+  write_strip_mesh_ply(
+      strips, path, "kerfab kerf cut density (cuts/mm), millimetres",
+      "property float density\nproperty uchar critical\nproperty uchar red\nproperty uchar "
+      "green\nproperty uchar blue\n",
+      [&](std::ostream& out, std::size_t f) {
+        const auto c = critical[f] ? std::array<int, 3>{230, 20, 20}
+                                   : viridis(top > 0 ? density[f] / top : 0.0);
+        out << " " << density[f] << " " << int(critical[f]) << " " << c[0] << " " << c[1] << " "
+            << c[2];
+      });
 }
 
 void write_patch_obj(const Strips& strips, int patch, const std::filesystem::path& path) {
