@@ -29,4 +29,11 @@ PreparedInput load(const RealModel& model) {
   return prepare_input(read_mesh(dir / model.target), quad, in);
 }
 
+Strips real_strips(const PreparedInput& model) {
+  BendingOptions bending;
+  bending.time_limit_s = 10;
+  return build_strips(model.quads, choose_bending_edges(model.quads, model.surface, bending),
+                      model.surface, {});
+}
+
 }  // namespace kerfab::test

@@ -5,6 +5,7 @@
 
 #include "kerfab/bending/bending.h"
 #include "kerfab/input/prepare.h"
+#include "kerfab/strips/strips.h"
 
 namespace kerfab::test {
 
@@ -26,5 +27,9 @@ RealModel spot();
 RealModel fandisk();
 
 PreparedInput load(const RealModel& model);
+
+/// The strips of a loaded model at default options, the bending program limited to 10 s so a
+/// slow proof cannot stall a test (it proves optimal well within that on spot and fandisk).
+Strips real_strips(const PreparedInput& model);
 
 }  // namespace kerfab::test

@@ -187,10 +187,7 @@ TEST(Flatten, RealMeshesFitTogether) {
   for (const test::RealModel& model : {test::spot(), test::fandisk()}) {
     SCOPED_TRACE(model.target);
     const PreparedInput p = test::load(model);
-    BendingOptions bo;
-    bo.time_limit_s = 10;
-    const Strips s =
-        build_strips(p.quads, choose_bending_edges(p.quads, p.surface, bo), p.surface, {});
+    const Strips s = test::real_strips(p);
     const Flattening f = flatten_patches(s, {});
     EXPECT_EQ(f.unconverged, 0);
     EXPECT_EQ(f.inverted_quads, 0);

@@ -198,9 +198,7 @@ TEST(Joints, RealMeshesHaveSoundOutlines) {
   for (const test::RealModel& model : {test::spot(), test::fandisk()}) {
     SCOPED_TRACE(model.target);
     const PreparedInput p = test::load(model);
-    BendingOptions bo;
-    bo.time_limit_s = 10;
-    Strips s = build_strips(p.quads, choose_bending_edges(p.quads, p.surface, bo), p.surface, {});
+    Strips s = test::real_strips(p);
     Flattening f = flatten_patches(s, {});
     for (std::size_t i = 0; i < f.patches.size(); ++i)  // as the pipeline does
       if (!f.patches[i].outline_simple)

@@ -378,10 +378,7 @@ TEST(Strips, RealMeshesMeetThePaperQuality) {
   for (const test::RealModel& model : {test::spot(), test::fandisk()}) {
     SCOPED_TRACE(model.target);
     const PreparedInput p = test::load(model);
-    BendingOptions b;
-    b.time_limit_s = 10;  // fandisk needs ~50 s to prove optimality; the strips do not care
-    const BendingResult bending = choose_bending_edges(p.quads, p.surface, b);
-    const Strips s = build_strips(p.quads, bending, p.surface, {});
+    const Strips s = test::real_strips(p);
     expect_partition_into_disks(p.quads, s);
     const double diag = bounding_box(p.surface.mesh()).diagonal();
     const SurfaceDistance d =
