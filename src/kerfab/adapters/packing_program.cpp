@@ -180,10 +180,11 @@ struct PackingRelaxationSolver::Model {
 };
 
 PackingRelaxationSolver::PackingRelaxationSolver(const PackingProblem& problem)
-    : model_(nullptr), n_(static_cast<int>(problem.weights.size())) {
+    : n_(static_cast<int>(problem.weights.size())) {
   conflict_adjacency(problem);
   const ColumnMatrix c = column_matrix(problem);
-  model_ = new Model{std::unique_ptr<Clp_Simplex, ClpDeleter>(Clp_newModel())};
+  model_ = std::make_unique<Model>();
+  model_->clp.reset(Clp_newModel());
   Clp_Simplex* clp = model_->clp.get();
   if (!clp) throw SolverError("CLP: could not create a model");
   Clp_setLogLevel(clp, 0);
@@ -193,7 +194,7 @@ PackingRelaxationSolver::PackingRelaxationSolver(const PackingProblem& problem)
   Clp_setOptimizationDirection(clp, 1.0);
 }
 
-PackingRelaxationSolver::~PackingRelaxationSolver() { delete model_; }
+PackingRelaxationSolver::~PackingRelaxationSolver() = default;  // Model is complete here
 
 void PackingRelaxationSolver::add_limit(const std::vector<int>& vars, int limit) {
   const std::vector<double> ones(vars.size(), 1.0);

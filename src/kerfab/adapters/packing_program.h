@@ -1,6 +1,7 @@
 #pragma once
 /// \file Weighted binary packing program  max sum w_i x_i  s.t.  x_a + x_b <= 1 for listed
 /// conflict pairs, x_i in {0,1}, some x_i fixed. Solved by COIN-OR CBC behind this interface.
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -67,7 +68,7 @@ class PackingRelaxationSolver {
 
  private:
   struct Model;
-  Model* model_;
+  std::unique_ptr<Model> model_;
   int n_;
 };
 

@@ -18,31 +18,18 @@ constexpr int kMaxSeamEnds = 1000;                 // odd vertices: the pairing 
 constexpr long long kMaxTreeEntries = 20'000'000;  // odd vertices x vertices: seams planned
 constexpr int kMaxExactMatchingNodes = 400;        // matching program up to this many nodes
 
-// Breadth-first distances (in edges) from the given sources over the mesh's vertex graph, and
-// for each reached vertex the edge it was reached by (-1 at a source).
+// Distances from the given sources over the mesh's vertex graph, and for each reached vertex
+// the edge it was reached by (-1 at a source).
 struct Tree {
   std::vector<int> dist, via;
 };
 
-Tree bfs(const PolyMesh& m, const std::vector<int>& sources) {
-  Tree t{std::vector<int>(m.n_vertices(), kFar), std::vector<int>(m.n_vertices(), -1)};
-  std::queue<int> q;
-  for (int s : sources) {
-    t.dist[s] = 0;
-    q.push(s);
-  }
-  while (!q.empty()) {
-    const int u = q.front();
-    q.pop();
-    for (auto h : m.voh_range(m.vertex_handle(u))) {
-      const int v = m.to_vertex_handle(h).idx();
-      if (t.dist[v] != kFar) continue;
-      t.dist[v] = t.dist[u] + 1;
-      t.via[v] = m.edge_handle(h).idx();
-      q.push(v);
-    }
-  }
-  return t;
+// Interior vertices of odd valence: the ends of seams.
+std::vector<int> odd_valence_vertices(const PolyMesh& m) {
+  std::vector<int> odd;
+  for (auto v : m.vertices())
+    if (!m.is_isolated(v) && !m.is_boundary(v) && m.valence(v) % 2 == 1) odd.push_back(v.idx());
+  return odd;
 }
 
 // Shortest paths from the given sources with integer edge costs (Dijkstra); dist in cost units.
@@ -104,14 +91,10 @@ SeamSelection seam_selection(const PolyMesh& quads) {
   r.seam.assign(ne, 0);
   r.bendable.assign(ne, 0);
 
-  std::vector<int> odd, boundary;
-  for (auto v : quads.vertices()) {
-    if (quads.is_isolated(v)) continue;
-    if (quads.is_boundary(v))
-      boundary.push_back(v.idx());
-    else if (quads.valence(v) % 2 == 1)
-      odd.push_back(v.idx());
-  }
+  const std::vector<int> odd = odd_valence_vertices(quads);
+  std::vector<int> boundary;
+  for (auto v : quads.vertices())
+    if (!quads.is_isolated(v) && quads.is_boundary(v)) boundary.push_back(v.idx());
   r.odd_vertices = static_cast<int>(odd.size());
   const int k = r.odd_vertices;
 
@@ -328,17 +311,17 @@ std::vector<std::vector<int>> odd_rings(const PolyMesh& quads, int ball_radius, 
   std::vector<std::vector<int>> rings;
   std::set<std::vector<int>> seen;
   std::vector<char> mark(quads.n_edges(), 0);
-  auto add_layers = [&](const Tree& t) {
-    for (const auto& layer : distance_layers(quads, t, ball_radius))
-      for (auto& ring : odd_cycle_groups(quads, layer, mark))
-        if (seen.insert(ring).second) rings.push_back(std::move(ring));
+  auto keep_odd_cycles = [&](const std::vector<int>& layer) {
+    for (auto& ring : odd_cycle_groups(quads, layer, mark))
+      if (seen.insert(ring).second) rings.push_back(std::move(ring));
   };
-  std::vector<int> odd;
-  for (auto v : quads.vertices())
-    if (!quads.is_isolated(v) && !quads.is_boundary(v) && quads.valence(v) % 2 == 1)
-      odd.push_back(v.idx());
-  // Balls around each odd vertex.
-  for (int v : odd) add_layers(bfs(quads, {v}));
+  const std::vector<int> odd = odd_valence_vertices(quads);
+  // Balls around each odd vertex (distances in edges).
+  const std::vector<int> unit_cost(quads.n_edges(), 1);
+  for (int v : odd)
+    for (const auto& layer :
+         distance_layers(quads, shortest_paths(quads, {v}, unit_cost), ball_radius))
+      keep_odd_cycles(layer);
   // Moats (the primal-dual growth for T-joins): every group of vertices holding an odd number
   // of odd vertices grows by one edge layer per step; groups that touch merge; a group with an
   // even count, or one that reached the boundary, stops. The boundary of each growing group
@@ -387,8 +370,7 @@ std::vector<std::vector<int>> odd_rings(const PolyMesh& quads, int ball_radius, 
       const int b = owner[quads.to_vertex_handle(h).idx()];
       if ((a >= 0) != (b >= 0) && growing(a >= 0 ? a : b)) layer.push_back(e.idx());
     }
-    for (auto& ring : odd_cycle_groups(quads, layer, mark))
-      if (seen.insert(ring).second) rings.push_back(std::move(ring));
+    keep_odd_cycles(layer);
     // Grow every growing group by one layer.
     std::vector<std::pair<int, int>> claims;
     for (int v = 0; v < nv; ++v) {

@@ -544,6 +544,10 @@ class Builder {
         changed = true;
         ++out_.self_contacts;
       }
+    auto source = [&](int v) {  // the vertex a copy stands for
+      const auto it = original.find(v);
+      return it == original.end() ? v : it->second;
+    };
     if (changed)
       for (std::size_t i = 0; i < p.faces.size(); ++i) {
         // The face's cycle from its two rulings, then turned so that it starts where the face
@@ -553,10 +557,6 @@ class Builder {
                                              ? std::array<int, 4>{a[0], a[1], b[1], b[0]}
                                              : std::array<int, 4>{a[0], b[0], b[1], a[1]};
         auto& face = out_.faces[p.faces[i]];
-        auto source = [&](int v) {
-          const auto it = original.find(v);
-          return it == original.end() ? v : it->second;
-        };
         for (int r = 0; r < 4; ++r) {
           bool match = true;
           for (int j = 0; j < 4; ++j) match = match && source(cycle[(j + r) % 4]) == face[j];
