@@ -1,5 +1,5 @@
 """Small helpers shared by the render_*.py scripts (standard library only): a principal frame
-for flat parts, and an orthographic view with Lambert shading for meshes."""
+and a stacked layout for flat parts, and an orthographic view with Lambert shading for meshes."""
 import math
 
 
@@ -17,6 +17,27 @@ def principal_frame(points):
     def transform(p):
         return ((p[0] - cx) * c - (p[1] - cy) * s, (p[0] - cx) * s + (p[1] - cy) * c)
     return transform
+
+
+def stacked_svg(rows, width, widest, label_x):
+    """SVG text of flat shapes stacked top to bottom at one scale, each labelled on the left.
+    rows: (label, (x0, x1, y0, y1), draw) with the shape's bounding box and draw(P) returning
+    its SVG elements, P mapping shape coordinates (y up) to pixels. A shape `widest` wide fills
+    the width less 80 px; labels start at x = label_x px."""
+    scale = (width - 80) / widest
+    y = 20.0
+    out = []
+    for label, (x0, x1, y0, y1), draw in rows:
+        def P(q, y=y, x0=x0, y1=y1):
+            return 60 + scale * (q[0] - x0), y + scale * (y1 - q[1])
+        out += draw(P)
+        out.append(f'<text x="{label_x}" y="{y + scale * (y1 - y0) / 2 + 5:.1f}" '
+                   f'font-family="sans-serif" font-size="14">{label}</text>')
+        y += scale * (y1 - y0) + 16
+    h = int(y + 10)
+    svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{h}" '
+           f'viewBox="0 0 {width} {h}"><rect width="100%" height="100%" fill="white"/>']
+    return "\n".join(svg + out + ["</svg>"])
 
 
 class View:

@@ -7,7 +7,7 @@ import argparse
 import glob
 import os
 
-from plotting import principal_frame
+from plotting import principal_frame, stacked_svg
 
 
 def read_obj(path):
@@ -39,32 +39,25 @@ def main():
         v = [tr(p) for p in v]
         xs, ys = [p[0] for p in v], [p[1] for p in v]
         shapes.append((os.path.basename(f)[:3], v, faces, min(xs), max(xs), min(ys), max(ys)))
+    def drawing(v, faces):
+        def draw(P):
+            edges = {}
+            for f in faces:
+                for k in range(len(f)):
+                    e = tuple(sorted((f[k], f[(k + 1) % len(f)])))
+                    edges[e] = edges.get(e, 0) + 1
+            out = []
+            for (i, j), n in edges.items():
+                (xa, ya), (xb, yb) = P(v[i]), P(v[j])
+                style = 'stroke="#c00000" stroke-width="1.2"' if n == 1 else \
+                    'stroke="#808080" stroke-width="0.4"'
+                out.append(f'<line x1="{xa:.1f}" y1="{ya:.1f}" x2="{xb:.1f}" y2="{yb:.1f}" '
+                           f'{style}/>')
+            return out
+        return draw
+    rows = [(name, box, drawing(v, faces)) for name, v, faces, *box in shapes]
     widest = max(s[4] - s[3] for s in shapes)
-    scale = (a.width - 80) / widest
-    y = 20.0
-    out = []
-    for name, v, faces, x0, x1, y0, y1 in shapes:
-        def P(p):
-            return 60 + scale * (p[0] - x0), y + scale * (y1 - p[1])
-        edges = {}
-        for f in faces:
-            for k in range(len(f)):
-                e = tuple(sorted((f[k], f[(k + 1) % len(f)])))
-                edges[e] = edges.get(e, 0) + 1
-        for (i, j), n in edges.items():
-            (xa, ya), (xb, yb) = P(v[i]), P(v[j])
-            style = 'stroke="#c00000" stroke-width="1.2"' if n == 1 else \
-                'stroke="#808080" stroke-width="0.4"'
-            out.append(f'<line x1="{xa:.1f}" y1="{ya:.1f}" x2="{xb:.1f}" y2="{yb:.1f}" {style}/>')
-        out.append(f'<text x="8" y="{y + scale * (y1 - y0) / 2 + 5:.1f}" font-family="sans-serif" '
-                   f'font-size="14">{name}</text>')
-        y += scale * (y1 - y0) + 16
-    h = int(y + 10)
-    svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{a.width}" height="{h}" '
-           f'viewBox="0 0 {a.width} {h}"><rect width="100%" height="100%" fill="white"/>']
-    svg += out + ["</svg>"]
-    open(a.out_svg, "w").write("\n".join(svg))
-
+    open(a.out_svg, "w").write(stacked_svg(rows, a.width, widest, label_x=8))
 
 if __name__ == "__main__":
     main()
