@@ -6,17 +6,24 @@
 #include "kerfab/flatten/flatten.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
+#include "mesh_path.h"
 
 namespace {
 
-const std::string kMeshes = KERFAB_SHARED_MESHES;
+using kerfab::bench::mesh_path;
 
 kerfab::PreparedInput load(const std::string& target, const std::string& quad, int subdivide) {
   kerfab::InputOptions opt;
   opt.size = 250.0;
   opt.subdivide = subdivide;
-  return kerfab::prepare_input(kerfab::read_mesh(kMeshes + "/" + target),
-                               kerfab::read_mesh(kMeshes + "/" + quad), opt);
+  return kerfab::prepare_input(kerfab::read_mesh(mesh_path(target)),
+                               kerfab::read_mesh(mesh_path(quad)), opt);
+}
+
+bool available(benchmark::State& state, const std::string& target, const std::string& quad) {
+  if (!mesh_path(target).empty() && !mesh_path(quad).empty()) return true;
+  state.SkipWithError("mesh not found (optional ../shared/data/meshes absent)");
+  return false;
 }
 
 void BM_ClosestPoint(benchmark::State& state) {
@@ -32,6 +39,7 @@ void BM_ClosestPoint(benchmark::State& state) {
 BENCHMARK(BM_ClosestPoint);
 
 void BM_Bending(benchmark::State& state, const char* target, const char* quad, int subdivide) {
+  if (!available(state, target, quad)) return;
   const auto in = load(target, quad, subdivide);
   for (auto _ : state) {
     const auto r = kerfab::choose_bending_edges(in.quads, in.surface, {});

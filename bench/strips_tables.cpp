@@ -12,6 +12,7 @@
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/strips/strips.h"
+#include "mesh_path.h"
 
 namespace {
 
@@ -24,13 +25,12 @@ struct Model {
 
 Model load(const std::string& name, const std::string& target, const std::string& quad,
            int subdivide, double size) {
-  const std::string dir = KERFAB_SHARED_MESHES;
   InputOptions in;
   in.subdivide = subdivide;
   in.size = size;
   std::optional<PolyMesh> q;
-  if (!quad.empty()) q = read_mesh(dir + "/" + quad);
-  return {name, prepare_input(read_mesh(dir + "/" + target), q, in)};
+  if (!quad.empty()) q = read_mesh(bench::mesh_path(quad));
+  return {name, prepare_input(read_mesh(bench::mesh_path(target)), q, in)};
 }
 
 SurfaceDistance quality(const Model& m, const Strips& s) {

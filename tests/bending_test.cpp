@@ -227,8 +227,8 @@ TEST(Bending, SpotWeightsConvergedAndDeterministic) {
   in_opt.size = 250.0;
   in_opt.subdivide = 1;
   const PreparedInput in =
-      prepare_input(read_mesh(test::shared_meshes() / "spot_triangulated.obj"),
-                    read_mesh(test::shared_meshes() / "spot_control_mesh.obj"), in_opt);
+      prepare_input(read_mesh(test::real_mesh("spot_triangulated.obj")),
+                    read_mesh(test::real_mesh("spot_control_mesh.obj")), in_opt);
   const BendingOptions defaults;
   const auto w1 = edge_variances(in.quads, in.surface, defaults.edge_samples);
   const auto w2 = edge_variances(in.quads, in.surface, 2 * defaults.edge_samples);

@@ -1,6 +1,7 @@
 #include "fixtures.h"
 
 #include "kerfab/io/mesh_io.h"
+#include "test_util.h"
 
 namespace kerfab::test {
 
@@ -20,13 +21,12 @@ RealModel spot() { return {"spot_triangulated.obj", "spot_control_mesh.obj", 1, 
 RealModel fandisk() { return {"fandisk_quads.off", "", 0, 200}; }
 
 PreparedInput load(const RealModel& model) {
-  const std::filesystem::path dir = KERFAB_SHARED_MESHES;
   InputOptions in;
   in.subdivide = model.subdivide;
   if (model.size > 0) in.size = model.size;
   std::optional<PolyMesh> quad;
-  if (!model.quad.empty()) quad = read_mesh(dir / model.quad);
-  return prepare_input(read_mesh(dir / model.target), quad, in);
+  if (!model.quad.empty()) quad = read_mesh(real_mesh(model.quad));
+  return prepare_input(read_mesh(real_mesh(model.target)), quad, in);
 }
 
 Strips real_strips(const PreparedInput& model) {

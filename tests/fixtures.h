@@ -14,7 +14,7 @@ namespace kerfab::test {
 BendingOptions force_bendable(const PolyMesh& quads,
                               const std::function<bool(const Vec3&, const Vec3&)>& pick);
 
-/// A real model from shared/data/meshes as the demo would prepare it.
+/// A real model kept in the repository (test::real_mesh), prepared as the demo would.
 struct RealModel {
   std::string target;
   std::string quad;  ///< empty: the target is its own quad mesh

@@ -16,6 +16,8 @@ namespace kerfab {
 namespace {
 
 constexpr double kPi = M_PI;
+const Material kMdf;   // 3 mm
+const Machine kLaser;  // 0.15 mm kerf
 
 struct Case {
   Strips strips;
@@ -41,7 +43,7 @@ Case folded_sheet(double fold_deg, const JointOptions& options = {}) {
   Case c;
   c.strips = build_strips(quads, choose_bending_edges(quads, target, bo), target, so);
   c.flat = flatten_patches(c.strips, {});
-  c.joints = make_joints(c.strips, c.flat, options);
+  c.joints = make_joints(c.strips, c.flat, kMdf, kLaser, options);
   return c;
 }
 
@@ -59,8 +61,7 @@ double overlap_area(const Polygon2& a, const Polygon2& b) {
 
 // The checks of the issue: simple outlines, complementary teeth, no tooth on another tooth or on
 // the part's own body.
-void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j,
-                         const JointOptions& o) {
+void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j) {
   ASSERT_EQ(j.parts.size(), s.patches.size());
   // Per (border, interval, side patch): tooth length or slot length in the plane.
   std::map<std::pair<int, int>, std::map<int, double>> tooth_len, slot_len;
@@ -82,7 +83,7 @@ void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j,
     // (1e-4 mm^2: a 10 um square, far below the beam's resolution; rounding debris is smaller.)
     EXPECT_LT(area_of(polygon_difference({part.designed}, {part.cut})), 1e-4);
     EXPECT_LT(area_of(polygon_difference(
-                  {part.cut}, polygon_offset({part.designed}, 0.5 * o.kerf_width + 1e-4))),
+                  {part.cut}, polygon_offset({part.designed}, 0.5 * kLaser.kerf_width + 1e-4))),
               1e-4);
     EXPECT_GT(polygon_area(part.cut), polygon_area(part.designed));
     // The body: the flattened patch.
@@ -146,20 +147,20 @@ TEST(Joints, BoxCornerTeethReachThroughTheOtherPart) {
     EXPECT_NEAR(b.length, 100.0 / 6, 1e-9);
     ASSERT_EQ(b.intervals.size(), 6u);  // 16.7 mm in teeth of about 3 mm
     for (const auto& in : b.intervals) {
-      EXPECT_NEAR(in.offsets.tip, o.thickness / 2, 1e-9);
-      EXPECT_NEAR(in.offsets.slot, -o.thickness / 2, 1e-9);
+      EXPECT_NEAR(in.offsets.tip, kMdf.thickness / 2, 1e-9);
+      EXPECT_NEAR(in.offsets.slot, -kMdf.thickness / 2, 1e-9);
     }
     EXPECT_GE(b.teeth, 4);  // at most the intervals at the sheet's edge may be blocked
   }
   EXPECT_EQ(fold_borders, 6);
-  expect_sound_joints(c.strips, c.flat, c.joints, o);
+  expect_sound_joints(c.strips, c.flat, c.joints);
   // Kerf compensation of these rectilinear parts: the area grows by half a kerf times the
   // perimeter plus the square corners.
   for (const PartOutline& part : c.joints.parts) {
     double perimeter = 0;
     for (std::size_t i = 0; i < part.designed.size(); ++i)
       perimeter += (part.designed[(i + 1) % part.designed.size()] - part.designed[i]).norm();
-    const double d = 0.5 * o.kerf_width;
+    const double d = 0.5 * kLaser.kerf_width;
     EXPECT_NEAR(polygon_area(part.cut) - polygon_area(part.designed), d * perimeter,
                 0.02 * d * perimeter);
   }
@@ -175,7 +176,7 @@ TEST(Joints, ShallowFoldsGetNoTeethUnlessProtrusionIsAllowed) {
   o.protrusion = 0.2;
   const Case d = folded_sheet(8, o);
   EXPECT_GT(d.joints.teeth, 0);
-  expect_sound_joints(d.strips, d.flat, d.joints, o);
+  expect_sound_joints(d.strips, d.flat, d.joints);
 }
 
 TEST(Joints, FoldAnglesAndOffsetsFollowTheSurface) {
@@ -190,7 +191,7 @@ TEST(Joints, FoldAnglesAndOffsetsFollowTheSurface) {
         EXPECT_NEAR(in.offsets.slot, e.slot, 1e-6);
       }
     }
-    expect_sound_joints(c.strips, c.flat, c.joints, {});
+    expect_sound_joints(c.strips, c.flat, c.joints);
   }
 }
 
@@ -205,21 +206,24 @@ TEST(Joints, RealMeshesHaveSoundOutlines) {
         s = split_patch(s, static_cast<int>(i), s.patches[i].quads.size() / 2);
     f = flatten_patches(s, {});
     const JointOptions o;
-    const Joints j = make_joints(s, f, o);
+    const Joints j = make_joints(s, f, kMdf, kLaser, o);
     EXPECT_GT(j.teeth, 100);
     EXPECT_GT(j.toothed_length, 0.25 * j.border_length);
-    expect_sound_joints(s, f, j, o);
+    expect_sound_joints(s, f, j);
   }
 }
 
 TEST(Joints, RejectsBadOptions) {
   const Case c = folded_sheet(90);
+  Material thin;
+  thin.thickness = -1;  // 0 is allowed: paper
+  EXPECT_THROW(make_joints(c.strips, c.flat, thin, kLaser, {}), InvalidInput);
+  Machine laser;
+  laser.kerf_width = -0.1;
+  EXPECT_THROW(make_joints(c.strips, c.flat, kMdf, laser, {}), InvalidInput);
   JointOptions bad;
-  bad.thickness = -1;  // 0 is allowed: paper
-  EXPECT_THROW(make_joints(c.strips, c.flat, bad), InvalidInput);
-  bad = {};
   bad.tooth_width = -1;
-  EXPECT_THROW(make_joints(c.strips, c.flat, bad), InvalidInput);
+  EXPECT_THROW(make_joints(c.strips, c.flat, kMdf, kLaser, bad), InvalidInput);
 }
 
 }  // namespace

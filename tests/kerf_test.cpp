@@ -26,7 +26,7 @@ Built build(const PolyMesh& quads, const TriangleMesh& target_mesh, const Strips
   Built b;
   b.strips = build_strips(quads, choose_bending_edges(quads, target, bo), target, so);
   b.flat = flatten_patches(b.strips, {});
-  b.joints = make_joints(b.strips, b.flat, {});
+  b.joints = make_joints(b.strips, b.flat, {}, {}, {});
   return b;
 }
 
@@ -79,10 +79,10 @@ TEST(Kerf, RingCutCountMatchesTheClosedForm) {
         const auto shape = test::open_cylinder(r, height, 24, 1, 48);
         const Built b = build(shape.quads, shape.target);
         ASSERT_EQ(b.strips.patches.size(), 1u);
-        KerfOptions o;
-        o.material.thickness = h;
-        const KerfResult k = place_kerf_cuts(b.strips, b.flat, b.joints, o);
-        const double g = o.material.shear_modulus / (o.material.yield_strength / o.material.safety);
+        Material m;
+        m.thickness = h;
+        const KerfResult k = place_kerf_cuts(b.strips, b.flat, b.joints, m, {}, {});
+        const double g = m.shear_modulus / (m.yield_strength / m.safety);
         const double beams = ring_beams(r, height, h, g);
         EXPECT_NEAR(k.cuts, std::ceil(beams) - 1, 1.0) << "beams " << beams;
       }
@@ -91,13 +91,11 @@ TEST(Kerf, RingCutCountMatchesTheClosedForm) {
 TEST(Kerf, FlatPartsAndPaperGetNoCuts) {
   const auto plane = test::quad_plane(120, 4, 1);
   const Built flat = build(plane.quads, plane.target);
-  EXPECT_EQ(place_kerf_cuts(flat.strips, flat.flat, flat.joints, {}).cuts, 0);
+  EXPECT_EQ(place_kerf_cuts(flat.strips, flat.flat, flat.joints, {}, {}, {}).cuts, 0);
   const auto ring = test::open_cylinder(40, 30, 24, 1, 16);
   const Built b = build(ring.quads, ring.target);
-  KerfOptions paper;
-  paper.material = material_preset("paper");
-  EXPECT_EQ(place_kerf_cuts(b.strips, b.flat, b.joints, paper).cuts, 0);
-  EXPECT_GT(place_kerf_cuts(b.strips, b.flat, b.joints, {}).cuts, 20);
+  EXPECT_EQ(place_kerf_cuts(b.strips, b.flat, b.joints, material_preset("paper"), {}, {}).cuts, 0);
+  EXPECT_GT(place_kerf_cuts(b.strips, b.flat, b.joints, {}, {}, {}).cuts, 20);
 }
 
 TEST(Kerf, DensityRisesWithCurvature) {
@@ -109,7 +107,7 @@ TEST(Kerf, DensityRisesWithCurvature) {
   const PolyMesh quads = test::grid_mesh(48, 1, true, false, ellipse);
   const Built b = build(quads, triangulate(test::grid_mesh(48 * 16, 16, true, false, ellipse)));
   ASSERT_EQ(b.strips.patches.size(), 1u);
-  const KerfResult k = place_kerf_cuts(b.strips, b.flat, b.joints, {});
+  const KerfResult k = place_kerf_cuts(b.strips, b.flat, b.joints, {}, {}, {});
   const Patch& patch = b.strips.patches[0];
   // Cuts per mm of the sub-quads near |x| = 80 (tight) and near |y| = 30 (flat).
   double tight = 0, flat = 0;
@@ -129,7 +127,7 @@ TEST(Kerf, TightBendsAreCriticalAndCutsStayInsideTheirPart) {
   const auto shape = test::open_cylinder(12, 10, 24, 1, 16);
   const Built b = build(shape.quads, shape.target);
   KerfOptions o;
-  const KerfResult k = place_kerf_cuts(b.strips, b.flat, b.joints, o);
+  const KerfResult k = place_kerf_cuts(b.strips, b.flat, b.joints, {}, {}, o);
   ASSERT_GT(k.cuts, 0);
   EXPECT_GT(k.critical.size(), 0u);  // R 12, H 10 in 3 mm MDF: ~95 beams, 0.8 mm apart
   for (const auto& c : k.critical) EXPECT_LT(c.spacing, o.min_cut_spacing);
@@ -154,9 +152,9 @@ TEST(Kerf, RejectsBadMaterial) {
   EXPECT_THROW(material_preset("balsa"), InvalidInput);
   const auto ring = test::open_cylinder(40, 30, 12, 1, 4);
   const Built b = build(ring.quads, ring.target);
-  KerfOptions o;
-  o.material.yield_strength = 0;
-  EXPECT_THROW(place_kerf_cuts(b.strips, b.flat, b.joints, o), InvalidInput);
+  Material m;
+  m.yield_strength = 0;
+  EXPECT_THROW(place_kerf_cuts(b.strips, b.flat, b.joints, m, {}, {}), InvalidInput);
 }
 
 }  // namespace
@@ -186,12 +184,12 @@ TEST(Kerf, SpotAdaptiveNeedsFarLessCuttingThanAConstantDensity) {
   const Strips s =
       build_strips(in.quads, choose_bending_edges(in.quads, in.surface, {}), in.surface, {});
   const Flattening f = flatten_patches(s, {});
-  const Joints j = make_joints(s, f, {});
-  const KerfResult adaptive = place_kerf_cuts(s, f, j, {});
+  const Joints j = make_joints(s, f, {}, {}, {});
+  const KerfResult adaptive = place_kerf_cuts(s, f, j, {}, {}, {});
   ASSERT_GT(adaptive.max_cuts_per_quad, 0);
   KerfOptions constant;
   constant.constant_cuts_per_quad = adaptive.max_cuts_per_quad;  // enough for the tightest quad
-  const KerfResult uniform = place_kerf_cuts(s, f, j, constant);
+  const KerfResult uniform = place_kerf_cuts(s, f, j, {}, {}, constant);
   EXPECT_LT(adaptive.cut_length, 0.5 * uniform.cut_length);
   // No cut runs through a tooth.
   for (std::size_t p = 0; p < s.patches.size(); ++p)

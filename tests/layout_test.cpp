@@ -9,11 +9,11 @@
 #include <sstream>
 
 #include "kerfab/core/errors.h"
-#include "kerfab/io/dxf_sheets.h"
 #include "kerfab/io/mesh_io.h"
-#include "kerfab/io/svg_sheets.h"
 #include "kerfab/layout/labels.h"
-#include "kerfab/pipeline.h"
+#include "kerfab/output/dxf_sheets.h"
+#include "kerfab/output/svg_sheets.h"
+#include "kerfab/pipeline/pipeline.h"
 #include "shapes.h"
 #include "test_util.h"
 
@@ -260,7 +260,7 @@ TEST(Layout, EveryTestShapeGivesSoundSheets) {
     ASSERT_TRUE(run.layout);
     EXPECT_TRUE(run.layout->unplaced.empty());
     const auto dir = test::fresh_dir(shape.name + "_cut");
-    write_svg_sheets(run, dir);
+    write_svg_sheets(run, {}, dir);
     write_dxf_sheets(run, dir);
     expect_sound_sheets(dir, run.layout->sheets, o.layout, run.joints->parts.size());
     for (int s = 1; s <= run.layout->sheets; ++s) {
@@ -281,12 +281,12 @@ TEST(Layout, OversizedPartsAreSplitUntilTheyFit) {
   o.layout.sheet_width = 300;
   o.layout.sheet_height = 200;
   const RunResult run = run_shape(ring, o);
-  EXPECT_GE(run.oversize_splits, 2);
-  EXPECT_GE(run.strips->patches.size(), 3u);
+  EXPECT_GE(run.flat->oversize_splits, 2);
+  EXPECT_GE(run.flat->strips.patches.size(), 3u);
   EXPECT_TRUE(run.layout->unplaced.empty());
   for (const auto& part : run.joints->parts) EXPECT_TRUE(fits_sheet(part.cut, o.layout));
   const auto dir = test::fresh_dir("cut");
-  write_svg_sheets(run, dir);
+  write_svg_sheets(run, {}, dir);
   expect_sound_sheets(dir, run.layout->sheets, o.layout, run.joints->parts.size());
 }
 

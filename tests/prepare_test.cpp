@@ -67,8 +67,8 @@ TEST(Prepare, NanCoordinatesAndZeroAreaFacesAreRejected) {
 }
 
 TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetNeedsQuadMesh) {
-  const PolyMesh cage = read_mesh(test::shared_meshes() / "spot_control_mesh.obj");
-  const PolyMesh target = read_mesh(test::shared_meshes() / "spot_triangulated.obj");
+  const PolyMesh cage = read_mesh(test::real_mesh("spot_control_mesh.obj"));
+  const PolyMesh target = read_mesh(test::real_mesh("spot_triangulated.obj"));
   InputOptions opt;
   opt.size = 250.0;
   try {
@@ -88,11 +88,17 @@ TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetNeedsQuadMesh) {
 }
 
 TEST(Prepare, QuadMeshFarFromTargetIsRefusedWithItsDistance) {
-  // AmO: the quad mesh is translated by about (73, 16, 39) relative to its target.
-  const PolyMesh target = read_mesh(test::shared_meshes() / "amo_adaptive.off");
-  const PolyMesh quads = read_mesh(test::shared_meshes() / "amo_quad.off");
+  // The AmO pair of the shared collection has its quad mesh moved by about (73, 16, 39); here
+  // Spot's control mesh is moved by a third of the model's size.
+  const PolyMesh target = read_mesh(test::real_mesh("spot_triangulated.obj"));
+  PolyMesh quads = read_mesh(test::real_mesh("spot_control_mesh.obj"));
+  for (auto v : quads.vertices())
+    quads.set_point(v, quads.point(v) + OpenMesh::Vec3d(0.5, 0.1, 0.3));
+  InputOptions opt;
+  opt.size = 250;
+  opt.subdivide = 1;
   try {
-    prepare_input(target, quads, {});
+    prepare_input(target, quads, opt);
     FAIL() << "expected InvalidInput";
   } catch (const InvalidInput& e) {
     const std::string msg = e.what();
@@ -102,7 +108,7 @@ TEST(Prepare, QuadMeshFarFromTargetIsRefusedWithItsDistance) {
 }
 
 TEST(Prepare, QuadTargetServesAsItsOwnQuadMesh) {
-  const PolyMesh fandisk = read_mesh(test::shared_meshes() / "fandisk_quads.off");
+  const PolyMesh fandisk = read_mesh(test::real_mesh("fandisk_quads.off"));
   InputOptions opt;
   opt.size = 200.0;
   const PreparedInput in = prepare_input(fandisk, std::nullopt, opt);

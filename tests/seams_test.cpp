@@ -188,8 +188,8 @@ TEST(Bending, SpotQuadrangulatedProvenOptimal) {
   InputOptions in_opt;
   in_opt.size = 250.0;
   const PreparedInput in =
-      prepare_input(read_mesh(test::shared_meshes() / "spot_triangulated.obj"),
-                    read_mesh(test::shared_meshes() / "spot_quadrangulated.obj"), in_opt);
+      prepare_input(read_mesh(test::real_mesh("spot_triangulated.obj")),
+                    read_mesh(test::real_mesh("spot_quadrangulated.obj")), in_opt);
   ASSERT_EQ(in.quads.n_faces(), 2928u);
   const BendingResult r = choose_bending_edges(in.quads, in.surface, {});
   EXPECT_EQ(r.status, PackingStatus::kOptimal);

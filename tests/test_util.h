@@ -1,5 +1,5 @@
 #pragma once
-// Small helpers shared by the tests: temporary files and the real-mesh folder.
+// Small helpers shared by the tests: temporary files and where the real meshes are.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,7 +13,23 @@
 
 namespace kerfab::test {
 
+/// A real mesh kept in the repository: tests/data/ or the bundled example examples/spot/.
+inline std::filesystem::path real_mesh(const std::string& name) {
+  const std::filesystem::path data = std::filesystem::path(KERFAB_TEST_DATA) / name;
+  if (std::filesystem::exists(data)) return data;
+  return std::filesystem::path(KERFAB_EXAMPLE_DIR) / "spot" / name;
+}
+
+/// The optional larger collection beside the repository (../shared/data/meshes).
 inline std::filesystem::path shared_meshes() { return KERFAB_SHARED_MESHES; }
+inline bool have_shared_meshes() { return std::filesystem::is_directory(shared_meshes()); }
+
+/// Optional extra checks on ../shared/data/meshes: skipped, not failed, where it is absent.
+#define KERFAB_SKIP_WITHOUT_SHARED_MESHES()                                                  \
+  do {                                                                                       \
+    if (!::kerfab::test::have_shared_meshes())                                               \
+      GTEST_SKIP() << "optional check: " << ::kerfab::test::shared_meshes() << " is absent"; \
+  } while (0)
 
 /// A fresh empty directory under the test temp dir, named after the running test.
 inline std::filesystem::path fresh_dir(const std::string& tag = "") {

@@ -1,5 +1,5 @@
 // kerfab command line: flags -> options, run the pipeline, write outputs, map errors to exit
-// codes (shared/OUTPUTS.md). No geometry here.
+// codes (docs/outputs.md). No geometry here.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -9,8 +9,8 @@
 #include <string>
 
 #include "kerfab/core/errors.h"
-#include "kerfab/io/run_output.h"
-#include "kerfab/pipeline.h"
+#include "kerfab/output/run_output.h"
+#include "kerfab/pipeline/pipeline.h"
 
 namespace {
 
@@ -30,9 +30,9 @@ struct RunFlags {
   std::string format = "svg,dxf,pdf";
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
   std::optional<int> constant_density;
-  bool dump = false;
   bool quiet = false;
   kerfab::PipelineOptions options;
+  kerfab::OutputOptions output;
 };
 
 void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
@@ -133,7 +133,7 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "No teeth where the tooth would overlap its slot by less than this [mm]")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--kerf-width", ko.kerf_width,
+  cmd.add_option("--kerf-width", f.options.machine.kerf_width,
                  "Width of the laser cut; outlines are offset by half of it so parts fit as "
                  "designed [mm]")
       ->capture_default_str()
@@ -171,7 +171,7 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--format", f.format,
                  "Cut-sheet files to write, comma separated: svg, dxf, pdf (PNG previews always)")
       ->capture_default_str();
-  cmd.add_option("--stroke", f.options.style.stroke,
+  cmd.add_option("--stroke", f.output.style.stroke,
                  "Line width of cut and engrave lines in the SVG and PDF sheets; the default "
                  "hairline is what laser drivers expect [mm]")
       ->capture_default_str()
@@ -183,10 +183,10 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
         return ok ? std::string() : "colour must be #rrggbb, got '" + c + "'";
       },
       "#rrggbb");
-  cmd.add_option("--cut-colour", f.options.style.cut, "Colour of cut lines in SVG and PDF")
+  cmd.add_option("--cut-colour", f.output.style.cut, "Colour of cut lines in SVG and PDF")
       ->capture_default_str()
       ->check(colour);
-  cmd.add_option("--engrave-colour", f.options.style.engrave,
+  cmd.add_option("--engrave-colour", f.output.style.engrave,
                  "Colour of engraved labels in SVG and PDF")
       ->capture_default_str()
       ->check(colour);
@@ -201,7 +201,10 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "the target's bbox diagonal [ratio]")
       ->capture_default_str()
       ->check(CLI::Range(1e-5, 0.1));
-  cmd.add_flag("--dump", f.dump, "Also write intermediate stages to OUT/stages/");
+  cmd.add_flag("--dump", f.output.dump, "Also write intermediate stages to OUT/stages/");
+  cmd.add_flag("--row-baseline", f.options.row_baseline,
+               "Also build the naive one-strip-per-row layout and report its strip count "
+               "(strips.naive_row_strips, for comparison)");
   cmd.add_flag("--quiet", f.quiet, "No progress lines on stderr");
   std::string stages;
   for (const auto& s : kerfab::stage_names()) stages += (stages.empty() ? "" : "|") + s;
@@ -212,18 +215,19 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
 int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   const fs::path out = f.out;
   kerfab::PipelineOptions options = f.options;
+  kerfab::OutputOptions output = f.output;
   options.input.size = f.size;
   options.strips.split_angle = f.split_angle_deg * M_PI / 180.0;
   try {
-    options.kerf.material = kerfab::material_preset(f.material);
+    options.material = kerfab::material_preset(f.material);
   } catch (const kerfab::InvalidInput& e) {
     std::cerr << "kerfab: error: " << e.what() << "\n";
     return kInvalid;
   }
-  if (f.thickness) options.kerf.material.thickness = *f.thickness;
-  if (f.shear_modulus) options.kerf.material.shear_modulus = *f.shear_modulus;
-  if (f.yield_strength) options.kerf.material.yield_strength = *f.yield_strength;
-  if (f.safety) options.kerf.material.safety = *f.safety;
+  if (f.thickness) options.material.thickness = *f.thickness;
+  if (f.shear_modulus) options.material.shear_modulus = *f.shear_modulus;
+  if (f.yield_strength) options.material.yield_strength = *f.yield_strength;
+  if (f.safety) options.material.safety = *f.safety;
   options.kerf.constant_cuts_per_quad = f.constant_density;
   {
     double w = 0, h = 0;
@@ -238,16 +242,16 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     options.layout.sheet_height = h;
   }
   {
-    options.formats = {false, false, false};
+    output.formats = {false, false, false};
     std::stringstream list(f.format);
     std::string item;
     while (std::getline(list, item, ',')) {
       if (item == "svg") {
-        options.formats.svg = true;
+        output.formats.svg = true;
       } else if (item == "dxf") {
-        options.formats.dxf = true;
+        output.formats.dxf = true;
       } else if (item == "pdf") {
-        options.formats.pdf = true;
+        output.formats.pdf = true;
       } else {
         std::cerr << "kerfab: error: --format: unknown or unavailable format '" << item
                   << "' (svg, dxf, pdf)\n";
@@ -271,7 +275,7 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     kerfab::Progress progress;
     if (!f.quiet) progress = [](std::string_view line) { std::cerr << line << "\n"; };
     const kerfab::RunResult result = kerfab::run_pipeline(inputs, options, progress);
-    kerfab::write_run(result, out, f.dump);
+    kerfab::write_run(result, output, out);
     for (const auto& w : result.warnings) std::cerr << "kerfab: warning: " << w << "\n";
     if (!f.quiet)
       std::cerr << "done in " << result.total_seconds
@@ -312,7 +316,7 @@ int main(int argc, char** argv) {
 
   RunFlags demo_flags;
   demo_flags.options.input.subdivide = 1;
-  demo_flags.dump = true;
+  demo_flags.output.dump = true;
   CLI::App* demo_cmd = app.add_subcommand(
       "demo",
       "Run the bundled example: Spot (public domain) at 250 mm, control mesh with one "

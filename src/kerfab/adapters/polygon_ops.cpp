@@ -74,14 +74,4 @@ std::vector<Polygon2> polygon_offset(const std::vector<Polygon2>& polygons, doub
   return from_paths(out);
 }
 
-double polygon_area(const Polygon2& p) {
-  double a = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const auto& u = p[i];
-    const auto& v = p[(i + 1) % p.size()];
-    a += u.x() * v.y() - u.y() * v.x();
-  }
-  return 0.5 * a;
-}
-
 }  // namespace kerfab

@@ -2,12 +2,11 @@
 /// \file 2D polygon Booleans and offsets (Clipper behind this interface; no Clipper type leaks
 /// out). Coordinates in millimetres, rounded internally to 10 nm. Boolean results are strictly
 /// simple: polygons that would touch themselves at a vertex come out split there.
-#include <Eigen/Core>
 #include <vector>
 
-namespace kerfab {
+#include "kerfab/core/geometry2d.h"
 
-using Polygon2 = std::vector<Eigen::Vector2d>;  ///< closed, last vertex not repeated
+namespace kerfab {
 
 /// Intersection of two polygons (non-zero fill), as polygons (holes as clockwise rings).
 std::vector<Polygon2> polygon_intersection(const Polygon2& a, const Polygon2& b);
@@ -21,8 +20,5 @@ std::vector<Polygon2> polygon_difference(const std::vector<Polygon2>& a,
 
 /// Outward offset by \p delta (negative: inward) with mitred corners (miter limit 4).
 std::vector<Polygon2> polygon_offset(const std::vector<Polygon2>& polygons, double delta);
-
-/// Signed area (counter-clockwise positive) [mm^2].
-double polygon_area(const Polygon2& polygon);
 
 }  // namespace kerfab

@@ -7,15 +7,10 @@
 
 #include "kerfab/adapters/packing_program.h"
 #include "kerfab/adapters/target_surface.h"
+#include "kerfab/core/guidance.h"
 #include "kerfab/core/mesh.h"
 
 namespace kerfab {
-
-/// A user's decision for one edge of the quad mesh (paper Sec. 3.5).
-struct EdgeGuidance {
-  int v0 = -1, v1 = -1;  ///< the edge's two vertex indices in the quad mesh as used
-  bool bendable = true;  ///< true: force bendable; false: force stiff
-};
 
 struct BendingOptions {
   double alignment = 0.3;     ///< c in w0 = c * max_e w_e, the alignment bias [-], >= 0

@@ -17,8 +17,6 @@ namespace {
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Triplet = Eigen::Triplet<double>;
 
-double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
 /// Corner angle at \p p between the directions to \p next and \p prev, counter-clockwise from
 /// next to prev: in (0, pi) at a convex corner of a counter-clockwise polygon.
 double corner_angle(const Vec2& p, const Vec2& next, const Vec2& prev) {
@@ -426,29 +424,6 @@ void measure_borders(const Strips& strips, Flattening& flat) {
 }
 
 }  // namespace
-
-StripFrame::StripFrame(const std::vector<Vec2>& points, int faces)
-    : x(points), n(faces), s(faces + 1, 0.0) {
-  for (int i = 0; i < n; ++i) s[i + 1] = s[i] + (mid(i + 1) - mid(i)).norm();
-}
-
-int StripFrame::face_at(double at) const {
-  return std::clamp(static_cast<int>(std::upper_bound(s.begin(), s.end(), at) - s.begin()) - 1, 0,
-                    n - 1);
-}
-
-std::array<Vec2, 2> StripFrame::section(double at) const {
-  const int f = face_at(at);
-  const double len = s[f + 1] - s[f];
-  const double u = len > 0 ? std::clamp((at - s[f]) / len, 0.0, 1.0) : 0.5;
-  return {(1 - u) * x[2 * f] + u * x[2 * (f + 1)], (1 - u) * x[2 * f + 1] + u * x[2 * (f + 1) + 1]};
-}
-
-Vec2 StripFrame::along(double at) const {
-  const int f = face_at(at);
-  const Vec2 d = mid(std::min(f + 1, n)) - mid(f);
-  return d.norm() > 0 ? Vec2(d.normalized()) : Vec2(1, 0);
-}
 
 std::vector<Vec2> flat_outline(const Strips& strips, const Flattening& flat, int patch) {
   std::vector<Vec2> out;

@@ -10,11 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "kerfab/core/geometry2d.h"
 #include "kerfab/strips/strips.h"
 
 namespace kerfab {
-
-using Vec2 = Eigen::Vector2d;
 
 struct FlattenOptions {
   double lambda = 0.99;      ///< weight of the border-length term in Eq. 2 [-], in [0, 1];
@@ -69,22 +68,6 @@ struct Flattening {
   int inverted_quads = 0;
   int non_simple_outlines = 0;
   int unconverged = 0;
-};
-
-/// A flattened patch seen along its length: the strip coordinate is the arc length through the
-/// rulings' midpoints (shared by the kerf cuts and the labels placed between them).
-struct StripFrame {
-  const std::vector<Vec2>& x;  ///< the patch's flattened points, 2 * ruling + rail
-  int n;                       ///< sub-quads
-  std::vector<double> s;       ///< strip coordinate of each ruling [mm]
-  StripFrame(const std::vector<Vec2>& points, int faces);
-  Vec2 mid(int ruling) const { return 0.5 * (x[2 * ruling] + x[2 * ruling + 1]); }
-  /// The sub-quad holding strip coordinate \p at (clamped to the strip).
-  int face_at(double at) const;
-  /// The two rail points of the cross-section at \p at.
-  std::array<Vec2, 2> section(double at) const;
-  /// Unit direction along the strip at \p at.
-  Vec2 along(double at) const;
 };
 
 /// The patch's flattened outline, counter-clockwise [mm].

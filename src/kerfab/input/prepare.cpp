@@ -163,6 +163,7 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
                     .quads_from_target = from_target,
                     .warnings = std::move(warnings)};
   out.target_summary = summarize(out.target);
+  out.target_diagonal = bounding_box(out.surface.mesh()).diagonal();
   out.quad_summary = summarize(out.quads);
 
   // The quad mesh must lie on (near) the target.

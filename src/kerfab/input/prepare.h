@@ -38,6 +38,7 @@ struct PreparedInput {
   double scale = 1.0;              ///< factor applied to both input meshes [-]
   bool quads_from_target = false;  ///< the target itself served as the quad mesh
   MeshSummary target_summary;
+  double target_diagonal = 0;  ///< the scaled target's bbox diagonal [mm]
   MeshSummary quad_summary;
   double quad_max_distance = 0;   ///< max distance of a quad vertex to the target [mm]
   double quad_mean_distance = 0;  ///< mean distance of the quad vertices to the target [mm]

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "kerfab/bending/bending.h"
+#include "kerfab/core/guidance.h"
 
 namespace kerfab {
 

@@ -67,7 +67,9 @@ struct Piece {
 
 class Builder {
  public:
-  Builder(const Strips& s, const Flattening& f, const JointOptions& o) : s_(s), f_(f), o_(o) {}
+  Builder(const Strips& s, const Flattening& f, double thickness, double kerf_width,
+          const JointOptions& o)
+      : s_(s), f_(f), thickness_(thickness), kerf_width_(kerf_width), o_(o) {}
 
   Joints run() {
     make_rings();
@@ -85,6 +87,7 @@ class Builder {
  private:
   const Strips& s_;
   const Flattening& f_;
+  const double thickness_, kerf_width_;  // [mm]
   const JointOptions& o_;
   std::vector<Ring> rings_;
   std::vector<Piece> pieces_;
@@ -187,7 +190,7 @@ class Builder {
   }
 
   ToothOffsets offsets_at(const Piece& piece, double s) const {
-    return tooth_offsets(std::max(piece.fold_at(s), 1e-6), o_.thickness, o_.protrusion, o_.max_tip);
+    return tooth_offsets(std::max(piece.fold_at(s), 1e-6), thickness_, o_.protrusion, o_.max_tip);
   }
 
   /// Paper Fig. 6: every mated outline edge gets a band from its slot to its tip offset; where
@@ -274,14 +277,14 @@ class Builder {
         in.s1 = piece.length * (j + 1) / n;
         const double mid = 0.5 * (in.s0 + in.s1);
         in.fold = piece.fold_at(mid);
-        in.plain = plain_offset(in.fold, o_.thickness);
+        in.plain = plain_offset(in.fold, thickness_);
         // Conservative over the interval: the shortest tip and the deepest slot.
         in.offsets = offsets_at(piece, mid);
         for (double at : {in.s0, in.s1}) {
           const ToothOffsets e = offsets_at(piece, at);
           in.offsets.tip = std::min(in.offsets.tip, e.tip);
           in.offsets.slot = std::min(in.offsets.slot, e.slot);
-          in.plain = std::min(in.plain, plain_offset(piece.fold_at(at), o_.thickness));
+          in.plain = std::min(in.plain, plain_offset(piece.fold_at(at), thickness_));
         }
         bool free = true;
         for (int side = 0; side < 2 && free; ++side)
@@ -407,7 +410,7 @@ class Builder {
     for (const auto& c : pieces) outer += polygon_area(c) > significant ? 1 : 0;
     part.repaired = outer != 1;
     part.designed = largest(pieces);
-    part.cut = largest(polygon_offset({part.designed}, 0.5 * o_.kerf_width));
+    part.cut = largest(polygon_offset({part.designed}, 0.5 * kerf_width_));
     return part;
   }
 };
@@ -418,16 +421,17 @@ double plain_offset(double fold, double thickness) {
   return -0.5 * thickness * std::tan(0.5 * std::min(std::abs(fold), M_PI - 1e-9));
 }
 
-Joints make_joints(const Strips& strips, const Flattening& flat, const JointOptions& options) {
-  if (!(options.thickness >= 0)) throw InvalidInput("--thickness must be >= 0 mm");
+Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,
+                   const Machine& machine, const JointOptions& options) {
+  if (!(material.thickness >= 0)) throw InvalidInput("--thickness must be >= 0 mm");
   if (!(options.protrusion >= 0)) throw InvalidInput("--protrusion must be >= 0 mm");
   if (!(options.tooth_width > 0)) throw InvalidInput("--tooth-width must be > 0 mm");
   if (!(options.min_depth >= 0)) throw InvalidInput("--min-tooth-depth must be >= 0 mm");
-  if (!(options.kerf_width >= 0)) throw InvalidInput("--kerf-width must be >= 0 mm");
+  if (!(machine.kerf_width >= 0)) throw InvalidInput("--kerf-width must be >= 0 mm");
   if (!(options.max_tip > 0)) throw InvalidInput("joints: max_tip must be > 0 mm");
   if (flat.patches.size() != strips.patches.size())
     throw InvalidInput("joints: flattening does not belong to these strips");
-  return Builder(strips, flat, options).run();
+  return Builder(strips, flat, material.thickness, machine.kerf_width, options).run();
 }
 
 }  // namespace kerfab

@@ -8,18 +8,18 @@
 #include <vector>
 
 #include "kerfab/adapters/polygon_ops.h"
+#include "kerfab/core/material.h"
 #include "kerfab/flatten/flatten.h"
 #include "kerfab/joints/tooth_offsets.h"
 #include "kerfab/strips/strips.h"
 
 namespace kerfab {
 
+/// Joint settings; the sheet thickness comes from the Material, the kerf width from the Machine.
 struct JointOptions {
-  double thickness = 3.0;        ///< sheet thickness h [mm], > 0
   double protrusion = 0.0;       ///< a tooth may leave the mitred shell by this much [mm], >= 0
   double tooth_width = 3.0;      ///< target width of teeth and slots along the border [mm], > 0
   double min_depth = 0.5;        ///< no teeth where tip - slot is below this [mm], >= 0
-  double kerf_width = 0.15;      ///< width of the laser cut; outlines grow by half of it [mm], >= 0
   double max_tip = 6.0;          ///< longest tooth [mm], > 0 (matters only with a protrusion,
                                  ///< where nearly coplanar parts would get ever longer teeth)
   double sharp_turn = M_PI / 6;  ///< consecutive outline edges turning more than this restrict
@@ -73,9 +73,11 @@ struct Joints {
   int repaired_parts = 0;
 };
 
-/// Builds the joints of every shared border and the outline of every part.
+/// Builds the joints of every shared border and the outline of every part, for sheets of
+/// \p material (its thickness) cut on \p machine (outlines grow by half its kerf width).
 /// \pre \p flat was computed from \p strips. \throw InvalidInput options out of range.
-Joints make_joints(const Strips& strips, const Flattening& flat, const JointOptions& options);
+Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,
+                   const Machine& machine, const JointOptions& options);
 
 /// Offset of both parts where a border has no teeth: the edges meet at the inner mitre point,
 /// -h/2 tan(|fold|/2) [mm]; never overlapping.

@@ -42,9 +42,9 @@ bool inside(const Vec2& p, const std::vector<Polygon2>& polys) {  // non-zero ov
 
 class PatchKerfBuilder {
  public:
-  PatchKerfBuilder(const Strips& s, const Flattening& f, const Joints& j, const KerfOptions& o,
-                   int p)
-      : s_(s), patch_(s.patches[p]), x_(f.patches[p].points), o_(o), p_(p) {
+  PatchKerfBuilder(const Strips& s, const Flattening& f, const Joints& j, const Material& m,
+                   const KerfOptions& o, int p)
+      : s_(s), patch_(s.patches[p]), x_(f.patches[p].points), m_(m), o_(o), p_(p) {
     // The region cuts may use: the part's body (the flattened patch, so no cut enters a
     // tooth) without its slots, shrunk by the margin.
     region_ =
@@ -78,6 +78,7 @@ class PatchKerfBuilder {
   const Strips& s_;
   const Patch& patch_;
   const std::vector<Vec2>& x_;
+  const Material& m_;
   const KerfOptions& o_;
   int p_;
   std::vector<Polygon2> region_;
@@ -89,7 +90,7 @@ class PatchKerfBuilder {
 
   std::vector<double> adaptive_positions(const std::vector<double>& s, PatchKerf& out) {
     const int n = static_cast<int>(patch_.faces.size());
-    const Material& m = o_.material;
+    const Material& m = m_;
     const double shear_over_yield = m.shear_modulus / (m.yield_strength / m.safety);
     std::vector<double> beams(n + 1, 0.0), width(n + 1, 0.0);
     for (int e = 1; e < n; ++e) {
@@ -213,13 +214,6 @@ class PatchKerfBuilder {
 
 }  // namespace
 
-Material material_preset(const std::string& name) {
-  if (name == "mdf") return {"mdf", 3.0, 1600, 18, 1.125};
-  if (name == "plywood") return {"plywood", 4.0, 620, 9.5, 1.5};
-  if (name == "paper") return {"paper", 0.0, 1600, std::numeric_limits<double>::infinity(), 1.0};
-  throw InvalidInput("--material: unknown '" + name + "' (mdf, plywood, paper)");
-}
-
 double beams_needed(double angle, double width, double length, double thickness,
                     double shear_over_yield) {
   if (!(length > 0) || !(angle > 0) || !std::isfinite(shear_over_yield)) return 0.0;
@@ -229,13 +223,8 @@ double beams_needed(double angle, double width, double length, double thickness,
   return std::sqrt(z);
 }
 
-double cutting_minutes(double length, int paths, const MachineOptions& machine) {
-  return (length / machine.speed + paths * machine.per_cut) / 60.0;
-}
-
 KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const Joints& joints,
-                           const KerfOptions& options) {
-  const Material& m = options.material;
+                           const Material& m, const Machine& machine, const KerfOptions& options) {
   if (!(m.thickness >= 0) || !std::isfinite(m.thickness))
     throw InvalidInput("--thickness must be >= 0 mm");
   if (!(m.shear_modulus > 0)) throw InvalidInput("--shear-modulus must be > 0 MPa");
@@ -253,7 +242,7 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
   r.quad_cuts.assign(strips.quad_segments.size(), 0);
   for (std::size_t p = 0; p < strips.patches.size(); ++p) {
     r.patches.push_back(
-        PatchKerfBuilder(strips, flat, joints, options, static_cast<int>(p)).run(r.critical));
+        PatchKerfBuilder(strips, flat, joints, m, options, static_cast<int>(p)).run(r.critical));
     for (const auto& c : r.patches.back().cuts) {
       ++r.cuts;
       r.cut_length += (c.b - c.a).norm();
@@ -261,6 +250,13 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
     }
   }
   for (int q : r.quad_cuts) r.max_cuts_per_quad = std::max(r.max_cuts_per_quad, q);
+  CuttingEstimate& c = r.cutting;
+  for (const auto& part : joints.parts)
+    for (std::size_t i = 0; i < part.cut.size(); ++i)
+      c.outline_length += (part.cut[(i + 1) % part.cut.size()] - part.cut[i]).norm();
+  c.kerf_length = r.cut_length;
+  c.paths = r.cuts + static_cast<int>(joints.parts.size());
+  c.minutes = cutting_minutes(c.total_length(), c.paths, machine);
   return r;
 }
 

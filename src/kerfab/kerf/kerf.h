@@ -7,33 +7,18 @@
 #include <string>
 #include <vector>
 
+#include "kerfab/core/material.h"
 #include "kerfab/flatten/flatten.h"
 #include "kerfab/joints/joints.h"
 #include "kerfab/strips/strips.h"
 
 namespace kerfab {
 
-/// Sheet material. Lengths mm, stresses MPa.
-struct Material {
-  std::string name = "mdf";
-  double thickness = 3.0;       ///< h [mm], >= 0 (0: paper)
-  double shear_modulus = 1600;  ///< G [MPa], > 0
-  double yield_strength = 18;   ///< tau_yield [MPa], > 0; infinity: never yields (paper)
-  double safety = 1.125;        ///< divides tau_yield [-], >= 1 (MDF: G / (tau/s) = 100)
-};
-
-/// Presets: "mdf" (3 mm, G 1.6 GPa, tau 18 MPa, G/tau_eff = 100 as in the paper), "plywood"
-/// (4 mm birch, G 620 MPa, tau 9.5 MPa, safety 1.5), "paper" (h = 0, tau = infinity: no cuts).
-/// \throw InvalidInput unknown name.
-Material material_preset(const std::string& name);
-
 struct KerfOptions {
-  Material material;
   double smoothing = 10.0;       ///< width of the tent kernel smoothing n_e along the strip [mm]
   double min_cut_spacing = 0.9;  ///< closer cuts are a critical region [mm], > 0
   double bridge = 2.0;           ///< material left at alternating ends of each cut [mm], >= 0
   double margin = 1.0;           ///< cuts keep this far from the part outline [mm], >= 0
-  double kerf_width = 0.15;      ///< laser kerf, for the cut outline check [mm], >= 0
   std::optional<int> constant_cuts_per_quad;  ///< set: N cuts per coarse quad (baseline)
 };
 
@@ -67,27 +52,29 @@ struct PatchKerf {
   std::vector<char> face_critical;   ///< sub-quad holds a critical region
 };
 
+/// What the laser has to do: the parts' outlines and the kerf cuts, and how long it takes.
+struct CuttingEstimate {
+  double outline_length = 0;  ///< all parts' laser paths [mm]
+  double kerf_length = 0;     ///< all kerf cuts [mm]
+  int paths = 0;              ///< separate cut paths: kerf cuts and outlines
+  double minutes = 0;         ///< estimated cutting time [min] (cutting_minutes)
+  double total_length() const { return outline_length + kerf_length; }
+};
+
 struct KerfResult {
   std::vector<PatchKerf> patches;
   std::vector<CriticalRegion> critical;
   std::vector<int> quad_cuts;  ///< cuts per coarse quad
   int max_cuts_per_quad = 0;   ///< the constant density that would match the tightest quad
   int cuts = 0;
-  double cut_length = 0;  ///< [mm]
+  double cut_length = 0;    ///< [mm]
+  CuttingEstimate cutting;  ///< outlines (from the joints) and kerf cuts on \p machine
 };
 
-/// A simple laser model for time estimates: constant cutting speed plus a fixed overhead per
-/// separate cut (pierce, travel, acceleration).
-struct MachineOptions {
-  double speed = 15.0;   ///< cutting speed in 3 mm MDF [mm/s], > 0 (40-60 W CO2 lasers: 10-20)
-  double per_cut = 0.3;  ///< overhead per separate cut path [s], >= 0
-};
-
-/// Minutes to cut \p length millimetres in \p paths separate paths.
-double cutting_minutes(double length, int paths, const MachineOptions& machine);
-
-/// Places the kerf cuts of every patch. \throw InvalidInput options out of range.
+/// Places the kerf cuts of every patch in \p material and estimates the cutting time on
+/// \p machine. \throw InvalidInput options or material out of range.
 KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const Joints& joints,
+                           const Material& material, const Machine& machine,
                            const KerfOptions& options);
 
 }  // namespace kerfab

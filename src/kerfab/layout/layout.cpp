@@ -10,8 +10,6 @@
 namespace kerfab {
 namespace {
 
-using Vec2 = Eigen::Vector2d;
-
 struct Box {
   double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
   void add(const Vec2& p) {

@@ -2,10 +2,12 @@
 /// \file Cut-sheet layout: every part (its laser path, with its kerf cuts) is turned and placed
 /// on as few sheets as possible, testing the real outlines for overlap (Clipper), not only their
 /// bounding boxes.
-#include <string>
+#include <map>
+#include <optional>
 #include <vector>
 
 #include "kerfab/adapters/polygon_ops.h"
+#include "kerfab/layout/labels.h"
 
 namespace kerfab {
 
@@ -17,19 +19,12 @@ struct LayoutOptions {
   double step = 1.0;          ///< cell of the occupancy grid parts are placed on [mm], > 0
 };
 
-/// How cut sheets draw their lines.
-struct SheetStyle {
-  std::string cut = "#ff0000";      ///< colour of cut lines (outlines, kerf cuts), #rrggbb
-  std::string engrave = "#0000ff";  ///< colour of engraved labels, #rrggbb
-  double stroke = 0.01;             ///< line width in SVG and PDF [mm], > 0 (hairline)
-};
-
 /// Where a part goes: p_sheet = R(angle) * p_part + offset.
 struct Placement {
   int sheet = -1;
   double angle = 0;  ///< [rad]
-  Eigen::Vector2d offset{0, 0};
-  Eigen::Vector2d apply(const Eigen::Vector2d& p) const;
+  Vec2 offset{0, 0};
+  Vec2 apply(const Vec2& p) const;
 };
 
 struct LayoutResult {
@@ -37,6 +32,13 @@ struct LayoutResult {
   int sheets = 0;
   double utilization = 0;  ///< parts' area / sheets' area [-]
   std::vector<int> unplaced;
+  // Filled by lay_out_parts (not by nest_parts):
+  std::vector<std::optional<Label>> labels;       ///< per part: its number, if it fits
+  std::vector<std::vector<Label>> engravings;     ///< per part: its number and border labels
+  std::vector<std::map<int, double>> neighbours;  ///< per part: neighbour -> shared border [mm]
+                                                  ///< (a part may join itself after a loop cut)
+  int border_labels_placed = 0;                   ///< "-N" labels engraved
+  int border_labels_wanted = 0;                   ///< borders with another part
 };
 
 /// Smallest-area enclosing rectangle of a polygon's convex hull: its angle [rad] (turning the
@@ -54,5 +56,13 @@ bool fits_sheet(const Polygon2& outline, const LayoutOptions& options);
 /// an outline touches counts as taken, so concave parts interlock but never overlap). \throw
 /// InvalidInput options out of range.
 LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& options);
+
+/// Per part: neighbour part -> total shared border length [mm] (3D length of the border pieces).
+std::vector<std::map<int, double>> part_neighbours(const Joints& joints, int parts);
+
+/// The layout stage: the parts' laser paths nested on sheets (nest_parts), each part's engraved
+/// number and border labels, and who joins whom. \throw InvalidInput options out of range.
+LayoutResult lay_out_parts(const Strips& strips, const Flattening& flat, const Joints& joints,
+                           const KerfResult& kerf, const LayoutOptions& options);
 
 }  // namespace kerfab

@@ -750,6 +750,13 @@ BendingResult naive_row_bending(const PolyMesh& quads) {
   return out;
 }
 
+RowBaseline row_baseline(const PolyMesh& quads, const TargetSurface& target,
+                         const StripsOptions& options) {
+  return {quad_rows(quads),
+          static_cast<int>(
+              build_strips(quads, naive_row_bending(quads), target, options).patches.size())};
+}
+
 TriangleMesh triangulate(const Strips& strips) {
   TriangleMesh out;
   out.vertices = strips.vertices;

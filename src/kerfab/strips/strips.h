@@ -109,6 +109,15 @@ int quad_rows(const PolyMesh& quads);
 /// their quads agree. The baseline for the strip count (build_strips on it).
 BendingResult naive_row_bending(const PolyMesh& quads);
 
+/// The naive layout, for comparison: the quad mesh's rows, and the strips that
+/// naive_row_bending() gives with the same options.
+struct RowBaseline {
+  int quad_rows = 0;  ///< quad_rows()
+  int strips = 0;     ///< patches of build_strips() on naive_row_bending()
+};
+RowBaseline row_baseline(const PolyMesh& quads, const TargetSurface& target,
+                         const StripsOptions& options);
+
 /// The sub-quads as triangles (two per sub-quad), for distance queries and output.
 TriangleMesh triangulate(const Strips& strips);
 

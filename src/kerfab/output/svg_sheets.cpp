@@ -1,14 +1,14 @@
-#include "kerfab/io/svg_sheets.h"
+#include "kerfab/output/svg_sheets.h"
 
 #include <cstdio>
 #include <sstream>
 
-#include "kerfab/io/sheet_files.h"
+#include "kerfab/output/sheet_files.h"
 
 namespace kerfab {
 
-void write_svg_sheets(const RunResult& run, const std::filesystem::path& cut_dir) {
-  const SheetStyle& style = run.options.style;
+void write_svg_sheets(const RunResult& run, const SheetStyle& style,
+                      const std::filesystem::path& cut_dir) {
   const LayoutResult& layout = *run.layout;
   const LayoutOptions& lo = run.options.layout;
   for (int sheet = 0; sheet < layout.sheets; ++sheet) {

@@ -1,4 +1,4 @@
-#include "kerfab/io/sheet_files.h"
+#include "kerfab/output/sheet_files.h"
 
 #include <cstdio>
 #include <fstream>
@@ -15,8 +15,8 @@ std::vector<PlacedPart> sheet_parts(const RunResult& run, int sheet) {
     if (pl.sheet != sheet) continue;
     PlacedPart p;
     p.part = static_cast<int>(part);
-    if (part < run.engravings.size())
-      for (const Label& label : run.engravings[part]) {
+    if (part < layout.engravings.size())
+      for (const Label& label : layout.engravings[part]) {
         const Label l = upright(label, pl.angle);
         for (const auto& s : label_strokes(l))
           p.engraving.push_back({pl.apply(s[0]), pl.apply(s[1])});

@@ -1,16 +1,16 @@
-#include "kerfab/io/run_output.h"
+#include "kerfab/output/run_output.h"
 
 #include <cstdio>
 #include <fstream>
 
 #include "kerfab/core/errors.h"
-#include "kerfab/io/assembly_page.h"
-#include "kerfab/io/dxf_sheets.h"
 #include "kerfab/io/mesh_io.h"
-#include "kerfab/io/pdf_sheets.h"
-#include "kerfab/io/report.h"
-#include "kerfab/io/strip_files.h"
-#include "kerfab/io/svg_sheets.h"
+#include "kerfab/output/assembly_page.h"
+#include "kerfab/output/dxf_sheets.h"
+#include "kerfab/output/pdf_sheets.h"
+#include "kerfab/output/report.h"
+#include "kerfab/output/strip_files.h"
+#include "kerfab/output/svg_sheets.h"
 
 namespace kerfab {
 namespace fs = std::filesystem;
@@ -19,12 +19,12 @@ namespace {
 // Everything a run may write; only these are ever removed.
 const char* const kOutputs[] = {"report.json", "report.json.tmp", "model", "stages", "cut"};
 
-void write_json(const nlohmann::json& j, const fs::path& path) {
+void write_json(const std::string& text, const fs::path& path) {
   const fs::path tmp = path.string() + ".tmp";
   {
     std::ofstream out(tmp);
     if (!out) throw IoError("cannot write " + tmp.string());
-    out << j.dump(2) << "\n";
+    out << text;
     if (!out) throw IoError("cannot write " + tmp.string());
   }
   std::error_code ec;
@@ -55,40 +55,41 @@ void prepare_output_dir(const fs::path& dir) {
   make_dirs(dir);
 }
 
-void write_run(const RunResult& run, const fs::path& dir, bool dump) {
+void write_run(const RunResult& run, const OutputOptions& output, const fs::path& dir) {
   if (run.input) {
     make_dirs(dir / "model");
     write_mesh(run.input->target, dir / "model" / "target.obj");
   }
-  if (run.strips) write_strips_ply(*run.strips, dir / "model" / "strips.ply");
-  if (run.strips && run.kerf)
-    write_kerf_density_ply(*run.strips, *run.kerf, dir / "model" / "kerf_density.ply");
-  if (dump && run.bending && run.input) {
+  if (run.strips) write_strips_ply(run.final_strips(), dir / "model" / "strips.ply");
+  if (run.kerf)
+    write_kerf_density_ply(run.final_strips(), *run.kerf, dir / "model" / "kerf_density.ply");
+  if (output.dump && run.bending && run.input) {
     make_dirs(dir / "stages");
-    write_json(make_bending_dump(run.input->quads, *run.bending), dir / "stages" / "bending.json");
+    write_json(bending_dump_json(run.input->quads, *run.bending), dir / "stages" / "bending.json");
   }
-  if (dump && run.strips) {
+  if (output.dump && run.strips) {
+    const Strips& strips = run.final_strips();
     make_dirs(dir / "stages" / "patches");
-    for (std::size_t p = 0; p < run.strips->patches.size(); ++p) {
+    for (std::size_t p = 0; p < strips.patches.size(); ++p) {
       char name[32];
       std::snprintf(name, sizeof name, "%03zu_3d.obj", p);
-      write_patch_obj(*run.strips, static_cast<int>(p), dir / "stages" / "patches" / name);
-      if (run.flattening) {
+      write_patch_obj(strips, static_cast<int>(p), dir / "stages" / "patches" / name);
+      if (run.flat) {
         std::snprintf(name, sizeof name, "%03zu_2d.obj", p);
-        write_patch_flat_obj(*run.strips, static_cast<int>(p), run.flattening->patches[p].points,
+        write_patch_flat_obj(strips, static_cast<int>(p), run.flat->flattening.patches[p].points,
                              dir / "stages" / "patches" / name);
       }
     }
   }
-  if (dump && run.joints) write_json(make_parts_dump(run), dir / "stages" / "parts.json");
+  if (output.dump && run.joints) write_json(parts_dump_json(run), dir / "stages" / "parts.json");
   if (run.layout) {
-    if (run.options.formats.svg) write_svg_sheets(run, dir / "cut");
-    if (run.options.formats.dxf) write_dxf_sheets(run, dir / "cut");
-    if (run.options.formats.pdf) write_pdf_sheets(run, dir / "cut");
-    write_sheet_previews(run, dir / "cut");
+    if (output.formats.svg) write_svg_sheets(run, output.style, dir / "cut");
+    if (output.formats.dxf) write_dxf_sheets(run, dir / "cut");
+    if (output.formats.pdf) write_pdf_sheets(run, output.style, dir / "cut");
+    write_sheet_previews(run, output.style, dir / "cut");
     write_assembly_page(run, dir / "cut");
   }
-  write_json(make_report(run), dir / "report.json");
+  write_json(report_json(run, output), dir / "report.json");
 }
 
 void write_failure(const fs::path& dir, int exit_code, const std::string& kind,
@@ -97,7 +98,7 @@ void write_failure(const fs::path& dir, int exit_code, const std::string& kind,
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) return;
     for (const char* name : kOutputs) fs::remove_all(dir / name, ec);
-    write_json(make_failure_report(exit_code, kind, message), dir / "report.json");
+    write_json(failure_report_json(exit_code, kind, message), dir / "report.json");
   } catch (...) {
   }
 }

@@ -1,4 +1,4 @@
-#include "kerfab/io/pdf_sheets.h"
+#include "kerfab/output/pdf_sheets.h"
 
 #include <cairo-pdf.h>
 #include <cairo.h>
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "kerfab/core/errors.h"
-#include "kerfab/io/sheet_files.h"
+#include "kerfab/output/sheet_files.h"
 
 namespace kerfab {
 namespace {
@@ -57,7 +57,8 @@ void check(cairo_status_t status, const std::string& what) {
 
 }  // namespace
 
-void write_pdf_sheets(const RunResult& run, const std::filesystem::path& cut_dir) {
+void write_pdf_sheets(const RunResult& run, const SheetStyle& style,
+                      const std::filesystem::path& cut_dir) {
   const double w = run.options.layout.sheet_width, h = run.options.layout.sheet_height;
   const double pt = 72.0 / 25.4;  // PDF points per mm
   for (int sheet = 0; sheet < run.layout->sheets; ++sheet) {
@@ -65,7 +66,7 @@ void write_pdf_sheets(const RunResult& run, const std::filesystem::path& cut_dir
     cairo_surface_t* surface = cairo_pdf_surface_create(path.c_str(), w * pt, h * pt);
     cairo_t* cr = cairo_create(surface);
     cairo_scale(cr, pt, pt);
-    draw_sheet(cr, sheet_parts(run, sheet), run.options.style, h, run.options.style.stroke);
+    draw_sheet(cr, sheet_parts(run, sheet), style, h, style.stroke);
     cairo_show_page(cr);
     const cairo_status_t status = cairo_status(cr);
     cairo_destroy(cr);
@@ -77,8 +78,8 @@ void write_pdf_sheets(const RunResult& run, const std::filesystem::path& cut_dir
   }
 }
 
-void write_sheet_previews(const RunResult& run, const std::filesystem::path& cut_dir,
-                          double pixels_per_mm) {
+void write_sheet_previews(const RunResult& run, const SheetStyle& style,
+                          const std::filesystem::path& cut_dir, double pixels_per_mm) {
   const double w = run.options.layout.sheet_width, h = run.options.layout.sheet_height;
   const int pw = static_cast<int>(std::ceil(w * pixels_per_mm));
   const int ph = static_cast<int>(std::ceil(h * pixels_per_mm));
@@ -101,7 +102,7 @@ void write_sheet_previews(const RunResult& run, const std::filesystem::path& cut
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     cairo_scale(cr, pixels_per_mm, pixels_per_mm);
-    draw_sheet(cr, parts, run.options.style, h, 0.4);
+    draw_sheet(cr, parts, style, h, 0.4);
     cairo_destroy(cr);
     const auto path = sheet_file(cut_dir, sheet, "png");
     check(cairo_surface_write_to_png(surface, path.c_str()), path.string());
@@ -113,7 +114,7 @@ void write_sheet_previews(const RunResult& run, const std::filesystem::path& cut
     cairo_set_source_rgb(cc, 1, 1, 1);
     cairo_fill(cc);
     cairo_scale(cc, thumb, thumb);
-    draw_sheet(cc, parts, run.options.style, h, 0.8);
+    draw_sheet(cc, parts, style, h, 0.8);
     // The sheet's number, 20 mm tall, in the top left corner.
     Label number;
     number.text = std::to_string(sheet + 1);

@@ -28,8 +28,7 @@ void write_patch_obj(const Strips& strips, int patch, const std::filesystem::pat
 
 /// OBJ of one flattened patch: the same vertices (z = 0) and faces as write_patch_obj.
 /// \throw IoError the file cannot be written.
-void write_patch_flat_obj(const Strips& strips, int patch,
-                          const std::vector<Eigen::Vector2d>& points,
+void write_patch_flat_obj(const Strips& strips, int patch, const std::vector<Vec2>& points,
                           const std::filesystem::path& path);
 
 }  // namespace kerfab

@@ -3,7 +3,8 @@
 /// looks complete, and a directory that is not a kerfab output is never overwritten.
 #include <filesystem>
 
-#include "kerfab/pipeline.h"
+#include "kerfab/output/output_options.h"
+#include "kerfab/pipeline/pipeline.h"
 
 namespace kerfab {
 
@@ -12,9 +13,9 @@ namespace kerfab {
 /// created.
 void prepare_output_dir(const std::filesystem::path& dir);
 
-/// Writes model/target.obj, stages/ (with \p dump) and finally report.json (atomically).
-/// \throw IoError a file could not be written.
-void write_run(const RunResult& run, const std::filesystem::path& dir, bool dump);
+/// Writes model/target.obj, stages/ (with output.dump), cut/ and finally report.json
+/// (atomically). \throw IoError a file could not be written.
+void write_run(const RunResult& run, const OutputOptions& output, const std::filesystem::path& dir);
 
 /// Removes this run's partial outputs from \p dir and writes a failed-status report.json.
 /// Never throws (best effort: it is called while handling another error).

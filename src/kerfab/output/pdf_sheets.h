@@ -4,16 +4,18 @@
 /// of all sheets.
 #include <filesystem>
 
-#include "kerfab/pipeline.h"
+#include "kerfab/output/output_options.h"
+#include "kerfab/pipeline/pipeline.h"
 
 namespace kerfab {
 
 /// Writes cut/sheet-NNN.pdf. \throw IoError on failure.
-void write_pdf_sheets(const RunResult& run, const std::filesystem::path& cut_dir);
+void write_pdf_sheets(const RunResult& run, const SheetStyle& style,
+                      const std::filesystem::path& cut_dir);
 
 /// Writes cut/sheet-NNN.png (\p pixels_per_mm) and cut/contact-sheet.png.
 /// \throw IoError on failure.
-void write_sheet_previews(const RunResult& run, const std::filesystem::path& cut_dir,
-                          double pixels_per_mm = 2.5);
+void write_sheet_previews(const RunResult& run, const SheetStyle& style,
+                          const std::filesystem::path& cut_dir, double pixels_per_mm = 2.5);
 
 }  // namespace kerfab

@@ -1,4 +1,4 @@
-#include "kerfab/io/strip_files.h"
+#include "kerfab/output/strip_files.h"
 
 #include <algorithm>
 #include <cmath>
@@ -146,8 +146,7 @@ void write_patch_obj(const Strips& strips, int patch, const std::filesystem::pat
   check_written(out, path);
 }
 
-void write_patch_flat_obj(const Strips& strips, int patch,
-                          const std::vector<Eigen::Vector2d>& points,
+void write_patch_flat_obj(const Strips& strips, int patch, const std::vector<Vec2>& points,
                           const std::filesystem::path& path) {
   const Patch& p = strips.patches.at(patch);
   if (points.size() != 2 * p.rulings.size())

@@ -1,6 +1,6 @@
 #pragma once
 /// \file The pipeline: runs the stages in order, times them, reports progress and collects
-/// their results. No file output here (see io/run_output.h).
+/// their results. No file output here (see output/run_output.h).
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -9,13 +9,14 @@
 #include <vector>
 
 #include "kerfab/bending/bending.h"
+#include "kerfab/core/material.h"
 #include "kerfab/eval/surface_distance.h"
-#include "kerfab/flatten/flatten.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/joints/joints.h"
 #include "kerfab/kerf/kerf.h"
-#include "kerfab/layout/labels.h"
 #include "kerfab/layout/layout.h"
+#include "kerfab/pipeline/cuttable_patches.h"
+#include "kerfab/pipeline/stages.h"
 #include "kerfab/strips/strips.h"
 
 namespace kerfab {
@@ -27,34 +28,27 @@ struct RunInputs {
   std::optional<std::filesystem::path> guidance;  ///< guidance JSON (forced edges)
 };
 
-/// The stages, in order. `stop_after` ends the run after the named one.
-inline const std::vector<std::string>& stage_names() {
-  static const std::vector<std::string> names = {
-      "load", "prepare", "bending", "strips", "flatten", "joints", "kerf", "layout", "quality"};
-  return names;
-}
-
-/// Cut-sheet file formats to write.
-struct SheetFormats {
-  bool svg = true;
-  bool dxf = true;
-  bool pdf = true;
-};
-
 struct PipelineOptions {
   InputOptions input;
-  BendingOptions bending;  ///< guidance is filled from RunInputs::guidance
+  BendingOptions bending;  ///< its guidance is added to that of RunInputs::guidance
   StripsOptions strips;
   FlattenOptions flatten;
-  JointOptions joints;  ///< thickness and kerf width are taken from `kerf` and the material
+  JointOptions joints;
   KerfOptions kerf;
-  MachineOptions machine;
   LayoutOptions layout;
-  SheetFormats formats;
-  SheetStyle style;
+  Material material;  ///< the sheet: thickness and strength (joints, kerf cuts)
+  Machine machine;    ///< the laser: kerf width (joints) and speed (cutting time)
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
                                           ///< fraction of the target's bbox diagonal [-], > 0
+  bool row_baseline = false;  ///< also build the naive one-strip-per-row layout (for comparison)
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
+};
+
+/// What the load stage read.
+struct LoadedInputs {
+  PolyMesh target;
+  std::optional<PolyMesh> quad;
+  std::vector<EdgeGuidance> guidance;  ///< from the guidance file
 };
 
 struct StageTiming {
@@ -62,29 +56,25 @@ struct StageTiming {
   double seconds = 0;
 };
 
+/// Each stage's result, present once the stage ran.
 struct RunResult {
   RunInputs inputs;
-  PipelineOptions options;  ///< the options as used (guidance resolved)
+  PipelineOptions options;  ///< as given
+  std::optional<LoadedInputs> loaded;
   std::optional<PreparedInput> input;
   std::optional<BendingResult> bending;
-  std::optional<Strips> strips;
-  int quad_rows = 0;         ///< dual chords of the quad mesh (see quad_rows())
-  int naive_row_strips = 0;  ///< strips of the naive row layout (naive_row_bending()), same options
-  std::optional<Flattening> flattening;
-  int overlap_splits = 0;  ///< patches split because their flat outline crossed itself
-  std::optional<SurfaceDistance> flatten_mimic;  ///< 3D strips vs their flat-metric deformation
+  std::optional<Strips> strips;         ///< as built, before any split
+  std::optional<RowBaseline> baseline;  ///< with options.row_baseline
+  std::optional<CuttablePatches> flat;  ///< patches split as needed and flattened
   std::optional<Joints> joints;
   std::optional<KerfResult> kerf;
-  double outline_length = 0;  ///< all parts' laser paths [mm]
-  int oversize_splits = 0;    ///< patches split because they did not fit a sheet
   std::optional<LayoutResult> layout;
-  std::vector<std::optional<Label>> labels;    ///< per part: its number
-  std::vector<std::vector<Label>> engravings;  ///< per part: its number and border labels
-  std::optional<SurfaceDistance> quality;      ///< strip mesh vs target [mm]
-  double target_diagonal = 0;                  ///< target bbox diagonal [mm] (set by prepare)
+  std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
   std::vector<StageTiming> timings;
   double total_seconds = 0;
   std::vector<std::string> warnings;
+  /// The strips as cut: split by the flattening step once it ran, else as built.
+  const Strips& final_strips() const { return flat ? flat->strips : *strips; }
 };
 
 /// Progress sink: one human-readable line per call (the CLI prints them on stderr).

@@ -1,9 +1,9 @@
-#include "kerfab/io/dxf_sheets.h"
+#include "kerfab/output/dxf_sheets.h"
 
 #include <cstdio>
 #include <sstream>
 
-#include "kerfab/io/sheet_files.h"
+#include "kerfab/output/sheet_files.h"
 
 namespace kerfab {
 namespace {

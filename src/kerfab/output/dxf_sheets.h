@@ -5,7 +5,7 @@
 /// LABEL; the same geometry and order as the SVG sheets, y pointing up.
 #include <filesystem>
 
-#include "kerfab/pipeline.h"
+#include "kerfab/pipeline/pipeline.h"
 
 namespace kerfab {
 

@@ -1,37 +1,13 @@
-#include "kerfab/io/assembly_page.h"
+#include "kerfab/output/assembly_page.h"
 
 #include <sstream>
 
-#include "kerfab/io/sheet_files.h"
+#include "kerfab/output/sheet_files.h"
 
 namespace kerfab {
 
-std::vector<std::map<int, double>> part_neighbours(const RunResult& run) {
-  std::vector<std::map<int, double>> out(run.strips ? run.strips->patches.size() : 0);
-  if (!run.joints) return out;
-  for (const BorderJoint& b : run.joints->borders) {
-    out[b.patches[0]][b.patches[1]] += b.length;
-    if (b.patches[1] != b.patches[0]) out[b.patches[1]][b.patches[0]] += b.length;
-  }
-  return out;
-}
-
-nlohmann::json make_assembly_json(const RunResult& run) {
-  const auto neighbours = part_neighbours(run);
-  nlohmann::json parts = nlohmann::json::array();
-  for (std::size_t p = 0; p < neighbours.size(); ++p) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const auto& [q, length] : neighbours[p])
-      list.push_back({{"part", q}, {"length_mm", length}});
-    const int sheet =
-        run.layout && p < run.layout->placements.size() ? run.layout->placements[p].sheet + 1 : 0;
-    parts.push_back({{"part", p}, {"sheet", sheet}, {"neighbours", list}});
-  }
-  return parts;
-}
-
 void write_assembly_page(const RunResult& run, const std::filesystem::path& cut_dir) {
-  const auto neighbours = part_neighbours(run);
+  const auto& neighbours = run.layout->neighbours;
   std::ostringstream html;
   html.precision(4);
   html << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>kerfab assembly</title>"

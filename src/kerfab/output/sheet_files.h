@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "kerfab/pipeline.h"
+#include "kerfab/pipeline/pipeline.h"
 
 namespace kerfab {
 

@@ -1,0 +1,40 @@
+#include "kerfab/core/geometry2d.h"
+
+#include <algorithm>
+
+namespace kerfab {
+
+double polygon_area(const Polygon2& p) {
+  double a = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto& u = p[i];
+    const auto& v = p[(i + 1) % p.size()];
+    a += u.x() * v.y() - u.y() * v.x();
+  }
+  return 0.5 * a;
+}
+
+StripFrame::StripFrame(const std::vector<Vec2>& points, int faces)
+    : x(points), n(faces), s(faces + 1, 0.0) {
+  for (int i = 0; i < n; ++i) s[i + 1] = s[i] + (mid(i + 1) - mid(i)).norm();
+}
+
+int StripFrame::face_at(double at) const {
+  return std::clamp(static_cast<int>(std::upper_bound(s.begin(), s.end(), at) - s.begin()) - 1, 0,
+                    n - 1);
+}
+
+std::array<Vec2, 2> StripFrame::section(double at) const {
+  const int f = face_at(at);
+  const double len = s[f + 1] - s[f];
+  const double u = len > 0 ? std::clamp((at - s[f]) / len, 0.0, 1.0) : 0.5;
+  return {(1 - u) * x[2 * f] + u * x[2 * (f + 1)], (1 - u) * x[2 * f + 1] + u * x[2 * (f + 1) + 1]};
+}
+
+Vec2 StripFrame::along(double at) const {
+  const int f = face_at(at);
+  const Vec2 d = mid(std::min(f + 1, n)) - mid(f);
+  return d.norm() > 0 ? Vec2(d.normalized()) : Vec2(1, 0);
+}
+
+}  // namespace kerfab

@@ -1,0 +1,35 @@
+#pragma once
+/// \file Plane geometry shared by the stages that work on flattened parts: points, polygons and
+/// the strip coordinate along a flattened ladder.
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+namespace kerfab {
+
+using Vec2 = Eigen::Vector2d;
+using Polygon2 = std::vector<Vec2>;  ///< closed, last vertex not repeated
+
+/// z component of the cross product of two plane vectors.
+inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Signed area (counter-clockwise positive) [mm^2].
+double polygon_area(const Polygon2& polygon);
+
+/// A flattened patch seen along its length: the strip coordinate is the arc length through the
+/// rulings' midpoints (shared by the kerf cuts and the labels placed between them).
+struct StripFrame {
+  const std::vector<Vec2>& x;  ///< the patch's flattened points, 2 * ruling + rail
+  int n;                       ///< sub-quads
+  std::vector<double> s;       ///< strip coordinate of each ruling [mm]
+  StripFrame(const std::vector<Vec2>& points, int faces);
+  Vec2 mid(int ruling) const { return 0.5 * (x[2 * ruling] + x[2 * ruling + 1]); }
+  /// The sub-quad holding strip coordinate \p at (clamped to the strip).
+  int face_at(double at) const;
+  /// The two rail points of the cross-section at \p at.
+  std::array<Vec2, 2> section(double at) const;
+  /// Unit direction along the strip at \p at.
+  Vec2 along(double at) const;
+};
+
+}  // namespace kerfab

@@ -1,0 +1,36 @@
+#include "kerfab/layout/layout.h"
+
+namespace kerfab {
+
+std::vector<std::map<int, double>> part_neighbours(const Joints& joints, int parts) {
+  std::vector<std::map<int, double>> out(parts);
+  for (const BorderJoint& b : joints.borders) {
+    out[b.patches[0]][b.patches[1]] += b.length;
+    if (b.patches[1] != b.patches[0]) out[b.patches[1]][b.patches[0]] += b.length;
+  }
+  return out;
+}
+
+LayoutResult lay_out_parts(const Strips& strips, const Flattening& flat, const Joints& joints,
+                           const KerfResult& kerf, const LayoutOptions& options) {
+  std::vector<Polygon2> outlines;
+  for (const auto& part : joints.parts) outlines.push_back(part.cut);
+  LayoutResult out = nest_parts(outlines, options);
+  const int parts = static_cast<int>(strips.patches.size());
+  for (int p = 0; p < parts; ++p) {
+    out.labels.push_back(part_label(strips, flat, kerf, p));
+    out.engravings.push_back(border_labels(strips, flat, kerf, joints, p, out.labels.back()));
+    if (out.labels.back())
+      out.engravings.back().insert(out.engravings.back().begin(), *out.labels.back());
+  }
+  out.neighbours = part_neighbours(joints, parts);
+  for (int p = 0; p < parts; ++p) {
+    out.border_labels_wanted +=
+        static_cast<int>(out.neighbours[p].size() - out.neighbours[p].count(p));
+    for (const auto& label : out.engravings[p])
+      out.border_labels_placed += label.text[0] == '-' ? 1 : 0;
+  }
+  return out;
+}
+
+}  // namespace kerfab

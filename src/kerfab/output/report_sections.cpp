@@ -1,0 +1,310 @@
+#include "kerfab/output/report_sections.h"
+
+#include <cmath>
+
+namespace kerfab::report {
+namespace {
+
+json to_json(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+template <class T>
+json optional_json(const std::optional<T>& v) {
+  return v ? json(*v) : json(nullptr);
+}
+
+json summary_json(const MeshSummary& s) {
+  json sizes = json::object();
+  for (auto [sides, count] : s.face_sizes) sizes[std::to_string(sides)] = count;
+  return {{"vertices", s.vertices},
+          {"faces", s.faces},
+          {"edges", s.edges},
+          {"face_sizes", sizes},
+          {"boundary_loops", s.boundary_loops},
+          {"euler_characteristic", s.euler_characteristic},
+          {"bbox_mm", to_json(s.bbox.size())}};
+}
+
+}  // namespace
+
+json input_section(const RunInputs& inputs, const std::optional<PreparedInput>& input) {
+  json j;
+  j["target"] = inputs.target.string();
+  j["quad"] = inputs.quad ? inputs.quad->string() : inputs.target.string();
+  if (input) {
+    const PreparedInput& in = *input;
+    j["quads"] = in.quad_summary.faces;
+    j["bbox_mm"] = to_json(in.target_summary.bbox.size());
+    j["scale"] = in.scale;
+    j["quads_from_target"] = in.quads_from_target;
+    j["target_mesh"] = summary_json(in.target_summary);
+    j["quad_mesh"] = summary_json(in.quad_summary);
+    j["quad_max_distance_mm"] = in.quad_max_distance;
+    j["quad_mean_distance_mm"] = in.quad_mean_distance;
+  }
+  return j;
+}
+
+json options_section(const RunResult& run, const OutputOptions& output) {
+  const PipelineOptions& o = run.options;
+  const Material& m = o.material;
+  std::size_t guidance_edges = o.bending.guidance.size();
+  if (run.loaded) guidance_edges += run.loaded->guidance.size();
+  json j;
+  j["size_mm"] = optional_json(o.input.size);
+  j["subdivide"] = o.input.subdivide;
+  j["max_quad_distance_rel"] = o.input.max_quad_distance;
+  j["alignment"] = o.bending.alignment;
+  j["edge_samples"] = o.bending.edge_samples;
+  j["ilp_time_limit_s"] = o.bending.time_limit_s;
+  j["ilp_gap"] = o.bending.relative_gap;
+  j["guidance"] = run.inputs.guidance ? json(run.inputs.guidance->string()) : json(nullptr);
+  j["guidance_edges"] = guidance_edges;
+  j["rulings_per_quad"] = o.strips.rulings_per_quad;
+  j["max_ruling_spacing_mm"] = o.strips.max_ruling_spacing;
+  j["projection"] = o.strips.projection == Projection::kNormal ? "normal" : "closest";
+  j["split_angle_deg"] = o.strips.split_angle * 180 / M_PI;
+  j["features_deg"] = o.strips.features ? json(*o.strips.features * 180 / M_PI) : json(nullptr);
+  j["flatten_lambda"] = o.flatten.lambda;
+  j["flatten_max_iterations"] = o.flatten.max_iterations;
+  j["material"] = m.name;
+  j["thickness_mm"] = m.thickness;
+  j["shear_modulus_mpa"] = m.shear_modulus;
+  j["yield_strength_mpa"] =
+      std::isfinite(m.yield_strength) ? json(m.yield_strength) : json("infinity");
+  j["safety"] = m.safety;
+  j["kerf_smoothing_mm"] = o.kerf.smoothing;
+  j["min_cut_spacing_mm"] = o.kerf.min_cut_spacing;
+  j["bridge_mm"] = o.kerf.bridge;
+  j["kerf_margin_mm"] = o.kerf.margin;
+  j["constant_density"] = optional_json(o.kerf.constant_cuts_per_quad);
+  j["cut_speed_mm_s"] = o.machine.speed;
+  j["per_cut_s"] = o.machine.per_cut;
+  j["protrusion_mm"] = o.joints.protrusion;
+  j["tooth_width_mm"] = o.joints.tooth_width;
+  j["min_tooth_depth_mm"] = o.joints.min_depth;
+  j["kerf_width_mm"] = o.machine.kerf_width;
+  j["stroke_mm"] = output.style.stroke;
+  j["cut_colour"] = output.style.cut;
+  j["engrave_colour"] = output.style.engrave;
+  j["quality_sample_spacing_rel"] = o.quality_sample_spacing;
+  j["row_baseline"] = o.row_baseline;
+  j["stop_after"] = optional_json(o.stop_after);
+  return j;
+}
+
+json bending_section(const BendingResult& b, const BendingOptions& options) {
+  int kinds[3] = {0, 0, 0};
+  for (const auto& q : b.quads) ++kinds[static_cast<int>(q.kind)];
+  const double w_max = options.alignment > 0 ? b.w0 / options.alignment : 0.0;
+  return {{"edges", b.bendable.size()},
+          {"bendable", b.bendable_count},
+          {"objective", b.objective},
+          {"bound", b.bound},
+          {"status", to_string(b.status)},
+          {"solve_seconds", b.solve_seconds},
+          {"w0", b.w0},
+          {"w0_rel", options.alignment},
+          {"w_max", w_max},
+          {"interior_edges", b.interior_edges},
+          {"aligned_edges", b.aligned_edges},
+          {"aligned_fraction", b.aligned_fraction},
+          {"quads_bending", kinds[static_cast<int>(QuadKind::kBending)]},
+          {"quads_one_sided", kinds[static_cast<int>(QuadKind::kOneSided)]},
+          {"quads_rigid", kinds[static_cast<int>(QuadKind::kRigid)]},
+          {"program",
+           {{"odd_vertices", b.odd_vertices},
+            {"seam_edges", b.seam_edges},
+            {"seam_pairing_optimal", b.seam_pairing_optimal},
+            {"start_objective", b.start_objective},
+            {"ring_cuts", b.ring_cuts},
+            {"separated_cuts", b.separated_cuts},
+            {"cut_rounds", b.cut_rounds},
+            {"relaxation_bound", b.relaxation_bound},
+            {"cut_seconds", b.cut_seconds}}}};
+}
+
+json strips_section(const Strips& s, int overlap_splits,
+                    const std::optional<RowBaseline>& baseline) {
+  int seg_min = s.quad_segments.empty() ? 0 : s.quad_segments.front(), seg_max = seg_min;
+  for (int k : s.quad_segments) seg_min = std::min(seg_min, k), seg_max = std::max(seg_max, k);
+  json patches = json::array();
+  for (const Patch& p : s.patches)
+    patches.push_back({{"quads", p.quads.size()},
+                       {"sub_quads", p.faces.size()},
+                       {"chain", p.chain},
+                       {"loop_cut", p.loop_cut}});
+  json j = {{"strips", static_cast<int>(s.patches.size()) - overlap_splits},
+            {"patches", s.patches.size()},
+            {"chains", s.chains},
+            {"closed_loops_cut", s.closed_loops},
+            {"split_borders", s.split_borders},
+            {"sub_quads", s.faces.size()},
+            {"vertices", s.vertices.size()},
+            {"t_junction_vertices", s.t_junctions},
+            {"segments_per_quad_min", seg_min},
+            {"segments_per_quad_max", seg_max},
+            {"ray_fallbacks", s.ray_fallbacks},
+            {"feature_vertices", s.feature_vertices},
+            {"max_fold_in_patch_deg", s.max_fold * 180 / M_PI},
+            {"patch_list", patches}};
+  if (baseline) {
+    j["quad_rows"] = baseline->quad_rows;
+    j["naive_row_strips"] = baseline->strips;
+  }
+  return j;
+}
+
+json flatten_section(const CuttablePatches& c, double diagonal) {
+  const Flattening& f = c.flattening;
+  json patches = json::array();
+  for (std::size_t p = 0; p < f.patches.size(); ++p) {
+    const PatchFlattening& pf = f.patches[p];
+    patches.push_back({{"patch", p},
+                       {"iterations", pf.iterations},
+                       {"initial_energy", pf.initial_energy},
+                       {"energy", pf.energy},
+                       {"status", pf.converged ? "converged" : "iteration_limit"},
+                       {"max_angle_error_deg", pf.max_angle_error * 180 / M_PI},
+                       {"max_border_length_error_rel", pf.max_border_length_error_rel},
+                       {"inverted_quads", pf.inverted_quads},
+                       {"outline_simple", pf.outline_simple},
+                       {"area_3d_mm2", pf.area_3d},
+                       {"area_2d_mm2", pf.area_2d}});
+  }
+  json borders = json::array();
+  for (const SharedBorder& b : f.borders)
+    borders.push_back({{"patches", b.patches},
+                       {"pieces", b.pieces},
+                       {"length_3d_mm", b.length_3d},
+                       {"length_2d_mm", b.length_2d}});
+  json j = {{"max_angle_error_deg", f.max_angle_error * 180 / M_PI},
+            {"max_border_length_error_rel", f.max_border_length_error_rel},
+            {"max_mating_mismatch_rel", f.max_mating_mismatch_rel},
+            {"max_shared_border_mismatch_rel", f.max_shared_border_mismatch_rel},
+            {"inverted_quads", f.inverted_quads},
+            {"non_simple_outlines", f.non_simple_outlines},
+            {"overlap_splits", c.overlap_splits},
+            {"unconverged_patches", f.unconverged},
+            {"patches", patches},
+            {"borders", borders}};
+  if (c.deformation) {
+    j["deformed_3d_hausdorff_mm"] = c.deformation->hausdorff;
+    j["deformed_3d_hausdorff_rel"] = c.deformation->hausdorff / diagonal;
+  }
+  return j;
+}
+
+json joints_section(const Joints& jt, const Material& material) {
+  json samples = json::array();
+  int blocked = 0, shallow = 0;
+  for (const BorderJoint& b : jt.borders) {
+    blocked += b.blocked, shallow += b.shallow;
+    for (const JointInterval& in : b.intervals)
+      samples.push_back({{"fold_deg", in.fold * 180 / M_PI},
+                         {"tip_mm", in.offsets.tip},
+                         {"slot_mm", in.offsets.slot},
+                         {"tooth", in.owner >= 0},
+                         {"patches", b.patches},
+                         {"edge", b.edge},
+                         {"s_mm", {in.s0, in.s1}}});
+  }
+  return {{"thickness_mm", material.thickness},
+          {"teeth", jt.teeth},
+          {"border_pieces", jt.borders.size()},
+          {"border_length_mm", jt.border_length},
+          {"toothed_length_mm", jt.toothed_length},
+          {"intervals_too_shallow", shallow},
+          {"intervals_in_collision", blocked},
+          {"repaired_parts", jt.repaired_parts},
+          {"samples", samples}};
+}
+
+json kerf_section(const KerfResult& k, const KerfOptions& options) {
+  json patches = json::array();
+  for (std::size_t p = 0; p < k.patches.size(); ++p)
+    patches.push_back({{"patch", p},
+                       {"cuts", k.patches[p].cuts.size()},
+                       {"min_spacing_mm", k.patches[p].min_spacing}});
+  json critical = json::array();
+  for (const auto& c : k.critical)
+    critical.push_back({{"patch", c.patch},
+                        {"position_mm", 0.5 * (c.start + c.end)},
+                        {"from_mm", c.start},
+                        {"to_mm", c.end},
+                        {"cuts", c.cuts},
+                        {"spacing_mm", c.spacing}});
+  return {{"cuts", k.cuts},
+          {"cut_length_mm", k.cut_length},
+          {"critical_regions", k.critical.size()},
+          {"critical", critical},
+          {"mode", options.constant_cuts_per_quad ? "constant" : "adaptive"},
+          {"max_cuts_per_quad", k.max_cuts_per_quad},
+          {"patches", patches}};
+}
+
+json cutting_section(const CuttingEstimate& c, const Machine& machine) {
+  return {{"total_cut_length_mm", c.total_length()},
+          {"outline_length_mm", c.outline_length},
+          {"kerf_length_mm", c.kerf_length},
+          {"paths", c.paths},
+          {"estimated_minutes", c.minutes},
+          {"machine", {{"speed_mm_s", machine.speed}, {"per_cut_s", machine.per_cut}}}};
+}
+
+json layout_section(const LayoutResult& l, const LayoutOptions& options,
+                    const SheetFormats& formats, int oversize_splits) {
+  json parts = json::array();
+  for (std::size_t i = 0; i < l.placements.size(); ++i)
+    parts.push_back({{"part", i},
+                     {"sheet", l.placements[i].sheet + 1},
+                     {"angle_deg", l.placements[i].angle * 180 / M_PI},
+                     {"offset_mm", {l.placements[i].offset.x(), l.placements[i].offset.y()}},
+                     {"label", l.labels.size() > i && l.labels[i].has_value()}});
+  json assembly = json::array();
+  for (std::size_t p = 0; p < l.neighbours.size(); ++p) {
+    json list = json::array();
+    for (const auto& [q, length] : l.neighbours[p])
+      list.push_back({{"part", q}, {"length_mm", length}});
+    const int sheet = p < l.placements.size() ? l.placements[p].sheet + 1 : 0;
+    assembly.push_back({{"part", p}, {"sheet", sheet}, {"neighbours", list}});
+  }
+  json written = json::array();
+  if (formats.svg) written.push_back("svg");
+  if (formats.dxf) written.push_back("dxf");
+  if (formats.pdf) written.push_back("pdf");
+  return {
+      {"sheets", l.sheets},
+      {"sheet_mm", {options.sheet_width, options.sheet_height}},
+      {"margin_mm", options.margin},
+      {"spacing_mm", options.spacing},
+      {"utilization", l.utilization},
+      {"unplaced", l.unplaced},
+      {"oversize_splits", oversize_splits},
+      {"formats", written},
+      {"parts", parts},
+      {"assembly", assembly},
+      {"border_labels", {{"placed", l.border_labels_placed}, {"wanted", l.border_labels_wanted}}}};
+}
+
+json quality_section(const SurfaceDistance& q, double diagonal) {
+  const double d = diagonal > 0 ? diagonal : 1.0;
+  return {{"hausdorff_rel", q.hausdorff / d},
+          {"mean_distance_rel", q.mean / d},
+          {"hausdorff_mm", q.hausdorff},
+          {"mean_distance_mm", q.mean},
+          {"strips_to_target_max_mm", q.a_to_b_max},
+          {"strips_to_target_mean_mm", q.a_to_b_mean},
+          {"target_to_strips_max_mm", q.b_to_a_max},
+          {"target_to_strips_mean_mm", q.b_to_a_mean},
+          {"target_diagonal_mm", diagonal},
+          {"samples", q.samples}};
+}
+
+json timings_section(const std::vector<StageTiming>& timings, double total_seconds) {
+  json j = json::object();
+  for (const auto& t : timings) j[t.stage] = t.seconds;
+  j["total"] = total_seconds;
+  return j;
+}
+
+}  // namespace kerfab::report

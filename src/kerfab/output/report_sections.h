@@ -1,0 +1,27 @@
+#pragma once
+/// \file One function per section of report.json, each from its stage's result (internal to
+/// output/: the only header that exposes nlohmann::json).
+#include <nlohmann/json.hpp>
+
+#include "kerfab/output/output_options.h"
+#include "kerfab/pipeline/pipeline.h"
+
+namespace kerfab::report {
+
+using nlohmann::json;
+
+json input_section(const RunInputs& inputs, const std::optional<PreparedInput>& input);
+json options_section(const RunResult& run, const OutputOptions& output);
+json bending_section(const BendingResult& bending, const BendingOptions& options);
+json strips_section(const Strips& strips, int overlap_splits,
+                    const std::optional<RowBaseline>& baseline);
+json flatten_section(const CuttablePatches& flat, double target_diagonal);
+json joints_section(const Joints& joints, const Material& material);
+json kerf_section(const KerfResult& kerf, const KerfOptions& options);
+json cutting_section(const CuttingEstimate& cutting, const Machine& machine);
+json layout_section(const LayoutResult& layout, const LayoutOptions& options,
+                    const SheetFormats& formats, int oversize_splits);
+json quality_section(const SurfaceDistance& quality, double target_diagonal);
+json timings_section(const std::vector<StageTiming>& timings, double total_seconds);
+
+}  // namespace kerfab::report

@@ -1,0 +1,38 @@
+#include "kerfab/pipeline/cuttable_patches.h"
+
+namespace kerfab {
+
+CuttablePatches flatten_cuttable(const Strips& strips, const FlattenOptions& options,
+                                 const LayoutOptions& usable, double deformation_spacing) {
+  CuttablePatches out{strips, flatten_patches(strips, options)};
+  auto oversize = [&](std::size_t p) {
+    return !fits_sheet(flat_outline(out.strips, out.flattening, static_cast<int>(p)), usable);
+  };
+  for (int round = 0; round < 12; ++round) {
+    Strips split = out.strips;
+    int splits = 0;
+    for (std::size_t p = 0; p < out.flattening.patches.size(); ++p) {
+      const int quads = static_cast<int>(split.patches[p].quads.size());
+      if (quads < 2) continue;
+      if (!out.flattening.patches[p].outline_simple) {
+        ++out.overlap_splits;
+      } else if (oversize(p)) {
+        ++out.oversize_splits;
+      } else {
+        continue;
+      }
+      split = split_patch(split, static_cast<int>(p), quads / 2);
+      ++splits;
+    }
+    if (splits == 0) break;
+    out.strips = std::move(split);
+    out.flattening = flatten_patches(out.strips, options);
+  }
+  if (options.mimic_3d)
+    out.deformation = surface_distance(patch_triangles(out.strips, out.flattening, false),
+                                       patch_triangles(out.strips, out.flattening, true),
+                                       {.sample_spacing = deformation_spacing});
+  return out;
+}
+
+}  // namespace kerfab

@@ -1,0 +1,29 @@
+#pragma once
+/// \file The flattening step of the pipeline: flatten every patch, and split a patch whose flat
+/// outline crosses itself or whose part would not fit the sheet, until every part can be cut.
+#include <optional>
+
+#include "kerfab/eval/surface_distance.h"
+#include "kerfab/flatten/flatten.h"
+#include "kerfab/layout/layout.h"
+#include "kerfab/strips/strips.h"
+
+namespace kerfab {
+
+struct CuttablePatches {
+  Strips strips;  ///< the strips with every split applied (patch ids as used from here on)
+  Flattening flattening;
+  int overlap_splits = 0;   ///< patches split because their flat outline crossed itself
+  int oversize_splits = 0;  ///< patches split because their part did not fit the sheet
+  /// 3D strips against their deformation to the flat metric (FlattenOptions::mimic_3d) [mm].
+  std::optional<SurfaceDistance> deformation;
+};
+
+/// Flattens the patches of \p strips; a patch whose outline crosses itself, or that does not fit
+/// \p usable (the sheet less its margins, with room for teeth), is split at the quad boundary
+/// nearest its middle and flattened again, for up to 12 rounds. \p deformation_spacing [mm]
+/// samples the deformation distance. \throw InvalidInput options out of range.
+CuttablePatches flatten_cuttable(const Strips& strips, const FlattenOptions& options,
+                                 const LayoutOptions& usable, double deformation_spacing);
+
+}  // namespace kerfab

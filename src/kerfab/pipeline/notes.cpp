@@ -1,0 +1,176 @@
+#include "kerfab/pipeline/notes.h"
+
+#include <sstream>
+
+namespace kerfab {
+namespace {
+
+/// A stream for one line, numbers to 4 significant digits.
+struct Line : std::ostringstream {
+  explicit Line(int precision = 4) { this->precision(precision); }
+};
+
+std::string summary_line(const std::string& what, const MeshSummary& s) {
+  Line os;
+  os << what << ": " << s.vertices << " vertices, " << s.faces << " faces (";
+  for (std::size_t i = 0; i < s.face_sizes.size(); ++i)
+    os << (i ? ", " : "") << s.face_sizes[i].second << "x" << s.face_sizes[i].first << "-gon";
+  const Vec3 size = s.bbox.size();
+  os << "), " << s.boundary_loops << " boundary loop(s), Euler characteristic "
+     << s.euler_characteristic << ", bbox " << size.x() << " x " << size.y() << " x " << size.z()
+     << " mm";
+  return os.str();
+}
+
+}  // namespace
+
+StageNotes notes(const PreparedInput& in) {
+  StageNotes n;
+  n.lines.push_back(summary_line("target", in.target_summary));
+  n.lines.push_back(
+      summary_line(in.quads_from_target ? "quads (from target)" : "quads", in.quad_summary));
+  Line os;
+  os << "scale " << in.scale << ", quad vertices to target: max " << in.quad_max_distance
+     << " mm, mean " << in.quad_mean_distance << " mm";
+  n.lines.push_back(os.str());
+  n.warnings = in.warnings;
+  return n;
+}
+
+StageNotes notes(const BendingResult& b) {
+  StageNotes n;
+  Line os;
+  os << b.bendable_count << " of " << b.bendable.size() << " edges bendable, objective "
+     << b.objective << " (bound " << b.bound << ", " << to_string(b.status) << ", "
+     << b.solve_seconds << " s), aligned " << 100.0 * b.aligned_fraction << "%";
+  n.lines.push_back(os.str());
+  if (b.status != PackingStatus::kOptimal) {
+    Line w;
+    w << "bending program not proven optimal (" << to_string(b.status) << "): objective "
+      << b.objective << ", bound " << b.bound;
+    n.warnings.push_back(w.str());
+  }
+  return n;
+}
+
+StageNotes notes(const Strips& s, const std::optional<RowBaseline>& baseline,
+                 const StripsOptions& options) {
+  StageNotes n;
+  Line os;
+  os << s.patches.size() << " strips from " << s.chains << " chains (" << s.closed_loops
+     << " closed loops cut, " << s.split_borders << " split at folds > "
+     << options.split_angle * 180 / M_PI << " deg); " << s.faces.size() << " sub-quads, "
+     << s.vertices.size() << " vertices, " << s.t_junctions << " T-junction vertices";
+  if (baseline)
+    os << "; a naive one-strip-per-row layout would give " << baseline->strips << " ("
+       << baseline->quad_rows << " quad rows)";
+  n.lines.push_back(os.str());
+  if (s.ray_fallbacks > 0)
+    n.lines.push_back(std::to_string(s.ray_fallbacks) +
+                      " vertices missed the target along their normal and went to the closest "
+                      "point instead");
+  return n;
+}
+
+StageNotes notes(const CuttablePatches& c, double diagonal) {
+  StageNotes n;
+  const Flattening& f = c.flattening;
+  if (c.overlap_splits + c.oversize_splits > 0)
+    n.lines.push_back(
+        std::to_string(c.overlap_splits) + " patch splits because a flat outline crossed itself, " +
+        std::to_string(c.oversize_splits) + " because a part was larger than the sheet; now " +
+        std::to_string(c.strips.patches.size()) + " patches");
+  int iterations = 0;
+  for (const auto& p : f.patches) iterations = std::max(iterations, p.iterations);
+  Line os;
+  os << f.patches.size() << " patches flattened (at most " << iterations
+     << " Gauss-Newton iterations, " << f.unconverged << " not converged); max angle error "
+     << f.max_angle_error * 180 / M_PI << " deg, max border length error "
+     << 100 * f.max_border_length_error_rel << "%, mating borders differ by at most "
+     << 100 * f.max_mating_mismatch_rel << "% per piece, " << 100 * f.max_shared_border_mismatch_rel
+     << "% per shared border";
+  n.lines.push_back(os.str());
+  if (c.deformation) {
+    Line m;
+    m << "3D strips deformed to the flat metric move by at most " << c.deformation->hausdorff
+      << " mm (Hausdorff, " << 100 * c.deformation->hausdorff / diagonal << "% of diagonal)";
+    n.lines.push_back(m.str());
+  }
+  if (f.inverted_quads > 0)
+    n.warnings.push_back("flattening inverted " + std::to_string(f.inverted_quads) +
+                         " quads (see flatten.patches in the report); those parts will not "
+                         "fit as designed");
+  if (f.non_simple_outlines > 0)
+    n.warnings.push_back(std::to_string(f.non_simple_outlines) +
+                         " flattened patches still overlap themselves in the plane after "
+                         "splitting (see flatten.patches)");
+  if (f.unconverged > 0)
+    n.warnings.push_back(std::to_string(f.unconverged) +
+                         " patches did not converge in the flattening iteration limit");
+  return n;
+}
+
+StageNotes notes(const Joints& j, const JointOptions& options) {
+  StageNotes n;
+  int blocked = 0, shallow = 0;
+  for (const auto& b : j.borders) blocked += b.blocked, shallow += b.shallow;
+  Line os;
+  os << j.teeth << " teeth on " << j.borders.size() << " border pieces ("
+     << 100 * (j.border_length > 0 ? j.toothed_length / j.border_length : 0)
+     << "% of the shared border length); intervals without teeth: " << shallow
+     << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
+     << " in collision regions";
+  n.lines.push_back(os.str());
+  if (j.repaired_parts > 0)
+    n.warnings.push_back(std::to_string(j.repaired_parts) +
+                         " parts fell apart into pieces when their joints were cut; only "
+                         "the largest piece of each is kept");
+  return n;
+}
+
+StageNotes notes(const KerfResult& k, const KerfOptions& options) {
+  StageNotes n;
+  Line os;
+  os << k.cuts << " kerf cuts, " << k.cut_length / 1000 << " m; " << k.critical.size()
+     << " critical regions (cuts closer than " << options.min_cut_spacing
+     << " mm); estimated cutting time " << k.cutting.minutes << " min";
+  n.lines.push_back(os.str());
+  if (!k.critical.empty()) {
+    Line w(3);
+    w << k.critical.size() << " critical kerf regions: the bend needs cuts closer than "
+      << options.min_cut_spacing << " mm (first: patch " << k.critical.front().patch << " at "
+      << k.critical.front().start << " mm, spacing " << k.critical.front().spacing
+      << " mm); see kerf.critical and model/kerf_density.ply";
+    n.warnings.push_back(w.str());
+  }
+  return n;
+}
+
+StageNotes notes(const LayoutResult& l, const LayoutOptions& options) {
+  StageNotes n;
+  Line os(3);
+  os << l.placements.size() << " parts on " << l.sheets << " sheets of " << options.sheet_width
+     << " x " << options.sheet_height << " mm, material used " << 100 * l.utilization << "%";
+  n.lines.push_back(os.str());
+  if (!l.unplaced.empty())
+    n.warnings.push_back(std::to_string(l.unplaced.size()) +
+                         " parts fit no sheet and are missing from cut/ (see layout.unplaced)");
+  int unlabelled = 0;
+  for (const auto& label : l.labels) unlabelled += label ? 0 : 1;
+  if (unlabelled > 0)
+    n.warnings.push_back(std::to_string(unlabelled) +
+                         " parts are too narrow between kerf cuts for an engraved number");
+  return n;
+}
+
+StageNotes notes(const SurfaceDistance& q, double diagonal) {
+  StageNotes n;
+  Line os;
+  os << "strips vs target: Hausdorff " << q.hausdorff << " mm (" << 100 * q.hausdorff / diagonal
+     << "% of diagonal), mean " << q.mean << " mm (" << 100 * q.mean / diagonal << "%), "
+     << q.samples << " samples";
+  n.lines.push_back(os.str());
+  return n;
+}
+
+}  // namespace kerfab

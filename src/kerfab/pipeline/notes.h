@@ -1,0 +1,26 @@
+#pragma once
+/// \file What a finished stage tells the user: progress lines (details under the stage's own
+/// "[stage] ..." line) and warnings for the report. Kept apart from the stage order.
+#include <string>
+#include <vector>
+
+#include "kerfab/pipeline/pipeline.h"
+
+namespace kerfab {
+
+struct StageNotes {
+  std::vector<std::string> lines;     ///< progress details, one line each
+  std::vector<std::string> warnings;  ///< also listed in the report
+};
+
+StageNotes notes(const PreparedInput& input);
+StageNotes notes(const BendingResult& bending);
+StageNotes notes(const Strips& strips, const std::optional<RowBaseline>& baseline,
+                 const StripsOptions& options);
+StageNotes notes(const CuttablePatches& flat, double target_diagonal);
+StageNotes notes(const Joints& joints, const JointOptions& options);
+StageNotes notes(const KerfResult& kerf, const KerfOptions& options);
+StageNotes notes(const LayoutResult& layout, const LayoutOptions& options);
+StageNotes notes(const SurfaceDistance& quality, double target_diagonal);
+
+}  // namespace kerfab
