@@ -143,6 +143,10 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "model/kerf_density.ply) [mm]")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd.add_option("--min-cut-length", ko.min_cut_length,
+                 "Kerf cuts shorter than this are not made [mm]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd.add_option("--bridge", ko.bridge, "Material left at alternating ends of each kerf cut [mm]")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
@@ -151,8 +155,8 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--kerf-smoothing", ko.smoothing,
-                 "Width of the tent kernel smoothing the needed beam count along a strip [mm]")
-      ->capture_default_str()
+                 "Width of the tent kernel averaging the twist rate along a strip; default: twice "
+                 "the target's facet size (median sqrt(2 area) of its triangles) [mm]")
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--constant-density", f.constant_density,
                  "Instead of the adaptive density: this many kerf cuts per quad of the quad mesh "

@@ -40,6 +40,87 @@ bool inside(const Vec2& p, const std::vector<Polygon2>& polys) {  // non-zero ov
   return winding != 0;
 }
 
+/// The twist the strip takes along its length: each internal ruling's fold spread evenly over
+/// the stretch between the middles of its two sub-quads (the same stretch whose width enters the
+/// beam), optionally smoothed; and the strip's width (the beams' length) along it.
+class TwistProfile {
+ public:
+  TwistProfile(const StripFrame& frame, const std::vector<double>& fold, double smoothing) {
+    const int n = frame.n;
+    const std::vector<double>& s = frame.s;
+    std::vector<double> mid(n);
+    for (int f = 0; f < n; ++f) mid[f] = 0.5 * (s[f] + s[f + 1]);
+    // Rate per stretch e = 1..n-1 over [mid[e-1], mid[e]].
+    std::vector<double> rate(n, 0.0), width(n, 0.0), centre(n, 0.0);
+    for (int e = 1; e < n; ++e) {
+      width[e] = mid[e] - mid[e - 1];
+      centre[e] = 0.5 * (mid[e] + mid[e - 1]);
+      rate[e] = width[e] > 1e-9 ? fold[e] / width[e] : 0.0;
+    }
+    smoothed_.assign(n, 0.0);
+    const double half = 0.5 * smoothing;
+    for (int e = 1; e < n; ++e) {
+      double used = rate[e];
+      if (half > 0 && width[e] > 1e-9) {
+        double sum = 0, weight = 0;
+        for (int k = 1; k < n; ++k) {
+          const double w = std::max(0.0, 1.0 - std::abs(centre[k] - centre[e]) / half) * width[k];
+          sum += w * rate[k];
+          weight += w;
+        }
+        if (weight > 0) used = sum / weight;
+      }
+      // A stretch of no width keeps its fold as a jump.
+      smoothed_[e] = width[e] > 1e-9 ? used * width[e] : fold[e];
+    }
+    knot_s_.push_back(mid[0]);
+    knot_phi_.push_back(0.0);
+    for (int e = 1; e < n; ++e) {
+      knot_s_.push_back(mid[e]);
+      knot_phi_.push_back(knot_phi_.back() + smoothed_[e]);
+    }
+    ruling_s_ = s;
+    for (int i = 0; i <= n; ++i)
+      ruling_len_.push_back((frame.x[2 * i + 1] - frame.x[2 * i]).norm());
+    length_ = s.back();
+  }
+
+  double length() const { return length_; }
+  /// The fold each internal ruling's stretch takes, after smoothing [rad] (index 1..n-1).
+  const std::vector<double>& folds() const { return smoothed_; }
+
+  /// Cumulative twist at strip coordinate \p at [rad].
+  double twist(double at) const {
+    if (at <= knot_s_.front()) return 0.0;
+    if (at >= knot_s_.back()) return knot_phi_.back();
+    const auto it = std::upper_bound(knot_s_.begin(), knot_s_.end(), at);
+    const std::size_t k = static_cast<std::size_t>(it - knot_s_.begin());
+    const double a = knot_s_[k - 1], b = knot_s_[k];
+    const double u = b > a ? (at - a) / (b - a) : 1.0;
+    return knot_phi_[k - 1] + u * (knot_phi_[k] - knot_phi_[k - 1]);
+  }
+
+  /// The shortest beam over [a, b]: the strip's narrowest width there [mm].
+  double width(double a, double b) const {
+    auto at = [&](double x) {
+      const int n = static_cast<int>(ruling_s_.size()) - 1;
+      const auto it = std::upper_bound(ruling_s_.begin(), ruling_s_.end(), x);
+      const int i = std::clamp(static_cast<int>(it - ruling_s_.begin()) - 1, 0, n - 1);
+      const double len = ruling_s_[i + 1] - ruling_s_[i];
+      const double u = len > 0 ? std::clamp((x - ruling_s_[i]) / len, 0.0, 1.0) : 0.0;
+      return (1 - u) * ruling_len_[i] + u * ruling_len_[i + 1];
+    };
+    double w = std::min(at(a), at(b));
+    for (std::size_t i = 0; i < ruling_s_.size(); ++i)
+      if (ruling_s_[i] > a && ruling_s_[i] < b) w = std::min(w, ruling_len_[i]);
+    return w;
+  }
+
+ private:
+  std::vector<double> knot_s_, knot_phi_, smoothed_, ruling_s_, ruling_len_;
+  double length_ = 0;
+};
+
 class PatchKerfBuilder {
  public:
   PatchKerfBuilder(const Strips& s, const Flattening& f, const Joints& j, const Material& m,
@@ -49,28 +130,37 @@ class PatchKerfBuilder {
     // tooth) without its slots, shrunk by the margin.
     region_ =
         polygon_offset(polygon_intersection(j.parts[p].designed, flat_outline(s, f, p)), -o.margin);
+    allowed_ = m.yield_strength / m.safety;
   }
 
   PatchKerf run(std::vector<CriticalRegion>& critical) {
     const int n = static_cast<int>(patch_.faces.size());
     PatchKerf out;
     const StripFrame frame(x_, n);
-    const std::vector<double>& s = frame.s;
+    const TwistProfile profile(frame, folds(), smoothing_width(s_, o_));
+    for (int e = 1; e < n; ++e) {
+      out.twist.push_back(profile.folds()[e]);
+      out.positions.push_back(frame.s[e]);
+    }
     std::vector<double> positions;  // cut positions along the strip
     if (o_.constant_cuts_per_quad) {
-      // Baseline: N cuts spread evenly over each coarse quad.
+      // Baseline: N cuts spread evenly over each coarse quad, never closer than the laser allows.
       int first = 0;
       for (std::size_t q = 0; q < patch_.quads.size(); ++q) {
         const int k = s_.quad_segments[patch_.quads[q]];
-        const double a = s[first], b = s[first + k];
-        for (int c = 0; c < *o_.constant_cuts_per_quad; ++c)
-          positions.push_back(a + (c + 0.5) * (b - a) / *o_.constant_cuts_per_quad);
+        const double a = frame.s[first], b = frame.s[first + k];
+        for (int c = 0; c < *o_.constant_cuts_per_quad; ++c) {
+          const double at = a + (c + 0.5) * (b - a) / *o_.constant_cuts_per_quad;
+          if (positions.empty() || at - positions.back() >= o_.min_cut_spacing)
+            positions.push_back(at);
+        }
         first += k;
       }
-    } else if (n >= 2) {
-      positions = adaptive_positions(s, out);
+    } else if (std::isfinite(allowed_) && m_.thickness > 0 && n >= 2) {
+      positions = adaptive_positions(profile);
     }
-    place(positions, frame, out, critical);
+    place(positions, frame, out);
+    assess(profile, frame, out, critical);
     return out;
   }
 
@@ -82,80 +172,80 @@ class PatchKerfBuilder {
   const KerfOptions& o_;
   int p_;
   std::vector<Polygon2> region_;
+  double allowed_ = 0;  // tau_yield / safety [MPa]
 
-  Vec2 rail(int ruling, int r) const { return x_[2 * ruling + r]; }
-  double face_width(int f) const {
-    return std::min((rail(f + 1, 0) - rail(f, 0)).norm(), (rail(f + 1, 1) - rail(f, 1)).norm());
-  }
-
-  std::vector<double> adaptive_positions(const std::vector<double>& s, PatchKerf& out) {
+  /// Fold across each internal ruling: the largest sector-normal angle at either rail [rad].
+  std::vector<double> folds() const {
     const int n = static_cast<int>(patch_.faces.size());
-    const Material& m = m_;
-    const double shear_over_yield = m.shear_modulus / (m.yield_strength / m.safety);
-    std::vector<double> beams(n + 1, 0.0), width(n + 1, 0.0);
-    for (int e = 1; e < n; ++e) {
-      width[e] = 0.5 * std::min(face_width(e - 1), face_width(e));
-      const double length = (rail(e, 1) - rail(e, 0)).norm();
-      double angle = 0;  // largest normal angle across the ruling, at either end
+    std::vector<double> fold(n, 0.0);
+    for (int e = 1; e < n; ++e)
       for (int r = 0; r < 2; ++r) {
         const int v = patch_.rulings[e][r];
-        angle = std::max(angle,
-                         angle_between(sector_normal(s_.vertices, s_.faces[patch_.faces[e - 1]], v),
-                                       sector_normal(s_.vertices, s_.faces[patch_.faces[e]], v)));
+        fold[e] = std::max(
+            fold[e], angle_between(sector_normal(s_.vertices, s_.faces[patch_.faces[e - 1]], v),
+                                   sector_normal(s_.vertices, s_.faces[patch_.faces[e]], v)));
       }
-      beams[e] = beams_needed(angle, width[e], length, m.thickness, shear_over_yield);
-    }
-    // Smooth with a tent kernel along the strip.
-    std::vector<double> smooth(n + 1, 0.0);
-    const double half = 0.5 * o_.smoothing;
-    for (int e = 1; e < n; ++e) {
-      if (half <= 0) {
-        smooth[e] = beams[e];
-        continue;
-      }
-      double sum = 0, weight = 0;
-      for (int k = 1; k < n; ++k) {
-        const double w = std::max(0.0, 1.0 - std::abs(s[k] - s[e]) / half);
-        sum += w * beams[k];
-        weight += w;
-      }
-      smooth[e] = weight > 0 ? sum / weight : beams[e];
-    }
-    for (int e = 1; e < n; ++e) {
-      out.beams.push_back(smooth[e]);
-      out.positions.push_back(s[e]);
-    }
-    // Integrate: ruling e owns the stretch from the middle of face e-1 to the middle of face e,
-    // holding smooth[e] beams; scale the total up to a whole number of beams and cut where the
-    // running integral crosses each whole number (paper Fig. 8).
-    double total = 0;
-    for (int e = 1; e < n; ++e) total += smooth[e];
-    std::vector<double> positions;
-    if (total <= 1e-9) return positions;
-    const int count = static_cast<int>(std::ceil(total - 1e-9));
-    const double scale = count / total;
-    double before = 0;
-    int next = 1;
-    for (int e = 1; e < n && next < count; ++e) {
-      const double here = scale * smooth[e];
-      const double a = 0.5 * (s[e - 1] + s[e]), b = 0.5 * (s[e] + s[e + 1]);
-      while (next < count && before + here >= next - 1e-12) {
-        const double u = here > 0 ? (next - before) / here : 0.5;
-        positions.push_back(a + std::clamp(u, 0.0, 1.0) * (b - a));
-        ++next;
-      }
-      before += here;
-    }
-    return positions;
+    return fold;
   }
 
-  void place(const std::vector<double>& positions, const StripFrame& frame, PatchKerf& out,
-             std::vector<CriticalRegion>& critical) {
-    const int n = static_cast<int>(patch_.faces.size());
-    const std::vector<double>& s = frame.s;
-    out.face_density.assign(n, 0.0);
-    out.face_critical.assign(n, 0);
-    auto face_at = [&](double pos) { return frame.face_at(pos); };
+  /// Stress of the beam between strip coordinates a and b over the allowed stress [-].
+  double ratio(const TwistProfile& t, double a, double b) const {
+    const double phi = t.twist(b) - t.twist(a);
+    if (!(phi > 0)) return 0.0;
+    const double l = t.width(a, b);
+    if (!(l > 0)) return std::numeric_limits<double>::infinity();
+    return beam_stress(phi, b - a, l, m_.thickness, m_.shear_modulus) / allowed_;
+  }
+
+  /// The farthest b in (a, L] such that the beam [a, b] stays within \p limit (ratio).
+  double reach(const TwistProfile& t, double a, double limit) const {
+    const double end = t.length();
+    if (ratio(t, a, end) <= limit) return end;
+    double lo = a, hi = end;
+    while (hi - lo > 1e-4) {
+      const double mid = 0.5 * (lo + hi);
+      (ratio(t, a, mid) <= limit ? lo : hi) = mid;
+    }
+    return lo;
+  }
+
+  /// Cuts from the start of the strip, each as far from the last as a beam within \p limit
+  /// reaches (never closer than the minimum spacing): for a stress monotone in the beam's
+  /// extent this greedy walk uses the fewest cuts that keep every beam within the limit.
+  std::vector<double> walk(const TwistProfile& t, double limit) const {
+    std::vector<double> cuts;
+    double a = 0;
+    for (;;) {
+      double b = reach(t, a, limit);
+      if (b >= t.length()) break;
+      b = std::max(b, a + o_.min_cut_spacing);
+      if (b >= t.length() - 1e-9) break;
+      cuts.push_back(b);
+      a = b;
+    }
+    return cuts;
+  }
+
+  /// The fewest cuts that keep every beam within the allowed stress, then spread so that the
+  /// largest stress is as low as that count allows (bisection on the limit).
+  std::vector<double> adaptive_positions(const TwistProfile& t) const {
+    std::vector<double> best = walk(t, 1.0);
+    if (best.empty()) return best;
+    double lo = 0.0, hi = 1.0;
+    for (int it = 0; it < 24; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      std::vector<double> cuts = walk(t, mid);
+      if (cuts.size() <= best.size()) {
+        hi = mid;
+        best = std::move(cuts);
+      } else {
+        lo = mid;
+      }
+    }
+    return best;
+  }
+
+  void place(const std::vector<double>& positions, const StripFrame& frame, PatchKerf& out) {
     int index = 0;
     for (double pos : positions) {
       const auto [a, b] = frame.section(pos);
@@ -176,43 +266,75 @@ class PatchKerfBuilder {
         ca += o_.bridge * d;
       else
         cb -= o_.bridge * d;
+      if ((cb - ca).dot(d) < o_.min_cut_length) continue;  // too short to cut
       ++index;
-      if ((cb - ca).dot(d) <= 0) continue;
-      out.cuts.push_back({ca, cb, pos, face_at(pos)});
+      out.cuts.push_back({ca, cb, pos, frame.face_at(pos)});
+    }
+  }
+
+  /// The beams as placed: every stretch between consecutive cuts (and the strip's ends) is
+  /// checked against the allowed stress; overstressed ones form the critical regions.
+  void assess(const TwistProfile& t, const StripFrame& frame, PatchKerf& out,
+              std::vector<CriticalRegion>& critical) const {
+    const int n = static_cast<int>(patch_.faces.size());
+    const std::vector<double>& s = frame.s;
+    out.face_density.assign(n, 0.0);
+    out.face_critical.assign(n, 0);
+    std::vector<double> stops = {0.0};
+    for (const auto& c : out.cuts) stops.push_back(c.position);
+    stops.push_back(t.length());
+    out.min_spacing = 0;
+    for (std::size_t i = 1; i < out.cuts.size(); ++i) {
+      const double gap = out.cuts[i].position - out.cuts[i - 1].position;
+      if (i == 1 || gap < out.min_spacing) out.min_spacing = gap;
+    }
+    bool open = false;
+    const bool stressed = std::isfinite(allowed_) && m_.thickness > 0;
+    for (std::size_t i = 0; i + 1 < stops.size(); ++i) {
+      const double a = stops[i], b = stops[i + 1];
+      const double r = stressed ? ratio(t, a, b) : 0.0;
+      out.stress_ratio = std::max(out.stress_ratio, r);
+      if (r <= 1.0 + 1e-6) {
+        open = false;
+        continue;
+      }
+      if (!open) {
+        critical.push_back({p_, a, b, reach(t, a, 1.0) - a, 0, r, false});
+        open = true;
+      }
+      CriticalRegion& c = critical.back();
+      const double needed = reach(t, a, 1.0) - a;  // the widest beam the bend allows here
+      c.end = b;
+      c.spacing = std::min(c.spacing, needed);
+      c.stress_ratio = std::max(c.stress_ratio, r);
+      c.cuts += i + 1 < stops.size() - 1 ? 1 : 0;
+      // A beam the laser could have made (needed >= the minimum spacing) that is overstressed all
+      // the same is one where a cut did not fit: the strip is too narrow there.
+      c.too_narrow = c.too_narrow || needed >= o_.min_cut_spacing;
+      for (int f = frame.face_at(a); f <= frame.face_at(b); ++f) out.face_critical[f] = 1;
     }
     // Density at each sub-quad: one over the spacing of the two cuts around its middle.
     for (int f = 0; f < n; ++f) {
       const double centre = 0.5 * (s[f] + s[f + 1]);
       auto it = std::lower_bound(out.cuts.begin(), out.cuts.end(), centre,
                                  [](const KerfCut& c, double v) { return c.position < v; });
-      if (it == out.cuts.begin() || it == out.cuts.end()) {
-        out.face_density[f] = 0;
-        continue;
-      }
+      if (it == out.cuts.begin() || it == out.cuts.end()) continue;
       const double gap = it->position - std::prev(it)->position;
       out.face_density[f] = gap > 0 ? 1.0 / gap : 0.0;
-    }
-    out.min_spacing = 0;
-    bool open = false;
-    for (std::size_t i = 1; i < out.cuts.size(); ++i) {
-      const double a = out.cuts[i - 1].position, b = out.cuts[i].position, gap = b - a;
-      if (i == 1 || gap < out.min_spacing) out.min_spacing = gap;
-      if (gap >= o_.min_cut_spacing) {
-        open = false;
-        continue;
-      }
-      if (!open) critical.push_back({p_, a, a, gap, 1});
-      open = true;
-      CriticalRegion& c = critical.back();
-      c.end = b;
-      c.spacing = std::min(c.spacing, gap);
-      ++c.cuts;
-      for (int f = face_at(a); f <= face_at(b); ++f) out.face_critical[f] = 1;
     }
   }
 };
 
 }  // namespace
+
+double smoothing_width(const Strips& strips, const KerfOptions& options) {
+  return options.smoothing.value_or(2.0 * strips.target_facet_size);
+}
+
+double beam_stress(double twist, double width, double length, double thickness,
+                   double shear_modulus) {
+  return shear_modulus * twist * 0.5 * std::sqrt(thickness * thickness + width * width) / length;
+}
 
 double beams_needed(double angle, double width, double length, double thickness,
                     double shear_over_yield) {
@@ -231,7 +353,9 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
   if (!(m.yield_strength > 0)) throw InvalidInput("--yield-strength must be > 0 MPa");
   if (!(m.safety >= 1)) throw InvalidInput("--safety must be >= 1");
   if (!(options.min_cut_spacing > 0)) throw InvalidInput("--min-cut-spacing must be > 0 mm");
-  if (!(options.smoothing >= 0)) throw InvalidInput("--kerf-smoothing must be >= 0 mm");
+  if (!(options.min_cut_length > 0)) throw InvalidInput("--min-cut-length must be > 0 mm");
+  if (options.smoothing && !(*options.smoothing >= 0))
+    throw InvalidInput("--kerf-smoothing must be >= 0 mm");
   if (!(options.bridge >= 0) || !(options.margin >= 0))
     throw InvalidInput("--bridge and --kerf-margin must be >= 0 mm");
   if (options.constant_cuts_per_quad && *options.constant_cuts_per_quad < 0)
@@ -239,6 +363,7 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
   if (joints.parts.size() != strips.patches.size() || flat.patches.size() != strips.patches.size())
     throw InvalidInput("kerf: flattening or joints do not belong to these strips");
   KerfResult r;
+  r.smoothing = smoothing_width(strips, options);
   r.quad_cuts.assign(strips.quad_segments.size(), 0);
   for (std::size_t p = 0; p < strips.patches.size(); ++p) {
     r.patches.push_back(

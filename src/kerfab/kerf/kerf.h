@@ -1,8 +1,12 @@
 #pragma once
-/// \file Adaptive kerf cuts (paper Sec. 3.4): per internal ruling the number of beams the strip
-/// needs to twist by its fold there without exceeding the material's shear yield (torsion of
-/// rectangular beams, paper Eq. 5-17 with the sign of Eq. 7/16 corrected), smoothed along the
-/// strip, integrated, and turned into alternating straight cuts across the flattened part.
+/// \file Adaptive kerf cuts (paper Sec. 3.4), with width, twist and spacing referring to one
+/// and the same stretch of strip (derivation: docs/kerf-cuts.md). Alternating cuts turn the
+/// strip into beams that twist; a beam of width w between two cuts, twisted by the normal
+/// rotation phi between them, carries tau = G phi r / l with r = sqrt(h^2 + w^2) / 2 (paper
+/// Eq. 5, 10) and l the strip's width there. Cuts are placed along the strip so that every beam
+/// stays within tau_yield / safety, with as few cuts as that allows and the largest stress as
+/// low as that count allows; where the bend would need cuts closer than the laser can make, or
+/// the strip is too narrow for a cut, the stretch is a critical region.
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,16 +19,33 @@
 namespace kerfab {
 
 struct KerfOptions {
-  double smoothing = 10.0;       ///< width of the tent kernel smoothing n_e along the strip [mm]
-  double min_cut_spacing = 0.9;  ///< closer cuts are a critical region [mm], > 0
+  /// Width of the tent kernel averaging the twist rate along the strip [mm], >= 0. The folds
+  /// between sub-quads sample the target's facets (a rail crossing a facet edge kinks by the
+  /// facet's dihedral), so the rate is averaged over that scale; unset: twice the target's
+  /// facet size (Strips::target_facet_size), so fine targets keep their true peaks (a kernel
+  /// wider than needed lowers them: 5 mm on the elliptic tube of the tests gives 0.4 % less).
+  std::optional<double> smoothing;
+  double min_cut_spacing = 0.9;  ///< no two cuts closer: the laser's limit [mm], > 0
+  double min_cut_length = 2.0;   ///< shorter cuts are not made [mm], > 0
   double bridge = 2.0;           ///< material left at alternating ends of each cut [mm], >= 0
   double margin = 1.0;           ///< cuts keep this far from the part outline [mm], >= 0
   std::optional<int> constant_cuts_per_quad;  ///< set: N cuts per coarse quad (baseline)
 };
 
-/// Number of beams a segment of width \p width needs so that twisting by \p angle over beams of
-/// length \p length and height \p thickness stays at the yield stress (paper Eq. 7-8, positive
-/// root): n = sqrt(z), z = A h^2/8 + sqrt(A^2 h^4/64 + A w^2/4), A = (angle G / (length tau))^2.
+/// The smoothing kernel's width as used [mm]: KerfOptions::smoothing, or twice the target's
+/// facet size.
+double smoothing_width(const Strips& strips, const KerfOptions& options);
+
+/// Shear stress at the surface of a beam of width \p width, height \p thickness and length
+/// \p length twisted by \p twist (paper Eq. 5 and 10): G phi r / l, r = sqrt(h^2 + w^2) / 2
+/// [MPa with G in MPa].
+double beam_stress(double twist, double width, double length, double thickness,
+                   double shear_modulus);
+
+/// Number of beams a stretch of strip \p width wide needs so that twisting by \p angle (over
+/// that same stretch) with beams of length \p length and height \p thickness stays at the yield
+/// stress (paper Eq. 7-8, positive root): n = sqrt(z), z = A h^2/8 + sqrt(A^2 h^4/64 + A w^2/4),
+/// A = (angle G / (length tau))^2.
 double beams_needed(double angle, double width, double length, double thickness,
                     double shear_over_yield);
 
@@ -34,19 +55,24 @@ struct KerfCut {
   int face = -1;        ///< sub-quad (index into Patch::faces) it crosses
 };
 
-/// A stretch of a strip where consecutive cuts are closer than the allowed spacing.
+/// A stretch of a strip that the cuts cannot make bendable enough in this material: the bend
+/// needs beams narrower than the minimum cut spacing, or the strip is too narrow there for a cut
+/// of the minimum length. Cuts there keep the minimum spacing; their beams are overstressed.
 struct CriticalRegion {
   int patch = -1;
-  double start = 0, end = 0;  ///< along the strip, first and last cut of the stretch [mm]
-  double spacing = 0;         ///< smallest distance between two of its cuts [mm]
-  int cuts = 0;               ///< cuts in the stretch
+  double start = 0, end = 0;  ///< along the strip [mm]
+  double spacing = 0;         ///< narrowest beam the bend needs there [mm] (0: no cut fits)
+  int cuts = 0;               ///< cuts placed in the stretch
+  double stress_ratio = 0;    ///< largest beam stress there over the allowed stress [-], > 1
+  bool too_narrow = false;    ///< the strip is too narrow there for a cut
 };
 
 struct PatchKerf {
-  std::vector<double> beams;      ///< n_e per internal ruling (after smoothing)
+  std::vector<double> twist;  ///< per internal ruling: the fold it takes (after smoothing) [rad]
   std::vector<double> positions;  ///< along the strip, per internal ruling [mm]
   std::vector<KerfCut> cuts;
   double min_spacing = 0;            ///< smallest distance between neighbouring cuts [mm] (0: < 2)
+  double stress_ratio = 0;           ///< largest beam stress over the allowed stress [-]
   std::vector<double> face_density;  ///< cuts per mm at each sub-quad: 1 / spacing of the cuts
                                      ///< around its middle (0 outside the first and last cut)
   std::vector<char> face_critical;   ///< sub-quad holds a critical region
@@ -68,6 +94,7 @@ struct KerfResult {
   int max_cuts_per_quad = 0;   ///< the constant density that would match the tightest quad
   int cuts = 0;
   double cut_length = 0;    ///< [mm]
+  double smoothing = 0;     ///< width of the smoothing kernel as used [mm]
   CuttingEstimate cutting;  ///< outlines (from the joints) and kerf cuts on \p machine
 };
 

@@ -72,7 +72,8 @@ json options_section(const RunResult& run, const OutputOptions& output) {
   j["yield_strength_mpa"] =
       std::isfinite(m.yield_strength) ? json(m.yield_strength) : json("infinity");
   j["safety"] = m.safety;
-  j["kerf_smoothing_mm"] = o.kerf.smoothing;
+  j["kerf_smoothing_mm"] = optional_json(o.kerf.smoothing);
+  j["min_cut_length_mm"] = o.kerf.min_cut_length;
   j["min_cut_spacing_mm"] = o.kerf.min_cut_spacing;
   j["bridge_mm"] = o.kerf.bridge;
   j["kerf_margin_mm"] = o.kerf.margin;
@@ -224,7 +225,8 @@ json kerf_section(const KerfResult& k, const KerfOptions& options) {
   for (std::size_t p = 0; p < k.patches.size(); ++p)
     patches.push_back({{"patch", p},
                        {"cuts", k.patches[p].cuts.size()},
-                       {"min_spacing_mm", k.patches[p].min_spacing}});
+                       {"min_spacing_mm", k.patches[p].min_spacing},
+                       {"stress_ratio", k.patches[p].stress_ratio}});
   json critical = json::array();
   for (const auto& c : k.critical)
     critical.push_back({{"patch", c.patch},
@@ -232,9 +234,12 @@ json kerf_section(const KerfResult& k, const KerfOptions& options) {
                         {"from_mm", c.start},
                         {"to_mm", c.end},
                         {"cuts", c.cuts},
-                        {"spacing_mm", c.spacing}});
+                        {"spacing_mm", c.spacing},
+                        {"stress_ratio", c.stress_ratio},
+                        {"cause", c.too_narrow ? "too_narrow" : "too_dense"}});
   return {{"cuts", k.cuts},
           {"cut_length_mm", k.cut_length},
+          {"smoothing_mm", k.smoothing},
           {"critical_regions", k.critical.size()},
           {"critical", critical},
           {"mode", options.constant_cuts_per_quad ? "constant" : "adaptive"},

@@ -132,15 +132,15 @@ StageNotes notes(const KerfResult& k, const KerfOptions& options) {
   StageNotes n;
   Line os;
   os << k.cuts << " kerf cuts, " << k.cut_length / 1000 << " m; " << k.critical.size()
-     << " critical regions (cuts closer than " << options.min_cut_spacing
-     << " mm); estimated cutting time " << k.cutting.minutes << " min";
+     << " critical regions (the bend needs cuts closer than " << options.min_cut_spacing
+     << " mm, or no cut fits); estimated cutting time " << k.cutting.minutes << " min";
   n.lines.push_back(os.str());
   if (!k.critical.empty()) {
     Line w(3);
     w << k.critical.size() << " critical kerf regions: the bend needs cuts closer than "
-      << options.min_cut_spacing << " mm (first: patch " << k.critical.front().patch << " at "
-      << k.critical.front().start << " mm, spacing " << k.critical.front().spacing
-      << " mm); see kerf.critical and model/kerf_density.ply";
+      << options.min_cut_spacing << " mm or the strip is too narrow for a cut (first: patch "
+      << k.critical.front().patch << " at " << k.critical.front().start << " mm, needs spacing "
+      << k.critical.front().spacing << " mm); see kerf.critical and model/kerf_density.ply";
     n.warnings.push_back(w.str());
   }
   return n;

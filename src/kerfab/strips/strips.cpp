@@ -94,6 +94,22 @@ class FeatureCurves {
   std::vector<std::pair<Vec3, Vec3>> segments_;
 };
 
+/// The typical facet size of a triangle mesh: the median over triangles of sqrt(2 area) (the leg
+/// of a right isosceles triangle of that area; the edge length for regular meshes, the short
+/// side for long thin triangles) [mm].
+double median_facet_size(const TriangleMesh& mesh) {
+  std::vector<double> lengths;
+  lengths.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    const auto& v = mesh.vertices;
+    lengths.push_back(std::sqrt((v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).norm()));
+  }
+  if (lengths.empty()) return 0.0;
+  const auto mid = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+  std::nth_element(lengths.begin(), mid, lengths.end());
+  return *mid;
+}
+
 class Builder {
  public:
   Builder(const PolyMesh& quads, const BendingResult& bending, const TargetSurface& target,
@@ -121,6 +137,7 @@ class Builder {
     link_chains();
     build_patches();
     out_.edge_vertices = std::move(edge_points_);
+    out_.target_facet_size = median_facet_size(target_.mesh());
     return std::move(out_);
   }
 

@@ -88,6 +88,8 @@ struct Strips {
   int ray_fallbacks = 0;     ///< normal projections that fell back to the closest point
   int feature_vertices = 0;  ///< vertices moved onto target feature curves
   double max_fold = 0;       ///< largest sector-normal angle kept inside a patch [rad]
+  double target_facet_size = 0;  ///< the facet size of the target the strips lie on [mm]: the
+                                 ///< median over its triangles of sqrt(2 area)
 };
 
 /// Subdivides, projects and chains the quads. \pre quads is all quads and \p bending was computed
