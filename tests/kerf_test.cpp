@@ -254,9 +254,15 @@ TEST(Kerf, TightBendsAreCriticalAndCutsStayInsideTheirPart) {
   KerfOptions o;
   const KerfResult k = place_kerf_cuts(b.strips, b.flat, b.joints, {}, {}, o);
   ASSERT_GT(k.cuts, 0);
-  EXPECT_GT(k.critical.size(), 0u);  // R 12, H 10 in 3 mm MDF: ~95 beams, 0.8 mm apart
-  for (const auto& c : k.critical) EXPECT_LT(c.spacing, o.min_cut_spacing);
-  EXPECT_LT(k.patches[0].min_spacing, o.min_cut_spacing);
+  // R 12, H 10 in 3 mm MDF: the beams would have to be about 0.5 mm wide. The cuts keep the
+  // laser's minimum spacing, and the stretch is reported as critical with what it would need.
+  EXPECT_GT(k.critical.size(), 0u);
+  for (const auto& c : k.critical) {
+    EXPECT_LT(c.spacing, o.min_cut_spacing);
+    EXPECT_GT(c.stress_ratio, 1.0);
+    EXPECT_FALSE(c.too_narrow);
+  }
+  EXPECT_GE(k.patches[0].min_spacing, o.min_cut_spacing - 1e-9);
   // Every cut end lies inside the part, a margin away from its outline, and off its teeth.
   const Polygon2 body = flat_outline(b.strips, b.flat, 0);
   const auto shrunk =

@@ -38,8 +38,7 @@ struct LocalPatch {
 
 LocalPatch local_patch(const Strips& strips, const Patch& patch) {
   LocalPatch lp;
-  for (const auto& r : patch.rulings)
-    for (int rail = 0; rail < 2; ++rail) lp.p3.push_back(strips.vertices[r[rail]]);
+  for (int v : patch.local_vertices()) lp.p3.push_back(strips.vertices[v]);
   lp.quads = patch.local_quads();
   for (const OutlineEdge& e : patch.outline()) lp.border.push_back(e.v);
   return lp;
@@ -377,6 +376,7 @@ void measure_borders(const Strips& strips, Flattening& flat) {
   for (std::size_t p = 0; p < strips.patches.size(); ++p) {
     const Patch& patch = strips.patches[p];
     const auto& x = flat.patches[p].points;
+    const auto lv = patch.local_vertices();
     for (const OutlineEdge& e : patch.outline()) {
       Side& s = sides
                     .try_emplace({e.coarse_edge, static_cast<int>(p) * 4 + e.side},
@@ -384,9 +384,7 @@ void measure_borders(const Strips& strips, Flattening& flat) {
                     .first->second;
       const int a = e.v[0], b = e.v[1];
       s.l2 += (x[b] - x[a]).norm();
-      s.l3 += (strips.vertices[patch.rulings[b / 2][b % 2]] -
-               strips.vertices[patch.rulings[a / 2][a % 2]])
-                  .norm();
+      s.l3 += (strips.vertices[lv[b]] - strips.vertices[lv[a]]).norm();
     }
   }
   std::map<int, std::vector<Side>> by_edge;
@@ -514,8 +512,7 @@ TriangleMesh patch_triangles(const Strips& strips, const Flattening& flat, bool 
       out.vertices.insert(out.vertices.end(), flat.patches[p].deformed_3d.begin(),
                           flat.patches[p].deformed_3d.end());
     } else {
-      for (const auto& r : patch.rulings)
-        for (int rail = 0; rail < 2; ++rail) out.vertices.push_back(strips.vertices[r[rail]]);
+      for (int v : patch.local_vertices()) out.vertices.push_back(strips.vertices[v]);
     }
     for (const auto& q : patch.local_quads()) {
       out.triangles.push_back({base + q[0], base + q[1], base + q[2]});

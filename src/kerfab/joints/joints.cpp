@@ -91,15 +91,14 @@ class Builder {
   const JointOptions& o_;
   std::vector<Ring> rings_;
   std::vector<Piece> pieces_;
+  std::vector<std::vector<int>> locals_;  // per patch: Patch::local_vertices()
   Joints out_;
 
-  Vec3 p3(int patch, int local) const {
-    const auto& r = s_.patches[patch].rulings[local / 2];
-    return s_.vertices[r[local % 2]];
-  }
-  int global(int patch, int local) const { return s_.patches[patch].rulings[local / 2][local % 2]; }
+  Vec3 p3(int patch, int local) const { return s_.vertices[global(patch, local)]; }
+  int global(int patch, int local) const { return locals_[patch][local]; }
 
   void make_rings() {
+    for (const Patch& patch : s_.patches) locals_.push_back(patch.local_vertices());
     for (std::size_t p = 0; p < s_.patches.size(); ++p) {
       Ring r;
       r.edges = s_.patches[p].outline();
@@ -161,7 +160,7 @@ class Builder {
           int a = e.v[0], b = e.v[1];
           if (side.reversed) std::swap(a, b);
           side.s.push_back(side.s.back() + (p3(side.patch, b) - p3(side.patch, a)).norm());
-          const auto& face = s_.faces[s_.patches[side.patch].faces[e.face]];
+          const auto& face = s_.faces[e.sub_quad];
           side.n0.push_back(sector_normal(s_.vertices, face, global(side.patch, a)));
           side.n1.push_back(sector_normal(s_.vertices, face, global(side.patch, b)));
         }

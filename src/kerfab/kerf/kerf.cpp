@@ -28,6 +28,19 @@ std::vector<double> crossings(const Vec2& a, const Vec2& b, const std::vector<Po
   return t;
 }
 
+double segment_distance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  auto point_segment = [](const Vec2& p, const Vec2& u, const Vec2& v) {
+    const Vec2 e = v - u;
+    const double t =
+        e.squaredNorm() > 0 ? std::clamp((p - u).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+    return (p - (u + t * e)).norm();
+  };
+  auto side = [](const Vec2& o, const Vec2& p, const Vec2& q) { return cross2(p - o, q - o); };
+  if (side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0) return 0.0;
+  return std::min({point_segment(a, c, d), point_segment(b, c, d), point_segment(c, a, b),
+                   point_segment(d, a, b)});
+}
+
 bool inside(const Vec2& p, const std::vector<Polygon2>& polys) {  // non-zero over all rings
   int winding = 0;
   for (const auto& poly : polys)
@@ -151,13 +164,14 @@ class PatchKerfBuilder {
         const double a = frame.s[first], b = frame.s[first + k];
         for (int c = 0; c < *o_.constant_cuts_per_quad; ++c) {
           const double at = a + (c + 0.5) * (b - a) / *o_.constant_cuts_per_quad;
-          if (positions.empty() || at - positions.back() >= o_.min_cut_spacing)
+          if (positions.empty() || (at - positions.back() >= o_.min_cut_spacing &&
+                                    gap(frame, positions.back(), at) >= o_.min_cut_spacing))
             positions.push_back(at);
         }
         first += k;
       }
     } else if (std::isfinite(allowed_) && m_.thickness > 0 && n >= 2) {
-      positions = adaptive_positions(profile);
+      positions = adaptive_positions(profile, frame);
     }
     place(positions, frame, out);
     assess(profile, frame, out, critical);
@@ -172,19 +186,24 @@ class PatchKerfBuilder {
   const KerfOptions& o_;
   int p_;
   std::vector<Polygon2> region_;
-  double allowed_ = 0;  // tau_yield / safety [MPa]
+  double allowed_ = 0;           // tau_yield / safety [MPa]
+  std::vector<double> skipped_;  // positions where a planned cut did not fit the part
 
-  /// Fold across each internal ruling: the largest sector-normal angle at either rail [rad].
+  /// Fold across each internal ruling: the largest sector-normal angle at any of its rail
+  /// vertices, in every row [rad].
   std::vector<double> folds() const {
     const int n = static_cast<int>(patch_.faces.size());
+    const std::vector<int> lv = patch_.local_vertices();
     std::vector<double> fold(n, 0.0);
     for (int e = 1; e < n; ++e)
-      for (int r = 0; r < 2; ++r) {
-        const int v = patch_.rulings[e][r];
-        fold[e] = std::max(
-            fold[e], angle_between(sector_normal(s_.vertices, s_.faces[patch_.faces[e - 1]], v),
-                                   sector_normal(s_.vertices, s_.faces[patch_.faces[e]], v)));
-      }
+      for (int row = 0; row < patch_.rows(); ++row)
+        for (int rail : {row, row + 1}) {
+          const int v = lv[patch_.local(rail, e)];
+          const auto& before = s_.faces[patch_.face(e - 1, row)];
+          const auto& after = s_.faces[patch_.face(e, row)];
+          fold[e] = std::max(fold[e], angle_between(sector_normal(s_.vertices, before, v),
+                                                    sector_normal(s_.vertices, after, v)));
+        }
     return fold;
   }
 
@@ -209,16 +228,38 @@ class PatchKerfBuilder {
     return lo;
   }
 
+  /// Distance between the cut lines (rail to rail) at strip coordinates a and b [mm]: where
+  /// rulings fan out, their narrow ends are closer than the positions along the strip.
+  double gap(const StripFrame& frame, double a, double b) const {
+    const auto u = frame.section(a), v = frame.section(b);
+    return segment_distance(u[0], u[1], v[0], v[1]);
+  }
+
+  /// The nearest b >= \p from whose cut line keeps the minimum spacing from the one at a, or
+  /// the strip's end.
+  double spaced(const StripFrame& frame, double a, double from) const {
+    const double end = frame.s.back();
+    from = std::max(from, a + o_.min_cut_spacing);
+    if (from >= end || gap(frame, a, from) >= o_.min_cut_spacing) return std::min(from, end);
+    if (gap(frame, a, end) < o_.min_cut_spacing) return end;
+    double lo = from, hi = end;
+    while (hi - lo > 1e-4) {
+      const double mid = 0.5 * (lo + hi);
+      (gap(frame, a, mid) >= o_.min_cut_spacing ? hi : lo) = mid;
+    }
+    return hi;
+  }
+
   /// Cuts from the start of the strip, each as far from the last as a beam within \p limit
-  /// reaches (never closer than the minimum spacing): for a stress monotone in the beam's
-  /// extent this greedy walk uses the fewest cuts that keep every beam within the limit.
-  std::vector<double> walk(const TwistProfile& t, double limit) const {
+  /// reaches, but never closer to it than the minimum spacing: for a stress monotone in the
+  /// beam's extent this greedy walk uses the fewest cuts that keep every beam within the limit.
+  std::vector<double> walk(const TwistProfile& t, const StripFrame& frame, double limit) const {
     std::vector<double> cuts;
     double a = 0;
     for (;;) {
       double b = reach(t, a, limit);
       if (b >= t.length()) break;
-      b = std::max(b, a + o_.min_cut_spacing);
+      b = spaced(frame, a, b);
       if (b >= t.length() - 1e-9) break;
       cuts.push_back(b);
       a = b;
@@ -228,13 +269,13 @@ class PatchKerfBuilder {
 
   /// The fewest cuts that keep every beam within the allowed stress, then spread so that the
   /// largest stress is as low as that count allows (bisection on the limit).
-  std::vector<double> adaptive_positions(const TwistProfile& t) const {
-    std::vector<double> best = walk(t, 1.0);
+  std::vector<double> adaptive_positions(const TwistProfile& t, const StripFrame& frame) const {
+    std::vector<double> best = walk(t, frame, 1.0);
     if (best.empty()) return best;
     double lo = 0.0, hi = 1.0;
     for (int it = 0; it < 24; ++it) {
       const double mid = 0.5 * (lo + hi);
-      std::vector<double> cuts = walk(t, mid);
+      std::vector<double> cuts = walk(t, frame, mid);
       if (cuts.size() <= best.size()) {
         hi = mid;
         best = std::move(cuts);
@@ -260,13 +301,19 @@ class PatchKerfBuilder {
         if (!inside(a0 + m * (b0 - a0), region_)) continue;
         if (t[i] <= 0.5 && t[i + 1] >= 0.5) lo = t[i], hi = t[i + 1];
       }
-      if (lo < 0) continue;  // the part is too narrow here for a cut
+      if (lo < 0) {  // the part is too narrow here for a cut
+        skipped_.push_back(pos);
+        continue;
+      }
       Vec2 ca = a0 + lo * (b0 - a0), cb = a0 + hi * (b0 - a0);
       if (index % 2 == 0)
         ca += o_.bridge * d;
       else
         cb -= o_.bridge * d;
-      if ((cb - ca).dot(d) < o_.min_cut_length) continue;  // too short to cut
+      if ((cb - ca).dot(d) < o_.min_cut_length) {  // too short to cut
+        skipped_.push_back(pos);
+        continue;
+      }
       ++index;
       out.cuts.push_back({ca, cb, pos, frame.face_at(pos)});
     }
@@ -308,9 +355,11 @@ class PatchKerfBuilder {
       c.spacing = std::min(c.spacing, needed);
       c.stress_ratio = std::max(c.stress_ratio, r);
       c.cuts += i + 1 < stops.size() - 1 ? 1 : 0;
-      // A beam the laser could have made (needed >= the minimum spacing) that is overstressed all
-      // the same is one where a cut did not fit: the strip is too narrow there.
-      c.too_narrow = c.too_narrow || needed >= o_.min_cut_spacing;
+      // Too narrow: the bend itself could be cut (needs no beam under the minimum spacing), but
+      // a planned cut did not fit the part in this stretch.
+      bool skipped = false;
+      for (double at : skipped_) skipped = skipped || (at > c.start && at < b);
+      c.too_narrow = skipped && c.spacing >= o_.min_cut_spacing;
       for (int f = frame.face_at(a); f <= frame.face_at(b); ++f) out.face_critical[f] = 1;
     }
     // Density at each sub-quad: one over the spacing of the two cuts around its middle.
@@ -371,7 +420,8 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
     for (const auto& c : r.patches.back().cuts) {
       ++r.cuts;
       r.cut_length += (c.b - c.a).norm();
-      r.quad_cuts[strips.face_quad[strips.patches[p].faces[c.face]]] += 1;
+      for (int row = 0; row < strips.patches[p].rows(); ++row)
+        r.quad_cuts[strips.face_quad[strips.patches[p].face(c.face, row)]] += 1;
     }
   }
   for (int q : r.quad_cuts) r.max_cuts_per_quad = std::max(r.max_cuts_per_quad, q);

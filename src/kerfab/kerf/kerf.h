@@ -64,7 +64,8 @@ struct CriticalRegion {
   double spacing = 0;         ///< narrowest beam the bend needs there [mm] (0: no cut fits)
   int cuts = 0;               ///< cuts placed in the stretch
   double stress_ratio = 0;    ///< largest beam stress there over the allowed stress [-], > 1
-  bool too_narrow = false;    ///< the strip is too narrow there for a cut
+  bool too_narrow = false;    ///< the bend needs no beam under the minimum spacing, but a cut
+                              ///< did not fit the part there (the strip is too narrow)
 };
 
 struct PatchKerf {

@@ -130,8 +130,9 @@ json strips_section(const Strips& s, int overlap_splits,
   for (int k : s.quad_segments) seg_min = std::min(seg_min, k), seg_max = std::max(seg_max, k);
   json patches = json::array();
   for (const Patch& p : s.patches)
-    patches.push_back({{"quads", p.quads.size()},
-                       {"sub_quads", p.faces.size()},
+    patches.push_back({{"quads", p.all_quads().size()},
+                       {"rows", p.rows()},
+                       {"sub_quads", p.all_faces().size()},
                        {"chain", p.chain},
                        {"loop_cut", p.loop_cut}});
   json j = {{"strips", static_cast<int>(s.patches.size()) - overlap_splits},

@@ -107,12 +107,13 @@ void write_kerf_density_ply(const Strips& strips, const KerfResult& kerf,
   std::vector<char> critical(strips.faces.size(), 0);
   std::vector<double> nonzero;
   for (std::size_t p = 0; p < strips.patches.size() && p < kerf.patches.size(); ++p)
-    for (std::size_t i = 0; i < strips.patches[p].faces.size(); ++i) {
-      const int f = strips.patches[p].faces[i];
-      density[f] = kerf.patches[p].face_density[i];
-      critical[f] = kerf.patches[p].face_critical[i];
-      if (density[f] > 0) nonzero.push_back(density[f]);
-    }
+    for (int row = 0; row < strips.patches[p].rows(); ++row)
+      for (std::size_t i = 0; i < strips.patches[p].faces.size(); ++i) {
+        const int f = strips.patches[p].face(static_cast<int>(i), row);
+        density[f] = kerf.patches[p].face_density[i];
+        critical[f] = kerf.patches[p].face_critical[i];
+        if (density[f] > 0) nonzero.push_back(density[f]);
+      }
   // Colour scale up to the 95th percentile, so a few dense spots do not darken the rest.
   double top = 0;
   if (!nonzero.empty()) {
@@ -135,12 +136,14 @@ void write_kerf_density_ply(const Strips& strips, const KerfResult& kerf,
 void write_patch_obj(const Strips& strips, int patch, const std::filesystem::path& path) {
   const Patch& p = strips.patches.at(patch);
   auto out = open_for_writing(path);
-  out << "# kerfab patch " << patch << " in 3D (mm): vertex 2*i+r is ruling i, rail r\n";
-  for (const auto& r : p.rulings)
-    for (int rail = 0; rail < 2; ++rail) {
-      const Vec3& v = strips.vertices[r[rail]];
-      out << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
-    }
+  out << "# kerfab patch " << patch << " in 3D (mm): vertex 2*i+r is ruling i, rail r";
+  if (p.rows() > 1)
+    out << " (r = 1: the last rail), then the inner rails of its " << p.rows() << " rows";
+  out << "\n";
+  for (int id : p.local_vertices()) {
+    const Vec3& v = strips.vertices[id];
+    out << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
+  }
   for (const auto& q : p.local_quads())
     out << "f " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
   check_written(out, path);
@@ -149,7 +152,7 @@ void write_patch_obj(const Strips& strips, int patch, const std::filesystem::pat
 void write_patch_flat_obj(const Strips& strips, int patch, const std::vector<Vec2>& points,
                           const std::filesystem::path& path) {
   const Patch& p = strips.patches.at(patch);
-  if (points.size() != 2 * p.rulings.size())
+  if (points.size() != p.local_vertices().size())
     throw IoError("patch " + std::to_string(patch) + ": flattening does not match the patch");
   auto out = open_for_writing(path);
   out << "# kerfab patch " << patch << " flattened (mm, z = 0): vertex 2*i+r is ruling i, rail r\n";

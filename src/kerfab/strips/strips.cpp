@@ -478,26 +478,247 @@ class Builder {
     patch.quads.push_back(f);
   }
 
+  /// Quads of one strip side by side: rows[r][i] is row r's quad in column i; all rows run over
+  /// the same columns (a single strip has one row).
+  struct Bundle {
+    std::vector<std::vector<ChainQuad>> rows;
+    bool closed = false;
+    int chain = -1;  ///< the maximal chain of row 0
+  };
+
+  /// The quad-mesh edge between vertex indices \p v (from the options), with a message naming
+  /// the option where it is none.
+  int resolve_edge(const std::array<int, 2>& v, const char* what) const {
+    const int nv = static_cast<int>(m_.n_vertices());
+    std::string name = "(";
+    name.append(std::to_string(v[0])).append(", ").append(std::to_string(v[1])).append(")");
+    if (v[0] < 0 || v[1] < 0 || v[0] >= nv || v[1] >= nv)
+      throw InvalidInput(std::string(what) + " edge " + name + ": vertex index out of range 0.." +
+                         std::to_string(nv - 1));
+    const auto h = m_.find_halfedge(m_.vertex_handle(v[0]), m_.vertex_handle(v[1]));
+    if (!h.is_valid())
+      throw InvalidInput(std::string(what) + " edge " + name + " is not an edge of the quad mesh");
+    return m_.edge_handle(h).idx();
+  }
+
+  static std::string edge_name(const std::array<int, 2>& v) {
+    return "(" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ")";
+  }
+
+  /// The edge by which the chain leaves quad \p cq.
+  int exit_edge(const ChainQuad& cq) const {
+    const int a = out_.quads[cq.quad].axis;
+    return face_edges_[cq.quad][cq.entry == 1 ? (a + 3) % 4 : (a + 1) % 4];
+  }
+
+  /// Chains grouped into bundles by the merge edges of the options: every chain position linked
+  /// to another across a merge edge shares a column with it; runs of columns with the same
+  /// chains, each advancing one way, form a bundle; what is left of each chain forms
+  /// single-row bundles. \throw InvalidInput merge edges that are not rails of both sides, that
+  /// would merge a strip with itself, or that would close a tube or branch.
+  std::vector<Bundle> make_bundles(const std::vector<std::vector<ChainQuad>>& chains,
+                                   const std::vector<char>& closed) {
+    const int nc = static_cast<int>(chains.size());
+    std::vector<int> offset(nc + 1, 0);
+    for (int c = 0; c < nc; ++c) offset[c + 1] = offset[c] + static_cast<int>(chains[c].size());
+    std::vector<std::pair<int, int>> where(m_.n_faces(), {kNone, kNone});  // quad -> chain, pos
+    for (int c = 0; c < nc; ++c)
+      for (std::size_t i = 0; i < chains[c].size(); ++i)
+        where[chains[c][i].quad] = {c, static_cast<int>(i)};
+    UnionFind columns(offset[nc]);
+    std::set<std::pair<int, int>> linked;  // chain pairs joined by a merge edge
+    for (const auto& v : opt_.merge_edges) {
+      const int e = resolve_edge(v, "merge");
+      const auto eh = m_.edge_handle(e);
+      const auto f0 = m_.face_handle(m_.halfedge_handle(eh, 0));
+      const auto f1 = m_.face_handle(m_.halfedge_handle(eh, 1));
+      if (!f0.is_valid() || !f1.is_valid())
+        throw InvalidInput("merge edge " + edge_name(v) + " lies on the boundary: no strip beyond");
+      for (const auto f : {f0, f1})
+        if (!in_bending_pair(out_.quads[f.idx()], local_edge(face_edges_[f.idx()], e)))
+          throw InvalidInput("merge edge " + edge_name(v) +
+                             ": the strips on its two sides are not aligned (it is a ruling, "
+                             "not a rail, of quad " +
+                             std::to_string(f.idx()) + ")");
+      const auto [ca, ia] = where[f0.idx()];
+      const auto [cb, ib] = where[f1.idx()];
+      if (ca == cb)
+        throw InvalidInput("merge edge " + edge_name(v) +
+                           ": both sides belong to one strip, which cannot merge with itself");
+      columns.unite(offset[ca] + ia, offset[cb] + ib);
+      linked.insert({std::min(ca, cb), std::max(ca, cb)});
+    }
+    auto node = [&](int c, int i) { return offset[c] + i; };
+    // Members of each column: chain -> position.
+    std::map<int, std::map<int, int>> members;
+    for (int c = 0; c < nc; ++c)
+      for (int i = 0; i < static_cast<int>(chains[c].size()); ++i) {
+        auto& m = members[columns.find(node(c, i))];
+        if (m.count(c))
+          throw InvalidInput("merge edges would merge strip " + std::to_string(c) +
+                             " with itself (it runs beside itself)");
+        m[c] = i;
+      }
+    std::vector<char> used(offset[nc], 0);
+    std::vector<Bundle> out;
+    auto step = [&](int c, int i, int d) {  // neighbour position along chain c, or kNone
+      const int n = static_cast<int>(chains[c].size());
+      const int j = i + d;
+      if (j >= 0 && j < n) return j;
+      return closed[c] ? (j + n) % n : kNone;
+    };
+    for (int c = 0; c < nc; ++c)
+      for (int i = 0; i < static_cast<int>(chains[c].size()); ++i) {
+        if (used[node(c, i)]) continue;
+        const auto& m0 = members[columns.find(node(c, i))];
+        if (m0.size() == 1) continue;  // single rows are collected below
+        // Walk the columns both ways from here while the same chains advance one way each.
+        std::map<int, int> dir;  // chain -> +1 / -1 relative to chain c
+        auto next_column = [&](const std::map<int, int>& col, int d) -> const std::map<int, int>* {
+          const int j = step(c, col.at(c), d);
+          if (j == kNone || used[node(c, j)]) return nullptr;
+          const auto& next = members[columns.find(node(c, j))];
+          if (next.size() != col.size()) return nullptr;
+          for (const auto& [x, pos] : col) {
+            const auto it = next.find(x);
+            if (it == next.end()) return nullptr;
+            int dx = 0;
+            for (int s : {1, -1})
+              if (step(x, pos, s * d) == it->second) dx = s;
+            if (dx == 0) return nullptr;
+            if (dir.count(x) && dir[x] != dx) return nullptr;
+          }
+          for (const auto& [x, pos] : col)
+            for (int s : {1, -1})
+              if (step(x, pos, s * d) == next.at(x)) dir[x] = s;
+          return &next;
+        };
+        std::vector<const std::map<int, int>*> cols = {&m0};
+        for (const auto* col = next_column(m0, 1); col && col != &m0; col = next_column(*col, 1))
+          cols.push_back(col);
+        bool ring = false;
+        if (cols.size() > 1) {
+          const int j = step(c, cols.back()->at(c), 1);
+          ring = j != kNone && &members[columns.find(node(c, j))] == &m0;
+        }
+        if (!ring) {
+          std::vector<const std::map<int, int>*> back;
+          for (const auto* col = next_column(m0, -1); col; col = next_column(*col, -1))
+            back.push_back(col);
+          cols.insert(cols.begin(), back.rbegin(), back.rend());
+        }
+        for (const auto* col : cols)
+          for (const auto& [x, pos] : *col) used[node(x, pos)] = 1;
+        // Row order: the chains form a path of merge links.
+        std::map<int, std::vector<int>> adjacent;
+        for (const auto& [x, pos] : m0)
+          for (const auto& [y, pos2] : m0)
+            if (x < y && linked.count({x, y})) adjacent[x].push_back(y), adjacent[y].push_back(x);
+        int start = kNone, ends = 0;
+        for (const auto& [x, pos] : m0) {
+          const std::size_t degree = adjacent[x].size();
+          if (degree > 2)
+            throw InvalidInput("merge edges join more than two strips along one strip's side");
+          if (degree == 1) ++ends, start = start == kNone ? x : std::min(start, x);
+        }
+        if (ends != 2) throw InvalidInput("merge edges would close the merged strips into a tube");
+        std::vector<int> order = {start};
+        while (order.size() < m0.size()) {
+          const int last = order.back();
+          for (int y : adjacent[last])
+            if (order.size() < 2 || y != order[order.size() - 2]) {
+              order.push_back(y);
+              break;
+            }
+        }
+        Bundle b;
+        b.closed = ring;
+        b.chain = order.front();
+        const int sign = dir.count(c) ? dir.at(c) : 1;
+        for (int x : order) {
+          std::vector<ChainQuad> row;
+          const int d = (dir.count(x) ? dir.at(x) : 1) * sign;
+          for (const auto* col : cols) {
+            ChainQuad q = chains[x][col->at(x)];
+            if (d < 0) q.entry = 1 - q.entry;  // traversed the other way
+            row.push_back(q);
+          }
+          b.rows.push_back(std::move(row));
+        }
+        out.push_back(std::move(b));
+      }
+    // What is left of every chain: maximal runs of unmerged positions.
+    for (int c = 0; c < nc; ++c) {
+      const int n = static_cast<int>(chains[c].size());
+      int free = 0;
+      for (int i = 0; i < n; ++i) free += used[node(c, i)] ? 0 : 1;
+      if (free == n) {
+        out.push_back({{chains[c]}, closed[c] != 0, c});
+        continue;
+      }
+      // Start each run right after a used position (for closed chains, wrap around).
+      for (int i = 0; i < n; ++i) {
+        const int prev = i - 1 >= 0 ? i - 1 : (closed[c] ? n - 1 : kNone);
+        if (used[node(c, i)] || (prev != kNone && !used[node(c, prev)])) continue;
+        Bundle b;
+        b.chain = c;
+        std::vector<ChainQuad> row;
+        for (int j = i; j != kNone && !used[node(c, j)]; j = step(c, j, 1)) {
+          row.push_back(chains[c][j]);
+          used[node(c, j)] = 1;
+        }
+        b.rows.push_back(std::move(row));
+        out.push_back(std::move(b));
+      }
+    }
+    return out;
+  }
+
+  /// Split edges of the options as coarse edge ids. \throw InvalidInput an edge that is not an
+  /// edge, or lies between two merged rows.
+  std::set<int> forced_splits(const std::vector<Bundle>& bundles) const {
+    std::set<int> split;
+    for (const auto& v : opt_.split_edges) split.insert(resolve_edge(v, "split"));
+    for (const Bundle& b : bundles)
+      for (std::size_t r = 0; r + 1 < b.rows.size(); ++r)
+        for (const ChainQuad& q : b.rows[r])
+          for (int k = 0; k < 4; ++k) {
+            const int e = face_edges_[q.quad][k];
+            if (!split.count(e)) continue;
+            for (const ChainQuad& o : b.rows[r + 1])
+              if (local_edge(face_edges_[o.quad], e) != kNone)
+                throw InvalidInput("split edge " + std::to_string(e) +
+                                   " lies between two strips that are also merged there");
+          }
+    return split;
+  }
+
   void build_patches() {
     std::vector<char> closed;
     const auto all = chains(closed);
     out_.chains = static_cast<int>(all.size());
     out_.quad_patch.assign(m_.n_faces(), kNone);
-    for (std::size_t c = 0; c < all.size(); ++c) {
-      const auto& chain = all[c];
-      const int n = static_cast<int>(chain.size());
-      // fold[j]: fold across the junction after chain[j] (wrapping for loops).
+    const auto bundles = make_bundles(all, closed);
+    const std::set<int> forced = forced_splits(bundles);
+    for (const Bundle& b : bundles) {
+      const int n = static_cast<int>(b.rows.front().size());
+      // fold[j]: fold across the junction after column j (wrapping for loops), over all rows.
       std::vector<double> fold(n, 0.0);
-      const int junctions = closed[c] ? n : n - 1;
-      for (int j = 0; j < junctions; ++j) fold[j] = junction_fold(chain[j], chain[(j + 1) % n]);
       std::vector<char> cut(n, 0);
+      const int junctions = b.closed ? n : n - 1;
       int cuts = 0;
-      for (int j = 0; j < junctions; ++j)
-        if (fold[j] > opt_.split_angle) cut[j] = 1, ++cuts;
+      for (int j = 0; j < junctions; ++j) {
+        bool split = false;
+        for (const auto& row : b.rows) {
+          fold[j] = std::max(fold[j], junction_fold(row[j], row[(j + 1) % n]));
+          split = split || forced.count(exit_edge(row[j]));
+        }
+        if (fold[j] > opt_.split_angle || split) cut[j] = 1, ++cuts;
+      }
       out_.split_borders += cuts;
       int first = 0;
       bool loop_cut = false;
-      if (closed[c]) {
+      if (b.closed) {
         ++out_.closed_loops;
         int at = 0;
         if (cuts == 0) {  // cut the loop where it folds most
@@ -509,25 +730,96 @@ class Builder {
         }
         first = (at + 1) % n;
       }
-      // Walk the chain from `first`, starting a new patch after every cut.
-      Patch patch;
-      for (int s = 0; s < n; ++s) {
-        const int j = (first + s) % n;
-        append_quad(patch, chain[j], patch.quads.empty());
-        if (cut[j] || s == n - 1) {
-          patch.chain = static_cast<int>(c);
+      // Walk the columns from `first`, starting a new patch after every cut.
+      std::vector<Patch> rows(b.rows.size());
+      for (int step = 0; step < n; ++step) {
+        const int j = (first + step) % n;
+        for (std::size_t r = 0; r < b.rows.size(); ++r)
+          append_quad(rows[r], b.rows[r][j], rows[r].quads.empty());
+        if (cut[j] || step == n - 1) {
+          Patch patch = assemble(rows);
+          patch.chain = b.chain;
           patch.loop_cut = loop_cut;
           finish_patch(std::move(patch));
-          patch = Patch{};
+          rows.assign(b.rows.size(), Patch{});
         }
       }
     }
+    straighten_inner_rails();
     // Largest fold kept inside a patch, over every junction of consecutive sub-quads.
-    for (const Patch& p : out_.patches)
-      for (std::size_t i = 1; i < p.faces.size(); ++i)
-        out_.max_fold = std::max(
-            out_.max_fold, fold_across(out_.vertices, out_.faces[p.faces[i - 1]],
-                                       out_.faces[p.faces[i]], p.rulings[i][0], p.rulings[i][1]));
+    for (const Patch& p : out_.patches) {
+      const auto lv = p.local_vertices();
+      for (int r = 0; r < p.rows(); ++r)
+        for (std::size_t i = 1; i < p.faces.size(); ++i)
+          out_.max_fold =
+              std::max(out_.max_fold,
+                       fold_across(out_.vertices, out_.faces[p.face(static_cast<int>(i) - 1, r)],
+                                   out_.faces[p.face(static_cast<int>(i), r)],
+                                   lv[p.local(r, static_cast<int>(i))],
+                                   lv[p.local(r + 1, static_cast<int>(i))]));
+    }
+  }
+
+  /// Swaps a single-row ladder's rails.
+  static void swap_rails(Patch& p) {
+    for (auto& r : p.rulings) std::swap(r[0], r[1]);
+    for (auto& f : p.face_flipped) f = f ? 0 : 1;
+    for (auto& e : p.rail_edges) std::swap(e[0], e[1]);
+  }
+
+  /// One patch from single-row ladders over the same columns, each sharing a rail with the next.
+  static Patch assemble(std::vector<Patch>& rows) {
+    if (rows.size() == 1) return std::move(rows.front());
+    auto shares = [](const Patch& a, int rail, const Patch& b) {
+      return a.rulings[0][rail] == b.rulings[0][0] || a.rulings[0][rail] == b.rulings[0][1];
+    };
+    if (!shares(rows[0], 1, rows[1])) swap_rails(rows[0]);
+    for (std::size_t r = 1; r < rows.size(); ++r) {
+      if (rows[r].rulings[0][0] != rows[r - 1].rulings[0][1]) swap_rails(rows[r]);
+      for (std::size_t i = 0; i < rows[r].rulings.size(); ++i)
+        if (rows[r].rulings.size() != rows[0].rulings.size() ||
+            rows[r].rulings[i][0] != rows[r - 1].rulings[i][1])
+          throw Error("strips: merged rows do not share their rail");
+    }
+    Patch out = rows.front();
+    const Patch& last = rows.back();
+    for (std::size_t i = 0; i < out.rulings.size(); ++i) out.rulings[i][1] = last.rulings[i][1];
+    for (std::size_t i = 0; i < out.rail_edges.size(); ++i)
+      out.rail_edges[i][1] = last.rail_edges[i][1];
+    for (std::size_t r = 1; r < rows.size(); ++r) {
+      PatchRow row;
+      row.quads = rows[r].quads;
+      row.faces = rows[r].faces;
+      row.face_flipped = rows[r].face_flipped;
+      row.ruling_edges = rows[r].ruling_edges;
+      row.end_edges = rows[r].end_edges;
+      for (const auto& ruling : rows[r].rulings) row.rail.push_back(ruling[0]);
+      out.more_rows.push_back(std::move(row));
+    }
+    return out;
+  }
+
+  /// Merged patches: every inner rail vertex moves onto its straight ruling from rail 0 to the
+  /// last rail, at the same fraction of the way as along the rows' rulings before.
+  void straighten_inner_rails() {
+    for (const Patch& p : out_.patches) {
+      if (p.rows() == 1) continue;
+      const auto lv = p.local_vertices();
+      for (std::size_t i = 0; i < p.rulings.size(); ++i) {
+        std::vector<double> along = {0.0};
+        for (int k = 1; k <= p.rows(); ++k)
+          along.push_back(along.back() + (out_.vertices[lv[p.local(k, static_cast<int>(i))]] -
+                                          out_.vertices[lv[p.local(k - 1, static_cast<int>(i))]])
+                                             .norm());
+        const Vec3 a = out_.vertices[p.rulings[i][0]], b = out_.vertices[p.rulings[i][1]];
+        for (int k = 1; k < p.rows(); ++k) {
+          const int v = lv[p.local(k, static_cast<int>(i))];
+          const double t = along.back() > 0 ? along[k] / along.back() : double(k) / p.rows();
+          out_.vertices[v] = a + t * (b - a);
+          out_.vertex_on_straight_edge[v] = 1;
+        }
+      }
+    }
   }
 
   double junction_fold(const ChainQuad& a, const ChainQuad& b) const {
@@ -549,71 +841,118 @@ class Builder {
     std::set<int> seen;
     std::map<int, int> original;  // copy -> the vertex it copies
     bool changed = false;
-    for (auto& ruling : p.rulings)
-      for (int& v : ruling) {
-        if (seen.insert(v).second) continue;
-        const int copy = static_cast<int>(out_.vertices.size());
-        original[copy] = v;
-        out_.vertices.push_back(out_.vertices[v]);
-        out_.vertex_on_straight_edge.push_back(out_.vertex_on_straight_edge[v]);
-        v = copy;
-        seen.insert(copy);
-        changed = true;
-        ++out_.self_contacts;
-      }
+    auto visit = [&](int& v) {
+      if (seen.insert(v).second) return;
+      const int copy = static_cast<int>(out_.vertices.size());
+      original[copy] = v;
+      out_.vertices.push_back(out_.vertices[v]);
+      out_.vertex_on_straight_edge.push_back(out_.vertex_on_straight_edge[v]);
+      v = copy;
+      seen.insert(copy);
+      changed = true;
+      ++out_.self_contacts;
+    };
+    for (std::size_t i = 0; i < p.rulings.size(); ++i) {
+      visit(p.rulings[i][0]);
+      for (PatchRow& row : p.more_rows) visit(row.rail[i]);
+      visit(p.rulings[i][1]);
+    }
     auto source = [&](int v) {  // the vertex a copy stands for
       const auto it = original.find(v);
       return it == original.end() ? v : it->second;
     };
-    if (changed)
-      for (std::size_t i = 0; i < p.faces.size(); ++i) {
-        // The face's cycle from its two rulings, then turned so that it starts where the face
-        // did (face[0] -> face[1] runs along the bending edge; later stages rely on that).
-        const auto &a = p.rulings[i], &b = p.rulings[i + 1];
-        const std::array<int, 4> cycle = p.face_flipped[i]
-                                             ? std::array<int, 4>{a[0], a[1], b[1], b[0]}
-                                             : std::array<int, 4>{a[0], b[0], b[1], a[1]};
-        auto& face = out_.faces[p.faces[i]];
-        for (int r = 0; r < 4; ++r) {
-          bool match = true;
-          for (int j = 0; j < 4; ++j) match = match && source(cycle[(j + r) % 4]) == face[j];
-          if (match) {
-            face = {cycle[r], cycle[(r + 1) % 4], cycle[(r + 2) % 4], cycle[(r + 3) % 4]};
-            break;
+    if (changed) {
+      const auto lv = p.local_vertices();
+      for (int r = 0; r < p.rows(); ++r)
+        for (std::size_t i = 0; i < p.faces.size(); ++i) {
+          // The face's cycle from its two rulings, then turned so that it starts where the face
+          // did (face[0] -> face[1] runs along the bending edge; later stages rely on that).
+          const int k = static_cast<int>(i);
+          const int a0 = lv[p.local(r, k)], a1 = lv[p.local(r + 1, k)], b0 = lv[p.local(r, k + 1)],
+                    b1 = lv[p.local(r + 1, k + 1)];
+          const bool flipped = r == 0 ? p.face_flipped[i] : p.more_rows[r - 1].face_flipped[i];
+          const std::array<int, 4> cycle =
+              flipped ? std::array<int, 4>{a0, a1, b1, b0} : std::array<int, 4>{a0, b0, b1, a1};
+          auto& face = out_.faces[p.face(k, r)];
+          for (int t = 0; t < 4; ++t) {
+            bool match = true;
+            for (int j = 0; j < 4; ++j) match = match && source(cycle[(j + t) % 4]) == face[j];
+            if (match) {
+              face = {cycle[t], cycle[(t + 1) % 4], cycle[(t + 2) % 4], cycle[(t + 3) % 4]};
+              break;
+            }
+            assert(t < 3 && "a rebuilt face must be a turn of the original");
           }
-          assert(r < 3 && "a rebuilt face must be a turn of the original");
         }
-      }
+    }
     const int id = static_cast<int>(out_.patches.size());
-    for (int q : p.quads) out_.quad_patch[q] = id;
+    for (int q : p.all_quads()) out_.quad_patch[q] = id;
     out_.face_patch.resize(out_.faces.size(), kNone);
-    for (int f : p.faces) out_.face_patch[f] = id;
+    for (int f : p.all_faces()) out_.face_patch[f] = id;
     out_.patches.push_back(std::move(p));
   }
 };
 
 }  // namespace
 
+std::vector<int> Patch::all_quads() const {
+  std::vector<int> out = quads;
+  for (const PatchRow& r : more_rows) out.insert(out.end(), r.quads.begin(), r.quads.end());
+  return out;
+}
+
+std::vector<int> Patch::all_faces() const {
+  std::vector<int> out = faces;
+  for (const PatchRow& r : more_rows) out.insert(out.end(), r.faces.begin(), r.faces.end());
+  return out;
+}
+
+int Patch::local(int k, int i) const {
+  const int n1 = static_cast<int>(rulings.size());
+  if (k == 0) return 2 * i;
+  if (k == rows()) return 2 * i + 1;
+  return 2 * n1 + (k - 1) * n1 + i;
+}
+
+std::vector<int> Patch::local_vertices() const {
+  const int n1 = static_cast<int>(rulings.size());
+  std::vector<int> out(static_cast<std::size_t>((rows() + 1) * n1));
+  for (int i = 0; i < n1; ++i) out[2 * i] = rulings[i][0], out[2 * i + 1] = rulings[i][1];
+  for (int k = 1; k < rows(); ++k)
+    for (int i = 0; i < n1; ++i) out[local(k, i)] = more_rows[k - 1].rail[i];
+  return out;
+}
+
 std::vector<std::array<int, 4>> Patch::local_quads() const {
   std::vector<std::array<int, 4>> out;
-  for (std::size_t i = 0; i < faces.size(); ++i) {
-    const int a0 = 2 * static_cast<int>(i), a1 = a0 + 2, b0 = a0 + 1, b1 = a0 + 3;
-    if (face_flipped[i])
-      out.push_back({a0, b0, b1, a1});
-    else
-      out.push_back({a0, a1, b1, b0});
+  for (int r = 0; r < rows(); ++r) {
+    const auto& flipped = r == 0 ? face_flipped : more_rows[r - 1].face_flipped;
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      const int k = static_cast<int>(i);
+      const int a0 = local(r, k), a1 = local(r, k + 1), b0 = local(r + 1, k),
+                b1 = local(r + 1, k + 1);
+      out.push_back(flipped[i] ? std::array<int, 4>{a0, b0, b1, a1}
+                               : std::array<int, 4>{a0, a1, b1, b0});
+    }
   }
   return out;
 }
 
 std::vector<OutlineEdge> Patch::outline() const {
   std::vector<OutlineEdge> out;
-  const int n = static_cast<int>(rulings.size()) - 1;
-  for (int i = 0; i < n; ++i) out.push_back({{2 * i, 2 * (i + 1)}, rail_edges[i][0], i, 0});
-  out.push_back({{2 * n, 2 * n + 1}, end_edges[1], n - 1, 3});
+  const int n = static_cast<int>(rulings.size()) - 1, rr = rows();
+  auto end_edge = [&](int row, int which) {
+    return row == 0 ? end_edges[which] : more_rows[row - 1].end_edges[which];
+  };
+  for (int i = 0; i < n; ++i)
+    out.push_back({{local(0, i), local(0, i + 1)}, rail_edges[i][0], i, 0, face(i, 0)});
+  for (int k = 0; k < rr; ++k)
+    out.push_back({{local(k, n), local(k + 1, n)}, end_edge(k, 1), n - 1, 3, face(n - 1, k)});
   for (int i = n; i > 0; --i)
-    out.push_back({{2 * i + 1, 2 * (i - 1) + 1}, rail_edges[i - 1][1], i - 1, 1});
-  out.push_back({{1, 0}, end_edges[0], 0, 2});
+    out.push_back(
+        {{local(rr, i), local(rr, i - 1)}, rail_edges[i - 1][1], i - 1, 1, face(i - 1, rr - 1)});
+  for (int k = rr; k > 0; --k)
+    out.push_back({{local(k, 0), local(k - 1, 0)}, end_edge(k - 1, 0), 0, 2, face(0, k - 1)});
   return out;
 }
 
@@ -641,27 +980,40 @@ Strips split_patch(const Strips& strips, int patch, int at) {
   if (at < 1 || at >= static_cast<int>(old.quads.size()))
     throw InvalidInput("split_patch: patch " + std::to_string(patch) + " has no quad boundary " +
                        std::to_string(at));
-  int r = 0;  // ruling between the quads
+  int r = 0;  // ruling between the quads (the same in every row: rows are aligned)
   for (int j = 0; j < at; ++j) r += strips.quad_segments[old.quads[j]];
   Strips out = strips;
   Patch first, second;
   auto cut = [&](Patch& p, int q0, int q1, int r0, int r1) {
-    p.quads.assign(old.quads.begin() + q0, old.quads.begin() + q1);
-    p.rulings.assign(old.rulings.begin() + r0, old.rulings.begin() + r1 + 1);
-    p.ruling_edges.assign(old.ruling_edges.begin() + r0, old.ruling_edges.begin() + r1 + 1);
-    p.faces.assign(old.faces.begin() + r0, old.faces.begin() + r1);
-    p.face_flipped.assign(old.face_flipped.begin() + r0, old.face_flipped.begin() + r1);
-    p.rail_edges.assign(old.rail_edges.begin() + r0, old.rail_edges.begin() + r1);
+    auto range = [](const auto& v, int a, int b) {
+      return std::decay_t<decltype(v)>(v.begin() + a, v.begin() + b);
+    };
+    p.quads = range(old.quads, q0, q1);
+    p.rulings = range(old.rulings, r0, r1 + 1);
+    p.ruling_edges = range(old.ruling_edges, r0, r1 + 1);
+    p.faces = range(old.faces, r0, r1);
+    p.face_flipped = range(old.face_flipped, r0, r1);
+    p.rail_edges = range(old.rail_edges, r0, r1);
     p.end_edges = {p.ruling_edges.front(), p.ruling_edges.back()};
     p.chain = old.chain;
     p.loop_cut = old.loop_cut;
+    for (const PatchRow& row : old.more_rows) {
+      PatchRow cut_row;
+      cut_row.quads = range(row.quads, q0, q1);
+      cut_row.faces = range(row.faces, r0, r1);
+      cut_row.face_flipped = range(row.face_flipped, r0, r1);
+      cut_row.ruling_edges = range(row.ruling_edges, r0, r1 + 1);
+      cut_row.end_edges = {cut_row.ruling_edges.front(), cut_row.ruling_edges.back()};
+      cut_row.rail = range(row.rail, r0, r1 + 1);
+      p.more_rows.push_back(std::move(cut_row));
+    }
   };
   const int n = static_cast<int>(old.faces.size());
   cut(first, 0, at, 0, r);
   cut(second, at, static_cast<int>(old.quads.size()), r, n);
   const int id = static_cast<int>(out.patches.size());
-  for (int q : second.quads) out.quad_patch[q] = id;
-  for (int f : second.faces) out.face_patch[f] = id;
+  for (int q : second.all_quads()) out.quad_patch[q] = id;
+  for (int f : second.all_faces()) out.face_patch[f] = id;
   out.patches[patch] = std::move(first);
   out.patches.push_back(std::move(second));
   return out;

@@ -30,38 +30,77 @@ struct StripsOptions {
                                    ///< more than this [rad], in (0, pi]
   std::optional<double> features;  ///< set: vertices on refined-mesh edges sharper than this
                                    ///< dihedral angle go to target feature curves [rad], (0, pi)
+  /// Quad-mesh edges (vertex index pairs) where a strip border is inserted: each must be a
+  /// ruling between two quads of one strip, or already a border.
+  std::vector<std::array<int, 2>> split_edges;
+  /// Quad-mesh edges (vertex index pairs) across which the strips on both sides are merged
+  /// sideways into one patch (paper Sec. 3.5): each must be a rail edge of both quads, so that
+  /// their rulings continue; consecutive merge edges along a rail join one merged run.
+  std::vector<std::array<int, 2>> merge_edges;
 };
 
-/// One edge of a patch's outline, over the patch's own vertices 2 * ruling + rail.
+/// One edge of a patch's outline, over the patch's own vertices (Patch::local_vertices).
 struct OutlineEdge {
   std::array<int, 2> v{-1, -1};  ///< local vertices, in outline order
   int coarse_edge = -1;          ///< the coarse quad-mesh edge it lies on
-  int face = -1;                 ///< the sub-quad it bounds (index into Patch::faces)
-  int side = -1;                 ///< 0: rail 0, 1: rail 1, 2: first ruling, 3: last ruling
+  int face = -1;                 ///< the interval (between rulings face and face + 1) it bounds
+  int side = -1;                 ///< 0: rail 0, 1: the last rail, 2: first ruling, 3: last ruling
+  int sub_quad = -1;             ///< the sub-quad it bounds (index into Strips::faces)
 };
 
-/// One patch: a chain of sub-quads between two rails.
+/// A row of a patch merged sideways: one chain of quads between two neighbouring rails.
+struct PatchRow {
+  std::vector<int> quads;                ///< coarse quads, in chain order (aligned with row 0's)
+  std::vector<int> faces;                ///< sub-quad of each interval (id into Strips::faces)
+  std::vector<char> face_flipped;        ///< as Patch::face_flipped, against this row's two rails
+  std::vector<int> ruling_edges;         ///< per ruling: the coarse edge this row's piece lies on
+  std::array<int, 2> end_edges{-1, -1};  ///< coarse edges of its first and last ruling piece
+  std::vector<int> rail;  ///< per ruling: the vertex of the rail it shares with the row before
+};
+
+/// One patch: a chain of sub-quads between two rails. A patch merged sideways (paper Sec. 3.5)
+/// has several rows side by side; its rulings run straight from rail 0 across every row to the
+/// last rail, and the inner rails' vertices lie on them.
 struct Patch {
-  std::vector<int> quads;                   ///< coarse quads, in chain order
+  std::vector<int> quads;                   ///< row 0's coarse quads, in chain order
   std::vector<std::array<int, 2>> rulings;  ///< ruling i joins vertex rulings[i][0] (rail 0) and
-                                            ///< rulings[i][1] (rail 1); ids into Strips::vertices
-  std::vector<int> faces;  ///< sub-quad i (between rulings i and i+1): id into Strips::faces
-  std::vector<char> face_flipped;  ///< sub-quad i is oriented (r0_i, r1_i, r1_i+1, r0_i+1)
-                                   ///< instead of (r0_i, r0_i+1, r1_i+1, r1_i)
-  std::vector<std::array<int, 2>> rail_edges;  ///< sub-quad i: the coarse edges its rail-0 and
-                                               ///< rail-1 sides lie on
-  std::vector<int> ruling_edges;  ///< per ruling: the coarse edge it lies on, -1 for the rulings
-                                  ///< added inside a quad
-  std::array<int, 2> end_edges{-1, -1};  ///< coarse edges of the first and last ruling
+                                            ///< rulings[i][1] (the last rail); ids into
+                                            ///< Strips::vertices
+  std::vector<int> faces;          ///< row 0's sub-quad i (between rulings i and i+1): id into
+                                   ///< Strips::faces
+  std::vector<char> face_flipped;  ///< row 0's sub-quad i is oriented (r0_i, r1_i, r1_i+1, r0_i+1)
+                                   ///< instead of (r0_i, r0_i+1, r1_i+1, r1_i), r1 the rail on
+                                   ///< its other side
+  std::vector<std::array<int, 2>> rail_edges;  ///< interval i: the coarse edges its rail-0 side
+                                               ///< (row 0) and last-rail side (last row) lie on
+  std::vector<int> ruling_edges;  ///< per ruling: the coarse edge row 0's piece of it lies on, -1
+                                  ///< for the rulings added inside a quad
+  std::array<int, 2> end_edges{-1, -1};  ///< coarse edges of row 0's first and last ruling piece
   bool loop_cut = false;                 ///< the chain closed on itself and was cut open here
   int chain = -1;                        ///< index of the maximal chain the patch came from
+  std::vector<PatchRow> more_rows;       ///< rows 1, 2, ... of a merged patch, from rail 0 on
 
-  /// Local quads over the patch's own vertices 2*i + rail (i = ruling), oriented like the 3D
-  /// faces (outward).
+  /// Rows side by side (1 unless merged).
+  int rows() const { return 1 + static_cast<int>(more_rows.size()); }
+  /// Every coarse quad of the patch, row by row.
+  std::vector<int> all_quads() const;
+  /// Every sub-quad of the patch, row by row.
+  std::vector<int> all_faces() const;
+  /// Sub-quad of interval \p i in row \p row.
+  int face(int i, int row) const { return row == 0 ? faces[i] : more_rows[row - 1].faces[i]; }
+
+  /// The patch's own vertices: local 2 * i + r is ruling i on rail 0 (r = 0) or the last rail
+  /// (r = 1); inner rails follow, local 2 * (n + 1) + (k - 1) * (n + 1) + i for rail k at ruling i
+  /// (n + 1 rulings). Global ids into Strips::vertices.
+  std::vector<int> local_vertices() const;
+  /// Local index of rail \p k (0 .. rows()) at ruling \p i.
+  int local(int k, int i) const;
+
+  /// Local quads over the patch's own vertices, oriented like the 3D faces (outward), row by row.
   std::vector<std::array<int, 4>> local_quads() const;
 
-  /// The outline: rail 0 from the first ruling to the last, the last ruling, rail 1 back, the
-  /// first ruling.
+  /// The outline: rail 0 from the first ruling to the last, the last ruling (one edge per row),
+  /// the last rail back, the first ruling (one edge per row).
   std::vector<OutlineEdge> outline() const;
 };
 
@@ -80,14 +119,14 @@ struct Strips {
   std::vector<char> vertex_on_straight_edge;    ///< vertex kept on a straight coarse edge
                                                 ///< (T-junction or stiff edge), not projected
   int chains = 0;                               ///< maximal chains of quads before splitting
-  int closed_loops = 0;      ///< chains that closed on themselves (each cut once)
-  int split_borders = 0;     ///< borders inserted at folds above split_angle
-  int self_contacts = 0;     ///< vertices copied where a patch meets itself (loop cuts, strip
-                             ///< ends against their own side)
-  int t_junctions = 0;       ///< vertices on an edge that the neighbour does not subdivide
-  int ray_fallbacks = 0;     ///< normal projections that fell back to the closest point
-  int feature_vertices = 0;  ///< vertices moved onto target feature curves
-  double max_fold = 0;       ///< largest sector-normal angle kept inside a patch [rad]
+  int closed_loops = 0;          ///< chains that closed on themselves (each cut once)
+  int split_borders = 0;         ///< borders inserted at folds above split_angle
+  int self_contacts = 0;         ///< vertices copied where a patch meets itself (loop cuts, strip
+                                 ///< ends against their own side)
+  int t_junctions = 0;           ///< vertices on an edge that the neighbour does not subdivide
+  int ray_fallbacks = 0;         ///< normal projections that fell back to the closest point
+  int feature_vertices = 0;      ///< vertices moved onto target feature curves
+  double max_fold = 0;           ///< largest sector-normal angle kept inside a patch [rad]
   double target_facet_size = 0;  ///< the facet size of the target the strips lie on [mm]: the
                                  ///< median over its triangles of sqrt(2 area)
 };

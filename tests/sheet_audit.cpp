@@ -1,0 +1,173 @@
+#include "sheet_audit.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "kerfab/adapters/polygon_ops.h"
+
+namespace kerfab::test {
+namespace {
+
+std::vector<Vec2> path_points(const std::string& d) {
+  std::istringstream in(d);
+  std::vector<Vec2> pts;
+  std::string token;
+  while (in >> token)
+    if (token == "M" || token == "L") {
+      double x, y;
+      in >> x >> y;
+      pts.emplace_back(x, y);
+    }
+  return pts;
+}
+
+double segment_distance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  auto point_seg = [](const Vec2& p, const Vec2& u, const Vec2& v) {
+    const Vec2 e = v - u;
+    const double t =
+        e.squaredNorm() > 0 ? std::clamp((p - u).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+    return (p - (u + t * e)).norm();
+  };
+  auto side = [](const Vec2& o, const Vec2& p, const Vec2& q) { return cross2(p - o, q - o); };
+  if (side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0) return 0.0;
+  return std::min({point_seg(a, c, d), point_seg(b, c, d), point_seg(c, a, b), point_seg(d, a, b)});
+}
+
+bool inside(const Vec2& p, const std::vector<Polygon2>& polys) {
+  int winding = 0;
+  for (const auto& poly : polys)
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+      const double c = cross2(b - a, p - a);
+      if (a.y() <= p.y() && b.y() > p.y() && c > 0) ++winding;
+      if (a.y() > p.y() && b.y() <= p.y() && c < 0) --winding;
+    }
+  return winding != 0;
+}
+
+std::string where(const SheetPart& p, const Vec2& at) {
+  std::ostringstream os;
+  os.precision(4);
+  os << p.id << " on sheet " << p.sheet << " at (" << at.x() << ", " << at.y() << ")";
+  return os.str();
+}
+
+}  // namespace
+
+std::vector<SheetPart> read_sheet_parts(const std::filesystem::path& cut_dir) {
+  std::vector<SheetPart> parts;
+  for (int sheet = 1;; ++sheet) {
+    char name[32];
+    std::snprintf(name, sizeof name, "sheet-%03d.svg", sheet);
+    std::ifstream in(cut_dir / name);
+    if (!in) break;
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
+    // Plain scanning (std::regex recurses per character and overflows on large sheets).
+    const std::string open = "<g class=\"part\" id=\"";
+    for (std::size_t at = text.find(open); at != std::string::npos; at = text.find(open, at)) {
+      const std::size_t id_end = text.find('"', at + open.size());
+      const std::size_t end = text.find("</g>", id_end);
+      SheetPart part;
+      part.id = text.substr(at + open.size(), id_end - at - open.size());
+      part.sheet = sheet;
+      const std::string body = text.substr(id_end, end - id_end);
+      const std::string path = "<path class=\"";
+      for (std::size_t q = body.find(path); q != std::string::npos; q = body.find(path, q + 1)) {
+        const std::size_t kind_end = body.find('"', q + path.size());
+        const std::string kind = body.substr(q + path.size(), kind_end - q - path.size());
+        const std::size_t d = body.find(" d=\"", kind_end);
+        const std::size_t d_end = body.find('"', d + 4);
+        const auto pts = path_points(body.substr(d + 4, d_end - d - 4));
+        if (kind == "outline") {
+          part.outline = pts;
+        } else if (kind == "kerf" || kind == "label") {
+          auto& list = kind == "kerf" ? part.kerf : part.engraving;
+          for (std::size_t k = 0; k + 1 < pts.size(); k += 2) list.push_back({pts[k], pts[k + 1]});
+        }
+      }
+      parts.push_back(std::move(part));
+      at = end;
+    }
+  }
+  return parts;
+}
+
+SheetAudit audit_sheets(const std::filesystem::path& cut_dir, const AuditLimits& lim) {
+  SheetAudit a;
+  const auto parts = read_sheet_parts(cut_dir);
+  for (const auto& p : parts) a.sheets = std::max(a.sheets, p.sheet);
+  a.parts = static_cast<int>(parts.size());
+  for (const SheetPart& p : parts) {
+    Polygon2 outline = p.outline;
+    if (polygon_area(outline) < 0) std::reverse(outline.begin(), outline.end());
+    a.cuts += static_cast<int>(p.kerf.size());
+    // Cuts: length and spacing (distance between the segments, within one part).
+    for (std::size_t i = 0; i < p.kerf.size(); ++i) {
+      const auto& c = p.kerf[i];
+      if ((c[1] - c[0]).norm() < lim.min_cut_length - 1e-6) {
+        ++a.short_cuts;
+        a.findings.push_back("cut " + std::to_string((c[1] - c[0]).norm()) +
+                             " mm long: " + where(p, c[0]));
+      }
+      for (std::size_t j = i + 1; j < p.kerf.size(); ++j) {
+        const auto& e = p.kerf[j];
+        const double d = segment_distance(c[0], c[1], e[0], e[1]);
+        a.closest_cuts = std::min(a.closest_cuts, d);
+        if (d < lim.min_cut_spacing - 1e-6) {
+          ++a.close_cut_pairs;
+          a.findings.push_back("cuts " + std::to_string(d) + " mm apart: " + where(p, c[0]));
+        }
+      }
+    }
+    // The part: area, width, tails and slits.
+    const double area = polygon_area(outline);
+    if (area < lim.min_part_area) {
+      ++a.small_parts;
+      a.findings.push_back("part of " + std::to_string(area) + " mm^2: " + where(p, outline[0]));
+    }
+    if (polygon_offset({outline}, -0.5 * lim.min_part_width).empty()) {
+      ++a.narrow_parts;
+      a.findings.push_back("part narrower than " + std::to_string(lim.min_part_width) +
+                           " mm: " + where(p, outline[0]));
+    }
+    const double r = 0.5 * lim.min_feature;
+    const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
+    const auto closed = polygon_offset(polygon_offset({outline}, r), -r);
+    // A feature counts when it holds more than a square of the minimum width: rounding at
+    // sharp corners stays far below that.
+    const double significant = lim.min_feature * lim.min_feature;
+    for (const auto& piece : polygon_difference({outline}, opened))
+      if (std::abs(polygon_area(piece)) > significant) {
+        ++a.thin_features;
+        a.findings.push_back("tail narrower than " + std::to_string(lim.min_feature) +
+                             " mm: " + where(p, piece[0]));
+      }
+    for (const auto& piece : polygon_difference(closed, {outline}))
+      if (std::abs(polygon_area(piece)) > significant) {
+        ++a.thin_features;
+        a.findings.push_back("slit narrower than " + std::to_string(lim.min_feature) +
+                             " mm: " + where(p, piece[0]));
+      }
+    // Engraving: inside the outline's inset, clear of every cut.
+    const auto inset = polygon_offset({outline}, -lim.label_clearance);
+    for (const auto& s : p.engraving) {
+      bool ok = inside(s[0], inset) && inside(s[1], inset);
+      for (const auto& ring : inset)
+        for (std::size_t k = 0; ok && k < ring.size(); ++k)
+          if (segment_distance(s[0], s[1], ring[k], ring[(k + 1) % ring.size()]) == 0.0) ok = false;
+      for (const auto& c : p.kerf)
+        if (ok && segment_distance(s[0], s[1], c[0], c[1]) < lim.label_clearance) ok = false;
+      if (!ok) {
+        ++a.labels_off_part;
+        a.findings.push_back("engraving off its part or across a cut: " + where(p, s[0]));
+      }
+    }
+  }
+  return a;
+}
+
+}  // namespace kerfab::test
