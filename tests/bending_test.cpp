@@ -191,14 +191,25 @@ TEST(Bending, GuidanceForcesEdgesAndRejectsBadReferences) {
 
 TEST(Bending, GuidanceFileIsReadAndBadFilesAreNamed) {
   const auto dir = test::fresh_dir();
-  const auto good =
-      test::write_text(dir / "g.json", R"({"bendable": [[1, 2], [3, 4]], "stiff": [[5, 6]]})");
+  const auto good = test::write_text(
+      dir / "g.json",
+      R"({"bendable": [[1, 2], [3, 4]], "stiff": [[5, 6]], "split": [[7, 8]], "merge": [[9, 10], [11, 12]]})");
   const auto g = read_guidance(good);
-  ASSERT_EQ(g.size(), 3u);
+  ASSERT_EQ(g.edges.size(), 3u);
   int bendable = 0;
-  for (const auto& e : g) bendable += e.bendable ? 1 : 0;
+  for (const auto& e : g.edges) bendable += e.bendable ? 1 : 0;
   EXPECT_EQ(bendable, 2);
+  EXPECT_EQ(g.split, (std::vector<std::array<int, 2>>{{7, 8}}));
+  EXPECT_EQ(g.merge, (std::vector<std::array<int, 2>>{{9, 10}, {11, 12}}));
   EXPECT_THROW(read_guidance(dir / "missing.json"), IoError);
+  EXPECT_THROW(read_guidance(dir), IoError);  // a directory is no guidance file
+  // Indices that do not fit an int are refused, not wrapped onto real vertices.
+  EXPECT_THROW(read_guidance(test::write_text(dir / "e.json", R"({"merge": [[4294967296, 1]]})")),
+               InvalidInput);
+  EXPECT_THROW(read_guidance(test::write_text(dir / "f.json", R"({"split": [[-1, 1]]})")),
+               InvalidInput);
+  EXPECT_THROW(read_guidance(test::write_text(dir / "h.json", R"({"split": [[1.5, 1]]})")),
+               InvalidInput);
   EXPECT_THROW(read_guidance(test::write_text(dir / "a.json", "{not json")), InvalidInput);
   EXPECT_THROW(read_guidance(test::write_text(dir / "b.json", R"({"bend": [[1,2]]})")),
                InvalidInput);

@@ -51,7 +51,8 @@ void expect_isometric(const Strips& s, const Flattening& f, double tol) {
   for (std::size_t p = 0; p < s.patches.size(); ++p) {
     const Patch& patch = s.patches[p];
     const auto& x = f.patches[p].points;
-    auto p3 = [&](int local) { return s.vertices[patch.rulings[local / 2][local % 2]]; };
+    const auto lv = patch.local_vertices();
+    auto p3 = [&](int local) { return s.vertices[lv[local]]; };
     EXPECT_TRUE(f.patches[p].converged);
     for (const auto& q : patch.local_quads()) {
       for (int a = 0; a < 4; ++a) {

@@ -81,7 +81,8 @@ struct Surface {
 Vec3 to_3d(const Strips& s, const Flattening& f, int p, const Vec2& x) {
   const Patch& patch = s.patches[p];
   const auto& pts = f.patches[p].points;
-  auto p3 = [&](int local) { return s.vertices[patch.rulings[local / 2][local % 2]]; };
+  const auto lv = patch.local_vertices();
+  auto p3 = [&](int local) { return s.vertices[lv[local]]; };
   double best = 1e300;
   Vec3 out = Vec3::Zero();
   for (const auto& q : patch.local_quads())
@@ -211,6 +212,33 @@ TEST(Kerf, RingOfRadius60AndHeight40NeedsFiftySevenBeams) {
   ASSERT_EQ(b.strips.patches.size(), 1u);
   const KerfResult k = place_kerf_cuts(b.strips, b.flat, b.joints, {}, {}, {});
   EXPECT_NEAR(k.cuts + 1, 57, 1);
+}
+
+// Paper Sec. 3.5: merging sideways makes the beams longer, so fewer cuts do. Two rings of 20 mm
+// merged cut like one ring of 40 mm.
+TEST(Kerf, MergingTwoRingsCutsLikeOneRingOfTheirHeight) {
+  const auto one = test::open_cylinder(60, 40, 24, 1, 16);
+  const auto two = test::open_cylinder(60, 40, 24, 2, 16);
+  StripsOptions merge;
+  for (auto e : two.quads.edges()) {
+    const auto h = two.quads.halfedge_handle(e, 0);
+    const auto a = two.quads.from_vertex_handle(h), b = two.quads.to_vertex_handle(h);
+    if (std::abs(two.quads.point(a)[2] - 20) < 1e-9 && std::abs(two.quads.point(b)[2] - 20) < 1e-9)
+      merge.merge_edges.push_back({a.idx(), b.idx()});
+  }
+  const Built single = build(one.quads, one.target);
+  const Built apart = build(two.quads, two.target);
+  const Built merged = build(two.quads, two.target, merge);
+  ASSERT_EQ(single.strips.patches.size(), 1u);
+  ASSERT_EQ(apart.strips.patches.size(), 2u);
+  ASSERT_EQ(merged.strips.patches.size(), 1u);
+  const int cuts_single =
+      place_kerf_cuts(single.strips, single.flat, single.joints, {}, {}, {}).cuts;
+  const int cuts_apart = place_kerf_cuts(apart.strips, apart.flat, apart.joints, {}, {}, {}).cuts;
+  const int cuts_merged =
+      place_kerf_cuts(merged.strips, merged.flat, merged.joints, {}, {}, {}).cuts;
+  EXPECT_NEAR(cuts_merged, cuts_single, 1);
+  EXPECT_GT(cuts_apart, 2 * cuts_merged);  // two rows of half-length beams need more each
 }
 
 TEST(Kerf, FlatPartsAndPaperGetNoCuts) {

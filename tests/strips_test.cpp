@@ -46,12 +46,12 @@ void expect_partition_into_disks(const PolyMesh& quads, const Strips& s) {
   std::vector<int> quad_count(quads.n_faces(), 0), face_count(s.faces.size(), 0);
   for (std::size_t p = 0; p < s.patches.size(); ++p) {
     const Patch& patch = s.patches[p];
-    for (int q : patch.quads) ++quad_count[q];
-    for (int f : patch.faces) ++face_count[f];
+    for (int q : patch.all_quads()) ++quad_count[q];
+    for (int f : patch.all_faces()) ++face_count[f];
     ASSERT_EQ(patch.rulings.size(), patch.faces.size() + 1);
     std::set<int> verts;
     std::map<std::pair<int, int>, int> edges;
-    for (int f : patch.faces) {
+    for (int f : patch.all_faces()) {
       const auto& q = s.faces[f];
       for (int k = 0; k < 4; ++k) {
         verts.insert(q[k]);
@@ -59,7 +59,7 @@ void expect_partition_into_disks(const PolyMesh& quads, const Strips& s) {
       }
     }
     const long chi = static_cast<long>(verts.size()) - static_cast<long>(edges.size()) +
-                     static_cast<long>(patch.faces.size());
+                     static_cast<long>(patch.all_faces().size());
     EXPECT_EQ(chi, 1) << "patch " << p << " is not a disk";
     // Boundary edges (one face) must form a single closed loop.
     std::map<int, std::vector<int>> adj;
@@ -82,12 +82,13 @@ void expect_partition_into_disks(const PolyMesh& quads, const Strips& s) {
     EXPECT_EQ(walked, boundary_edges) << "patch " << p << " has more than one boundary loop";
     // Outline edges: as many as boundary edges, each on the coarse edge it names.
     const auto outline = patch.outline();
+    const auto lv = patch.local_vertices();
     EXPECT_EQ(static_cast<int>(outline.size()), boundary_edges);
     for (const OutlineEdge& e : outline) {
       ASSERT_GE(e.coarse_edge, 0);
       const auto& along = s.edge_vertices[e.coarse_edge];
       for (int local : e.v) {
-        const Vec3 x = s.vertices[patch.rulings[local / 2][local % 2]];
+        const Vec3 x = s.vertices[lv[local]];
         double nearest = std::numeric_limits<double>::infinity();
         for (int v : along) nearest = std::min(nearest, (s.vertices[v] - x).norm());
         EXPECT_LT(nearest, 1e-12) << "patch " << p << " outline side " << e.side;
@@ -409,6 +410,108 @@ TEST(Strips, QuadRowsAndTheNaiveRowLayoutOnGrids) {
             8u);  // the 8 rings of 16 quads, each cut open once the 8 rows of 16 quads, taken first
   const auto sphere = test::sphere(50, 4);  // 3 x 4 rings of 16 quads around the cube
   EXPECT_EQ(quad_rows(sphere.quads), 12);
+}
+
+}  // namespace
+}  // namespace kerfab
+
+namespace kerfab {
+namespace {
+
+// The coarse edges of a quad mesh whose two ends satisfy \p pick, as vertex index pairs.
+std::vector<std::array<int, 2>> edges_where(
+    const PolyMesh& m, const std::function<bool(const Vec3&, const Vec3&)>& pick) {
+  std::vector<std::array<int, 2>> out;
+  for (auto e : m.edges()) {
+    const auto h = m.halfedge_handle(e, 0);
+    const auto a = m.from_vertex_handle(h), b = m.to_vertex_handle(h);
+    if (pick(to_eigen(m.point(a)), to_eigen(m.point(b)))) out.push_back({a.idx(), b.idx()});
+  }
+  return out;
+}
+
+// Paper Sec. 3.5: two ring strips of a cylinder merged sideways become one ring of twice the
+// height, with its inner rail on the straight rulings.
+TEST(Strips, MergingTwoRingsSidewaysGivesOneTwoRowRingWithStraightRulings) {
+  const auto shape = test::open_cylinder(60, 40, 24, 2, 16);
+  const TargetSurface target(shape.target);
+  const BendingResult bending = choose_bending_edges(shape.quads, target, {});
+  const Strips apart = build_strips(shape.quads, bending, target, {});
+  ASSERT_EQ(apart.patches.size(), 2u);
+  StripsOptions o;
+  o.merge_edges = edges_where(shape.quads, [](const Vec3& a, const Vec3& b) {
+    return std::abs(a.z() - 20) < 1e-9 && std::abs(b.z() - 20) < 1e-9;
+  });
+  ASSERT_EQ(o.merge_edges.size(), 24u);
+  const Strips merged = build_strips(shape.quads, bending, target, o);
+  ASSERT_EQ(merged.patches.size(), 1u);
+  const Patch& p = merged.patches[0];
+  EXPECT_EQ(p.rows(), 2);
+  EXPECT_EQ(p.all_quads().size(), 48u);
+  EXPECT_TRUE(p.loop_cut);
+  expect_partition_into_disks(shape.quads, merged);
+  // Every inner vertex on its ruling's straight segment, halfway up (equal rows).
+  for (std::size_t i = 0; i < p.rulings.size(); ++i) {
+    const Vec3 a = merged.vertices[p.rulings[i][0]], b = merged.vertices[p.rulings[i][1]];
+    const Vec3 m = merged.vertices[p.more_rows[0].rail[i]];
+    EXPECT_LT((m - a).cross(b - a).norm() / (b - a).norm(), 1e-9);
+    EXPECT_NEAR((m - a).norm(), 20.0, 1e-6);
+    EXPECT_NEAR((b - a).norm(), 40.0, 1e-6);
+  }
+}
+
+TEST(Strips, MergeAndSplitGuidanceIsCheckedAndRefusedWithReasons) {
+  const auto ring = test::open_cylinder(40, 30, 12, 2, 8);
+  const TargetSurface target(ring.target);
+  const BendingResult bending = choose_bending_edges(ring.quads, target, {});
+  // An axial edge is a ruling of both its quads: the strips across it are not side by side.
+  StripsOptions o;
+  o.merge_edges = {edges_where(ring.quads, [](const Vec3& a, const Vec3& b) {
+                     return std::abs(a.z() - b.z()) > 1;
+                   }).front()};
+  try {
+    build_strips(ring.quads, bending, target, o);
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("not aligned"), std::string::npos) << e.what();
+  }
+  o.merge_edges = {{0, 9999}};
+  EXPECT_THROW(build_strips(ring.quads, bending, target, o), InvalidInput);
+  // Splits: two axial edges of the lower ring cut it into two patches (no loop cut needed).
+  o = {};
+  o.split_edges = edges_where(ring.quads, [](const Vec3& a, const Vec3& b) {
+    return std::abs(a.z() - b.z()) > 1 && std::min(a.z(), b.z()) < 1 && std::abs(a.y()) < 1e-9;
+  });
+  ASSERT_EQ(o.split_edges.size(), 2u);
+  const Strips split = build_strips(ring.quads, bending, target, o);
+  EXPECT_EQ(split.patches.size(), 3u);
+  // A split inside a merged patch contradicts the merge.
+  o.merge_edges = edges_where(ring.quads, [](const Vec3& a, const Vec3& b) {
+    return std::abs(a.z() - 15) < 1e-9 && std::abs(b.z() - 15) < 1e-9;
+  });
+  o.split_edges = {o.merge_edges.front()};
+  EXPECT_THROW(build_strips(ring.quads, bending, target, o), InvalidInput);
+}
+
+// A merged patch must not contain a singularity of the quad mesh: on a cube sphere, two merge
+// edges meeting at a cube corner (valence 3) are refused with the vertex named.
+TEST(Strips, MergeThroughASingularityIsRefused) {
+  const auto sphere = test::sphere(60, 3);
+  const TargetSurface target(sphere.target);
+  const BendingResult bending = choose_bending_edges(sphere.quads, target, {});
+  int corner = -1;
+  for (auto v : sphere.quads.vertices())
+    if (sphere.quads.valence(v) == 3) corner = v.idx();
+  ASSERT_GE(corner, 0);
+  StripsOptions o;
+  for (auto h : sphere.quads.voh_range(sphere.quads.vertex_handle(corner)))
+    o.merge_edges.push_back({corner, sphere.quads.to_vertex_handle(h).idx()});
+  try {
+    build_strips(sphere.quads, bending, target, o);
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("singularity"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 #pragma once
 /// \file A user's decisions about the quad mesh (paper Sec. 3.5), as read from a guidance file
 /// and used by the stages.
+#include <array>
+#include <vector>
 
 namespace kerfab {
 
@@ -8,6 +10,13 @@ namespace kerfab {
 struct EdgeGuidance {
   int v0 = -1, v1 = -1;  ///< the edge's two vertex indices in the quad mesh as used
   bool bendable = true;  ///< true: force bendable; false: force stiff
+};
+
+/// Everything a guidance file says; edges are vertex index pairs of the quad mesh as used.
+struct Guidance {
+  std::vector<EdgeGuidance> edges;        ///< forced bendable or stiff (bending program)
+  std::vector<std::array<int, 2>> split;  ///< strip borders to insert (strips)
+  std::vector<std::array<int, 2>> merge;  ///< strips to merge sideways across (strips)
 };
 
 }  // namespace kerfab

@@ -48,7 +48,12 @@ json options_section(const RunResult& run, const OutputOptions& output) {
   const PipelineOptions& o = run.options;
   const Material& m = o.material;
   std::size_t guidance_edges = o.bending.guidance.size();
-  if (run.loaded) guidance_edges += run.loaded->guidance.size();
+  std::size_t split_edges = o.strips.split_edges.size(), merge_edges = o.strips.merge_edges.size();
+  if (run.loaded) {
+    guidance_edges += run.loaded->guidance.edges.size();
+    split_edges += run.loaded->guidance.split.size();
+    merge_edges += run.loaded->guidance.merge.size();
+  }
   json j;
   j["size_mm"] = optional_json(o.input.size);
   j["subdivide"] = o.input.subdivide;
@@ -59,6 +64,8 @@ json options_section(const RunResult& run, const OutputOptions& output) {
   j["ilp_gap"] = o.bending.relative_gap;
   j["guidance"] = run.inputs.guidance ? json(run.inputs.guidance->string()) : json(nullptr);
   j["guidance_edges"] = guidance_edges;
+  j["guidance_split_edges"] = split_edges;
+  j["guidance_merge_edges"] = merge_edges;
   j["rulings_per_quad"] = o.strips.rulings_per_quad;
   j["max_ruling_spacing_mm"] = o.strips.max_ruling_spacing;
   j["projection"] = o.strips.projection == Projection::kNormal ? "normal" : "closest";

@@ -22,8 +22,7 @@ double seconds_since(Clock::time_point t0) {
 class StageRunner {
  public:
   StageRunner(RunResult& run, const Progress& progress) : run_(run), progress_(progress) {}
-  template <class Body>
-  bool operator()(Stage stage, Body&& body) {
+  bool operator()(Stage stage, const std::function<StageNotes()>& body) {
     const std::string name(stage_name(stage));
     if (progress_) progress_("[" + name + "] ...");
     const auto t0 = Clock::now();
@@ -61,60 +60,68 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   LayoutOptions usable = o.layout;  // room for a plate thickness of teeth along the margins
   usable.margin += o.material.thickness;
 
-  stage(Stage::kLoad,
-        [&] {
-          r.loaded = load_inputs(inputs);
-          return StageNotes{};
-        }) &&
-      stage(Stage::kPrepare,
-            [&] {
-              return notes(*(r.input = prepare_input(r.loaded->target, r.loaded->quad, o.input)));
-            }) &&
-      stage(Stage::kBending,
-            [&] {
-              BendingOptions bending = o.bending;
-              bending.guidance.insert(bending.guidance.end(), r.loaded->guidance.begin(),
-                                      r.loaded->guidance.end());
-              return notes(
-                  *(r.bending = choose_bending_edges(r.input->quads, r.input->surface, bending)));
-            }) &&
-      stage(Stage::kStrips,
-            [&] {
-              r.strips = build_strips(r.input->quads, *r.bending, r.input->surface, o.strips);
-              if (o.row_baseline)
-                r.baseline = row_baseline(r.input->quads, r.input->surface, o.strips);
-              return notes(*r.strips, r.baseline, o.strips);
-            }) &&
-      stage(Stage::kFlatten,
-            [&] {
-              r.flat =
-                  flatten_cuttable(*r.strips, o.flatten, usable,
+  // The stages in order; each stores its result in r and returns what it tells the user.
+  const std::vector<std::pair<Stage, std::function<StageNotes()>>> stages = {
+      {Stage::kLoad,
+       [&] {
+         r.loaded = load_inputs(inputs);
+         return StageNotes{};
+       }},
+      {Stage::kPrepare,
+       [&] {
+         r.input = prepare_input(r.loaded->target, r.loaded->quad, o.input);
+         return notes(*r.input);
+       }},
+      {Stage::kBending,
+       [&] {
+         BendingOptions bending = o.bending;  // with the guidance file's edges
+         const Guidance& g = r.loaded->guidance;
+         bending.guidance.insert(bending.guidance.end(), g.edges.begin(), g.edges.end());
+         r.bending = choose_bending_edges(r.input->quads, r.input->surface, bending);
+         return notes(*r.bending);
+       }},
+      {Stage::kStrips,
+       [&] {
+         StripsOptions strips = o.strips;  // with the guidance file's splits and merges
+         const Guidance& g = r.loaded->guidance;
+         strips.split_edges.insert(strips.split_edges.end(), g.split.begin(), g.split.end());
+         strips.merge_edges.insert(strips.merge_edges.end(), g.merge.begin(), g.merge.end());
+         r.strips = build_strips(r.input->quads, *r.bending, r.input->surface, strips);
+         if (o.row_baseline) r.baseline = row_baseline(r.input->quads, r.input->surface, o.strips);
+         return notes(*r.strips, r.baseline, o.strips);
+       }},
+      {Stage::kFlatten,
+       [&] {
+         r.flat = flatten_cuttable(*r.strips, o.flatten, usable,
                                    5 * o.quality_sample_spacing * diag());  // smooth difference
-              return notes(*r.flat, diag());
-            }) &&
-      stage(Stage::kJoints,
-            [&] {
-              r.joints =
-                  make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, o.joints);
-              return notes(*r.joints, o.joints);
-            }) &&
-      stage(Stage::kKerf,
-            [&] {
-              r.kerf = place_kerf_cuts(r.flat->strips, r.flat->flattening, *r.joints, o.material,
-                                       o.machine, o.kerf);
-              return notes(*r.kerf, o.kerf);
-            }) &&
-      stage(Stage::kLayout,
-            [&] {
-              r.layout =
-                  lay_out_parts(r.flat->strips, r.flat->flattening, *r.joints, *r.kerf, o.layout);
-              return notes(*r.layout, o.layout);
-            }) &&
-      stage(Stage::kQuality, [&] {
-        r.quality = surface_distance(triangulate(r.flat->strips), r.input->surface.mesh(),
-                                     {.sample_spacing = o.quality_sample_spacing * diag()});
-        return notes(*r.quality, diag());
-      });
+         return notes(*r.flat, diag());
+       }},
+      {Stage::kJoints,
+       [&] {
+         r.joints =
+             make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, o.joints);
+         return notes(*r.joints, o.joints);
+       }},
+      {Stage::kKerf,
+       [&] {
+         r.kerf = place_kerf_cuts(r.flat->strips, r.flat->flattening, *r.joints, o.material,
+                                  o.machine, o.kerf);
+         return notes(*r.kerf, o.kerf);
+       }},
+      {Stage::kLayout,
+       [&] {
+         r.layout = lay_out_parts(r.flat->strips, r.flat->flattening, *r.joints, *r.kerf, o.layout);
+         return notes(*r.layout, o.layout);
+       }},
+      {Stage::kQuality,
+       [&] {
+         r.quality = surface_distance(triangulate(r.flat->strips), r.input->surface.mesh(),
+                                      {.sample_spacing = o.quality_sample_spacing * diag()});
+         return notes(*r.quality, diag());
+       }},
+  };
+  for (const auto& [id, body] : stages)
+    if (!stage(id, body)) break;
   r.total_seconds = seconds_since(t_start);
   return r;
 }

@@ -31,7 +31,7 @@ struct RunInputs {
 struct PipelineOptions {
   InputOptions input;
   BendingOptions bending;  ///< its guidance is added to that of RunInputs::guidance
-  StripsOptions strips;
+  StripsOptions strips;    ///< its split and merge edges are added to those of the guidance
   FlattenOptions flatten;
   JointOptions joints;
   KerfOptions kerf;
@@ -48,7 +48,7 @@ struct PipelineOptions {
 struct LoadedInputs {
   PolyMesh target;
   std::optional<PolyMesh> quad;
-  std::vector<EdgeGuidance> guidance;  ///< from the guidance file
+  Guidance guidance;  ///< from the guidance file
 };
 
 struct StageTiming {

@@ -527,6 +527,22 @@ class Builder {
         where[chains[c][i].quad] = {c, static_cast<int>(i)};
     UnionFind columns(offset[nc]);
     std::set<std::pair<int, int>> linked;  // chain pairs joined by a merge edge
+    // A merged run passes a vertex where two of its merge edges meet; a singularity of the quad
+    // mesh there would lie inside the merged patch (paper Sec. 3.5: bending two ways at once).
+    std::map<int, std::vector<std::array<int, 2>>> at_vertex;
+    for (const auto& v : opt_.merge_edges) {
+      resolve_edge(v, "merge");
+      for (int x : v) at_vertex[x].push_back(v);
+    }
+    for (const auto& [x, list] : at_vertex) {
+      const auto vh = m_.vertex_handle(x);
+      if (list.size() < 2 || m_.is_boundary(vh) || m_.valence(vh) == 4) continue;
+      throw InvalidInput("merge edges " + edge_name(list[0]) + " and " + edge_name(list[1]) +
+                         " meet at vertex " + std::to_string(x) + " of valence " +
+                         std::to_string(m_.valence(vh)) +
+                         ", a singularity of the quad mesh that would lie inside the merged "
+                         "patch");
+    }
     for (const auto& v : opt_.merge_edges) {
       const int e = resolve_edge(v, "merge");
       const auto eh = m_.edge_handle(e);
