@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -197,8 +198,18 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     EXPECT_TRUE(st.contains(key)) << key;
   const int strips = st["patches"].get<int>();  // patch ids label the faces and files
   EXPECT_GT(strips, 10);
-  EXPECT_LT(strips, 732 / 4);
   EXPECT_LE(st["strips"].get<int>(), strips);
+  // Strips are long chains of quads; flat facets (where 3 mm MDF cannot bend that tightly at
+  // 250 mm: horns, ears, hooves, tail) cover less than half of the quads (324 of 732).
+  int ladders = 0, facet_quads = 0;
+  for (const auto& p : st["patch_list"]) {
+    if (p["facet"].get<bool>())
+      facet_quads += p["quads"].get<int>();
+    else
+      ++ladders;
+  }
+  EXPECT_LT(ladders, 732 / 4);
+  EXPECT_LT(facet_quads, 732 / 2);
   const auto& q = report["quality"];
   EXPECT_GT(q["hausdorff_rel"].get<double>(), 0.0);
   EXPECT_LT(q["hausdorff_rel"].get<double>(), 0.02);
@@ -233,12 +244,27 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     std::ifstream obj(out / "stages" / "patches" / name);
     ASSERT_TRUE(obj) << name;
     int v_lines = 0, f_lines = 0;
+    std::map<std::pair<int, int>, int> edge_uses;
     while (std::getline(obj, line)) {
       v_lines += line.rfind("v ", 0) == 0 ? 1 : 0;
-      f_lines += line.rfind("f ", 0) == 0 ? 1 : 0;
+      if (line.rfind("f ", 0) != 0) continue;
+      ++f_lines;
+      std::istringstream f(line.substr(2));
+      std::vector<int> ids{std::istream_iterator<int>(f), std::istream_iterator<int>()};
+      for (std::size_t k = 0; k < ids.size(); ++k)
+        ++edge_uses[{std::min(ids[k], ids[(k + 1) % ids.size()]),
+                     std::max(ids[k], ids[(k + 1) % ids.size()])}];
     }
     EXPECT_EQ(f_lines, faces_per_strip[p]) << name;
-    EXPECT_EQ(v_lines, 2 * (f_lines + 1)) << name;  // a ladder: two rails
+    const auto& entry = st["patch_list"][p];
+    const int rows = entry["rows"].get<int>();
+    if (!entry["facet"].get<bool>()) {  // a ladder: rows + 1 rails
+      EXPECT_EQ(v_lines, (rows + 1) * (f_lines / rows + 1)) << name;
+    } else {  // a disk of quads: V = 1 + F + (boundary edges) / 2
+      int boundary = 0;
+      for (const auto& [e, uses] : edge_uses) boundary += uses == 1 ? 1 : 0;
+      EXPECT_EQ(v_lines, 1 + f_lines + boundary / 2) << name;
+    }
     // The flattened patch: same vertex count and faces, every z = 0.
     std::snprintf(name, sizeof name, "%03d_2d.obj", p);
     std::ifstream flat(out / "stages" / "patches" / name);
@@ -257,9 +283,16 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     EXPECT_EQ(f2, f_lines) << name;
   }
   const auto& fl = report["flatten"];
-  EXPECT_LT(fl["max_angle_error_deg"].get<double>(), 10.0);
-  EXPECT_LT(fl["max_border_length_error_rel"].get<double>(), 1e-3);
-  EXPECT_LT(fl["max_mating_mismatch_rel"].get<double>(), 1e-3);
+  // Strips flatten almost exactly; a facet whose corner is shared with other facets is not
+  // quite planar in 3D and keeps its border lengths first.
+  EXPECT_LT(fl["max_angle_error_deg"].get<double>(), 20.0);
+  EXPECT_LT(fl["max_border_length_error_rel"].get<double>(), 0.01);
+  // Mating borders have the same length in both parts, well within the 0.05 mm a joint fits to.
+  for (const auto& border : fl["borders"])
+    EXPECT_LT(
+        std::abs(border["length_2d_mm"][0].get<double>() - border["length_2d_mm"][1].get<double>()),
+        0.05)
+        << border["patches"];
   EXPECT_EQ(fl["inverted_quads"].get<int>(), 0);
   EXPECT_EQ(fl["patches"].size(), static_cast<std::size_t>(strips));
   // Joints: report samples as in docs/outputs.md, and every part's outline in the dump.

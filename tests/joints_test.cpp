@@ -61,10 +61,14 @@ double overlap_area(const Polygon2& a, const Polygon2& b) {
 
 // The checks of the issue: simple outlines, complementary teeth, no tooth on another tooth or on
 // the part's own body.
-void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j) {
+// Parts that fell apart (\p max_repaired: raw real-mesh strips have collapsed strip ends the
+// resolve stage removes) are flagged, never silently cut down.
+void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j,
+                         int max_repaired = 0) {
   ASSERT_EQ(j.parts.size(), s.patches.size());
   // Per (border, interval, side patch): tooth length or slot length in the plane.
   std::map<std::pair<int, int>, std::map<int, double>> tooth_len, slot_len;
+  int repaired = 0;
   for (std::size_t p = 0; p < j.parts.size(); ++p) {
     const PartOutline& part = j.parts[p];
     SCOPED_TRACE("part " + std::to_string(p));
@@ -72,7 +76,7 @@ void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j) 
     EXPECT_TRUE(is_simple_polygon(part.designed, ring(part.designed.size())));
     EXPECT_TRUE(is_simple_polygon(part.cut, ring(part.cut.size())));
     EXPECT_GT(polygon_area(part.designed), 0);
-    EXPECT_FALSE(part.repaired);
+    repaired += part.repaired ? 1 : 0;
     // Kerf compensation: the laser path encloses the designed part and stays within half a
     // kerf of it (gaps narrower than the kerf close, as they must).
     auto area_of = [](const std::vector<Polygon2>& ps) {
@@ -129,6 +133,67 @@ void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j) 
     }
   }
   EXPECT_EQ(compared, j.teeth);
+  EXPECT_EQ(repaired, j.repaired_parts);
+  EXPECT_LE(repaired, max_repaired);
+}
+
+// Length of segment a-b inside (or, with \p outside, outside) polygon \p poly.
+double length_inside(const Vec2& a, const Vec2& b, const Polygon2& poly, bool outside = false) {
+  std::vector<double> t = {0.0, 1.0};
+  const Vec2 d = b - a;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2 p = poly[i], e = poly[(i + 1) % poly.size()] - p;
+    const double den = d.x() * e.y() - d.y() * e.x();
+    if (std::abs(den) < 1e-15) continue;
+    const Vec2 w = p - a;
+    const double u = (w.x() * e.y() - w.y() * e.x()) / den,
+                 v = (w.x() * d.y() - w.y() * d.x()) / den;
+    if (u > 0 && u < 1 && v >= 0 && v < 1) t.push_back(u);
+  }
+  std::sort(t.begin(), t.end());
+  double len = 0;
+  for (std::size_t k = 0; k + 1 < t.size(); ++k) {
+    const Vec2 m = a + 0.5 * (t[k] + t[k + 1]) * d;
+    bool in = false;  // even-odd
+    for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
+      if ((poly[i].y() > m.y()) != (poly[j].y() > m.y()) &&
+          m.x() <
+              (poly[j].x() - poly[i].x()) * (m.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) +
+                  poly[i].x())
+        in = !in;
+    if (in != outside) len += (t[k + 1] - t[k]) * d.norm();
+  }
+  return len;
+}
+
+// Every tooth, measured on the final outline at half its height over its interval, is as wide
+// as the interval (to 0.05 mm: not trimmed), and the slot it goes into, measured on the mate's
+// final outline just above the slot's bottom over the same interval, is open over that width.
+void expect_teeth_fit_slots(const Strips& s, const Flattening& f, const Joints& j) {
+  std::map<std::pair<int, int>, double> tooth, slot, nominal;  // (border, interval)
+  (void)s, (void)f;
+  for (std::size_t p = 0; p < j.parts.size(); ++p) {
+    for (const JointSpan& sp : j.parts[p].spans) {
+      if (sp.border < 0 || sp.offset == 0) continue;
+      const double depth = sp.tooth ? 0.5 * sp.offset : 0.9 * sp.offset;
+      const Vec2 a = sp.from + depth * sp.normal, b = sp.to + depth * sp.normal;
+      const auto key = std::make_pair(sp.border, sp.interval);
+      if (sp.tooth) {
+        tooth[key] += length_inside(a, b, j.parts[p].designed);
+        nominal[key] += sp.length;
+      } else if (j.borders[sp.border].intervals[sp.interval].owner >= 0) {
+        // The room for the tooth: no material of the part as cut there.
+        slot[key] += length_inside(a, b, j.parts[p].designed, true);
+      }
+    }
+  }
+  for (const auto& [key, width] : tooth) {
+    EXPECT_NEAR(width, nominal[key], 0.05)
+        << "tooth of border " << key.first << " interval " << key.second;
+    ASSERT_TRUE(slot.count(key)) << "tooth without slot";
+    EXPECT_GE(slot[key], width - 0.05)
+        << "slot of border " << key.first << " interval " << key.second;
+  }
 }
 
 TEST(Joints, BoxCornerTeethReachThroughTheOtherPart) {
@@ -154,6 +219,7 @@ TEST(Joints, BoxCornerTeethReachThroughTheOtherPart) {
   }
   EXPECT_EQ(fold_borders, 6);
   expect_sound_joints(c.strips, c.flat, c.joints);
+  expect_teeth_fit_slots(c.strips, c.flat, c.joints);
   // Kerf compensation of these rectilinear parts: the area grows by half a kerf times the
   // perimeter plus the square corners.
   for (const PartOutline& part : c.joints.parts) {
@@ -192,6 +258,7 @@ TEST(Joints, FoldAnglesAndOffsetsFollowTheSurface) {
       }
     }
     expect_sound_joints(c.strips, c.flat, c.joints);
+    expect_teeth_fit_slots(c.strips, c.flat, c.joints);
   }
 }
 
@@ -209,7 +276,8 @@ TEST(Joints, RealMeshesHaveSoundOutlines) {
     const Joints j = make_joints(s, f, kMdf, kLaser, o);
     EXPECT_GT(j.teeth, 100);
     EXPECT_GT(j.toothed_length, 0.25 * j.border_length);
-    expect_sound_joints(s, f, j);
+    expect_sound_joints(s, f, j, 3);
+    expect_teeth_fit_slots(s, f, j);
   }
 }
 

@@ -288,7 +288,7 @@ TEST(Kerf, TightBendsAreCriticalAndCutsStayInsideTheirPart) {
   for (const auto& c : k.critical) {
     EXPECT_LT(c.spacing, o.min_cut_spacing);
     EXPECT_GT(c.stress_ratio, 1.0);
-    EXPECT_FALSE(c.too_narrow);
+    EXPECT_EQ(c.cause, CriticalCause::kTooDense);
   }
   EXPECT_GE(k.patches[0].min_spacing, o.min_cut_spacing - 1e-9);
   // Every cut end lies inside the part, a margin away from its outline, and off its teeth.

@@ -102,8 +102,13 @@ SheetAudit audit_sheets(const std::filesystem::path& cut_dir, const AuditLimits&
   for (const auto& p : parts) a.sheets = std::max(a.sheets, p.sheet);
   a.parts = static_cast<int>(parts.size());
   for (const SheetPart& p : parts) {
-    Polygon2 outline = p.outline;
-    if (polygon_area(outline) < 0) std::reverse(outline.begin(), outline.end());
+    // The part itself: the laser path runs half a kerf outside it.
+    Polygon2 path = p.outline;
+    if (polygon_area(path) < 0) std::reverse(path.begin(), path.end());
+    const auto shrunk = polygon_offset({path}, -0.5 * lim.kerf_width);
+    Polygon2 outline = shrunk.empty() ? path : shrunk.front();
+    for (const auto& piece : shrunk)
+      if (polygon_area(piece) > polygon_area(outline)) outline = piece;
     a.cuts += static_cast<int>(p.kerf.size());
     // Cuts: length and spacing (distance between the segments, within one part).
     for (std::size_t i = 0; i < p.kerf.size(); ++i) {

@@ -18,6 +18,7 @@ struct AuditLimits {
   double min_part_width = 3;     ///< [mm]: the outline shrunk by half of it is not empty
   double min_feature = 1.0;      ///< tails and slits narrower than this [mm]
   double label_clearance = 0.2;  ///< engraving keeps this far inside the outline and off cuts [mm]
+  double kerf_width = 0.15;      ///< the laser path runs half of it outside the part [mm]
 };
 
 struct SheetPart {

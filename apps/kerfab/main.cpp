@@ -106,9 +106,10 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
   auto& ko = f.options.kerf;
   cmd.add_option("--material", f.material,
                  "Sheet material preset: mdf (3 mm, G 1.6 GPa, tau 18 MPa, G/tau 100 with safety), "
-                 "plywood (4 mm birch, G 620 MPa, tau 9.5 MPa, safety 1.5), paper (h 0, no cuts)")
+                 "mdf2 (the same, 2 mm), plywood (4 mm birch, G 620 MPa, tau 9.5 MPa, safety "
+                 "1.5), plywood3 (the same, 3 mm), paper (h 0, no cuts)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"mdf", "plywood", "paper"}));
+      ->check(CLI::IsMember({"mdf", "mdf2", "plywood", "plywood3", "paper"}));
   cmd.add_option("--thickness", f.thickness, "Sheet thickness h, overrides the material's [mm]")
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--shear-modulus", f.shear_modulus,
@@ -205,6 +206,10 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "the target's bbox diagonal [ratio]")
       ->capture_default_str()
       ->check(CLI::Range(1e-5, 0.1));
+  cmd.add_flag(
+      "--no-resolve", [&f](std::int64_t) { f.options.resolve.enabled = false; },
+      "Keep critical kerf regions as they are and only report them (the paper's "
+      "behaviour) instead of changing the layout there until the parts can be cut");
   cmd.add_flag("--dump", f.output.dump, "Also write intermediate stages to OUT/stages/");
   cmd.add_flag("--row-baseline", f.options.row_baseline,
                "Also build the naive one-strip-per-row layout and report its strip count "

@@ -17,6 +17,8 @@ struct Guidance {
   std::vector<EdgeGuidance> edges;        ///< forced bendable or stiff (bending program)
   std::vector<std::array<int, 2>> split;  ///< strip borders to insert (strips)
   std::vector<std::array<int, 2>> merge;  ///< strips to merge sideways across (strips)
+  std::vector<std::vector<int>> facets;   ///< quad groups (face indices) cut as flat facets;
+                                          ///< set by the resolve step, not read from files
 };
 
 }  // namespace kerfab

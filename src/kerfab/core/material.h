@@ -2,6 +2,7 @@
 /// \file The sheet material and the laser: the one home of the thickness and the kerf width,
 /// read by every stage that needs them (joints, kerf cuts, cutting time).
 #include <string>
+#include <vector>
 
 namespace kerfab {
 
@@ -14,10 +15,14 @@ struct Material {
   double safety = 1.125;        ///< divides tau_yield [-], >= 1 (MDF: G / (tau/s) = 100)
 };
 
-/// Presets: "mdf" (3 mm, G 1.6 GPa, tau 18 MPa, G/tau_eff = 100 as in the paper), "plywood"
-/// (4 mm birch, G 620 MPa, tau 9.5 MPa, safety 1.5), "paper" (h = 0, tau = infinity: no cuts).
+/// Presets: "mdf" (3 mm, G 1.6 GPa, tau 18 MPa, G/tau_eff = 100 as in the paper), "mdf2" (the
+/// same board 2 mm thick), "plywood" (4 mm birch, G 620 MPa, tau 9.5 MPa, safety 1.5),
+/// "plywood3" (the same 3 mm thick), "paper" (h = 0, tau = infinity: no cuts).
 /// \throw InvalidInput unknown name.
 Material material_preset(const std::string& name);
+
+/// The sheet presets (not paper), thinnest first: mdf2, plywood3, mdf, plywood.
+std::vector<Material> sheet_presets();
 
 /// The laser cutter: its kerf, and a simple model for time estimates (constant cutting speed
 /// plus a fixed overhead per separate cut: pierce, travel, acceleration).

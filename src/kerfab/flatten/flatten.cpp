@@ -1,5 +1,6 @@
 #include "kerfab/flatten/flatten.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
@@ -241,7 +242,13 @@ Solve minimise(const AngleLengthEnergy& energy, std::vector<Vec2>& x, const Flat
     }
     x = trial;
     r = r_trial;
+    const double before = s.energy;
     s.energy = r.squaredNorm();
+    if (before - s.energy <= 1e-12 * before) {  // stationary: residuals that cannot vanish
+      s.converged = true;
+      ++s.iterations;
+      break;
+    }
   }
   return s;
 }
@@ -320,10 +327,25 @@ std::vector<Vec3> deform_to_flat_metric(const LocalPatch& lp, const std::vector<
   return y;
 }
 
+/// A facet's corners lie near one plane (the strips put them there; a corner shared with another
+/// facet lies between the two): that plane, in coordinates along its two main directions, is
+/// where its flattening starts.
+std::vector<Vec2> plane_coordinates(const std::vector<Vec3>& p3) {
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : p3) mean += p / static_cast<double>(p3.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : p3) cov += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const Vec3 u = eig.eigenvectors().col(2), w = eig.eigenvectors().col(1);
+  std::vector<Vec2> out;
+  for (const Vec3& p : p3) out.emplace_back((p - mean).dot(u), (p - mean).dot(w));
+  return out;
+}
+
 PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const FlattenOptions& opt) {
   const LocalPatch lp = local_patch(strips, patch);
   PatchFlattening out;
-  out.points = conformal_map(lp);
+  out.points = patch.flat ? plane_coordinates(lp.p3) : conformal_map(lp);
   // Counter-clockwise quads: mirror if the conformal map came out reflected (it does not for
   // consistently oriented input, but a wrong sign must never reach the cutter).
   double signed_area = 0;
@@ -332,9 +354,15 @@ PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const Flat
       signed_area += 0.5 * cross2(out.points[q[c]], out.points[q[(c + 1) % 4]]);
   if (signed_area < 0)
     for (auto& p : out.points) p.y() = -p.y();
-  const AngleLengthEnergy energy(lp, opt.lambda);
+  // A facet's corners may sit off its plane where it meets another facet: its border lengths
+  // (which its neighbours keep) come first, its inner angles only hold it in shape.
+  const AngleLengthEnergy energy(lp, patch.flat ? std::max(opt.lambda, 0.9999) : opt.lambda);
   out.initial_energy = energy.residuals(out.points).squaredNorm();
-  const Solve s = minimise(energy, out.points, opt);
+  // Border lengths as in 3D for a facet too: its mating strips' borders keep theirs.
+  // (Gauss-Newton converges only linearly there: the residuals do not vanish.)
+  FlattenOptions own = opt;
+  if (patch.flat) own.max_iterations *= 10;
+  const Solve s = minimise(energy, out.points, own);
   out.iterations = s.iterations;
   out.energy = s.energy;
   out.converged = s.converged;
@@ -470,6 +498,8 @@ Flattening flatten_patches(const Strips& strips, const FlattenOptions& options) 
     throw InvalidInput("--flatten-lambda must be in [0, 1]");
   if (options.max_iterations < 1) throw InvalidInput("flatten: max_iterations must be >= 1");
   if (!(options.tolerance > 0)) throw InvalidInput("flatten: tolerance must be > 0");
+  if (!(options.max_angle_error > 0 && options.max_angle_error <= M_PI))
+    throw InvalidInput("flatten: max_angle_error must be in (0, pi]");
   Flattening flat;
   const int np = static_cast<int>(strips.patches.size());
   flat.patches.resize(np);

@@ -7,6 +7,7 @@
 /// factorisation, a backtracking line search and the Newton decrement as stopping test.
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct FlattenOptions {
   double tolerance = 1e-14;  ///< stop when half the Newton decrement falls below this [-], > 0
   int threads = 0;           ///< patches solved in parallel; 0: one per hardware thread
   bool mimic_3d = true;      ///< also deform the 3D strips to the flat metric (evaluation)
+  /// A strip flattening with a larger corner angle error than this is split (flatten_cuttable)
+  /// [rad], in (0, pi].
+  double max_angle_error = 20 * M_PI / 180;
 };
 
 /// One patch's flattening. Vertices are the patch's own, 2 * ruling + rail (Patch::local_quads).

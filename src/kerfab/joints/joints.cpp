@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <set>
 #include <string>
 
 #include "kerfab/core/errors.h"
@@ -78,8 +80,31 @@ class Builder {
     for (std::size_t p = 0; p < rings_.size(); ++p)
       restrict_by_bands(static_cast<int>(p), forbidden);
     place_teeth(forbidden);
+    drop_bitten_teeth();
     for (std::size_t p = 0; p < rings_.size(); ++p)
       out_.parts.push_back(outline(static_cast<int>(p)));
+    // A part so thin that its slots cut it through keeps its borders plain instead (the mitre
+    // alone cuts back far less), and so do the parts whose teeth reached into those slots.
+    std::set<int> redo;
+    for (std::size_t p = 0; p < out_.parts.size(); ++p) {
+      if (!out_.parts[p].repaired) continue;
+      for (BorderJoint& b : out_.borders) {
+        if (b.patches[0] != static_cast<int>(p) && b.patches[1] != static_cast<int>(p)) continue;
+        for (JointInterval& in : b.intervals)
+          if (in.owner >= 0) {
+            in.owner = -1;
+            --b.teeth, --out_.teeth, ++b.blocked;
+            out_.toothed_length -= in.s1 - in.s0;
+          }
+        redo.insert(b.patches[0]);
+        redo.insert(b.patches[1]);
+      }
+    }
+    if (!redo.empty() && drop_bitten_teeth()) {  // plain cut-backs where slots were
+      for (std::size_t p = 0; p < rings_.size(); ++p) out_.parts[p] = outline(static_cast<int>(p));
+    } else {
+      for (int p : redo) out_.parts[p] = outline(p);
+    }
     for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
     return std::move(out_);
   }
@@ -293,8 +318,10 @@ class Builder {
           ++b.shallow;
         } else if (!free) {
           ++b.blocked;
+        } else if (const int owner = untrimmed_owner(static_cast<int>(i), in, j % 2); owner < 0) {
+          ++b.blocked;  // a tooth on either side would have to be trimmed at a corner
         } else {
-          in.owner = j % 2;
+          in.owner = owner;
           ++b.teeth;
           out_.toothed_length += in.s1 - in.s0;
         }
@@ -304,6 +331,36 @@ class Builder {
       out_.border_length += piece.length;
       out_.borders.push_back(std::move(b));
     }
+  }
+
+  /// \p preferred if its tooth for interval \p in of piece \p i needs no trimming at a
+  /// concave corner of its part, else -1: a trimmed tooth no longer fills its slot (the slot in
+  /// the flat mate is not trimmed), so it is not made at all (teeth keep alternating).
+  int untrimmed_owner(int i, const JointInterval& in, int preferred) const {
+    const Piece& piece = pieces_[i];
+    for (int side_index : {preferred}) {
+      const Side& side = piece.sides[side_index];
+      const Ring& ring = rings_[side.patch];
+      bool trimmed = false;
+      for (int k : side.ring_edges) {
+        const auto [sa, sb] = s_range(side, k);
+        const double lo = std::max(in.s0, sa), hi = std::min(in.s1, sb);
+        if (hi - lo <= 1e-12) continue;
+        double t0 = (lo - sa) / (sb - sa), t1 = (hi - sa) / (sb - sa);
+        if (side.reversed) t0 = 1 - t0, t1 = 1 - t1, std::swap(t0, t1);
+        const Vec2 a = ring.start[k], b = ring.end[k], n = ring.normal[k];
+        const double e = in.offsets.tip;
+        const Polygon2 tooth = {a + t0 * (b - a), a + t1 * (b - a), a + t1 * (b - a) + e * n,
+                                a + t0 * (b - a) + e * n};
+        const Polygon2 kept = trim_at_concave_corners(side.patch, k, t0, t1, tooth);
+        // Trimmed by more than the fit tolerance (0.05 mm of the tooth's width along the edge).
+        if (kept.size() < 3 ||
+            std::abs(polygon_area(tooth)) - std::abs(polygon_area(kept)) > 0.05 * std::abs(e))
+          trimmed = true;
+      }
+      if (!trimmed) return side_index;
+    }
+    return -1;
   }
 
   /// A tooth that reaches a concave corner of the outline ends on the corner's bisector, so it
@@ -329,14 +386,23 @@ class Builder {
   /// The part's outline: its flattened polygon, plus the tooth regions, minus the cut-back
   /// regions of slots and plain stretches (Clipper Booleans, so the result is a simple polygon
   /// whatever the corners do).
-  PartOutline outline(int p) {
+  /// What a part's outline is made of: the body and its teeth (to unite), the cut-backs of
+  /// slots, plain stretches and the wedges between them (to subtract), and the spans.
+  struct Shapes {
+    std::vector<Polygon2> add, cut;
+    std::vector<JointSpan> spans;
+  };
+
+  Shapes shapes(int p) const {
     const Ring& ring = rings_[p];
-    PartOutline part;
+    Shapes part;
     const int m = static_cast<int>(ring.edges.size());
     Polygon2 base;
     for (int k = 0; k < m; ++k) base.push_back(ring.start[k]);
     std::vector<Polygon2> add = {base}, cut;
     std::vector<double> first_offset(m, 0.0), last_offset(m, 0.0);
+    // Per ring edge: its first and last span in part.spans (-1: none).
+    std::vector<int> first_span(m, -1), last_span(m, -1);
     for (int k = 0; k < m; ++k) {
       if (ring.piece[k] < 0) continue;
       const Vec2 a = ring.start[k], b = ring.end[k], n = ring.normal[k];
@@ -362,10 +428,15 @@ class Builder {
                        (t1 - t0) * (b - a).norm(),
                        e,
                        in.owner == side_index,
-                       {}};
+                       {},
+                       at(t0, 0),
+                       at(t1, 0),
+                       n};
         if (span.tooth)
           span.region =
               trim_at_concave_corners(p, k, t0, t1, {at(t0, 0), at(t1, 0), at(t1, e), at(t0, e)});
+        if (t0 < 1e-9) first_span[k] = static_cast<int>(part.spans.size());
+        if (t1 > 1 - 1e-9) last_span[k] = static_cast<int>(part.spans.size());
         part.spans.push_back(std::move(span));
       }
       std::sort(spans.begin(), spans.end());
@@ -391,26 +462,165 @@ class Builder {
         cut.push_back({ring.end[k], ring.end[k] + first_offset[j] * ring.normal[j],
                        ring.end[k] + last_offset[k] * ring.normal[k]});
     }
-    auto largest = [](const std::vector<Polygon2>& polys) {
-      const Polygon2* best = nullptr;
-      for (const auto& c : polys)
-        if (polygon_area(c) > 0 && (!best || polygon_area(c) > polygon_area(*best))) best = &c;
-      return best ? *best : Polygon2{};
-    };
+    // A tooth that runs on across a convex bend of its border line is one piece: the wedge
+    // between its rectangles is filled (it would otherwise split the tooth into teeth too narrow
+    // to stand).
+    for (int k = 0; k < m; ++k) {
+      const int j = (k + 1) % m;
+      if (last_span[k] < 0 || first_span[j] < 0) continue;
+      JointSpan& before = part.spans[last_span[k]];
+      const JointSpan& after = part.spans[first_span[j]];
+      const Vec2 d0 = ring.end[k] - ring.start[k], d1 = ring.end[j] - ring.start[j];
+      if (!before.tooth || !after.tooth || before.border != after.border ||
+          before.interval != after.interval || d0.x() * d1.y() - d0.y() * d1.x() <= 0)
+        continue;
+      const Vec2 corner = ring.end[k];
+      const double e = before.offset;
+      const Polygon2 wedge = {corner, corner + e * ring.normal[j], corner + e * ring.normal[k]};
+      add.push_back(wedge);
+      Polygon2 region = before.region;
+      if (polygon_area(region) < 0) std::reverse(region.begin(), region.end());
+      Polygon2 ccw = wedge;
+      if (polygon_area(ccw) < 0) std::reverse(ccw.begin(), ccw.end());
+      before.region = largest(polygon_union({region, ccw}));
+    }
     // Non-zero filling: every polygon counter-clockwise, or overlaps would cancel out.
     for (auto* list : {&add, &cut})
       for (auto& poly : *list)
         if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
-    const auto pieces = polygon_difference(polygon_union(add), cut);
+    part.add = std::move(add);
+    part.cut = std::move(cut);
+    return part;
+  }
+
+  /// Teeth that a cut-back of their own part bites into (at an acute corner the mitre of the
+  /// next border reaches across this one) would no longer fill their slots: such intervals are
+  /// made plain, on both parts, until no tooth is bitten.
+  bool drop_bitten_teeth() {
+    bool changed = false;
+    for (int round = 0; round < 64; ++round) {
+      std::vector<std::pair<int, int>> bitten;  // (border, interval)
+      for (std::size_t p = 0; p < rings_.size(); ++p) {
+        const Shapes sh = shapes(static_cast<int>(p));
+        if (sh.cut.empty()) continue;
+        for (const JointSpan& sp : sh.spans) {
+          if (!sp.tooth || sp.region.size() < 3) continue;
+          double lost = 0;
+          for (const auto& c : sh.cut)
+            for (const auto& overlap : polygon_intersection(sp.region, c))
+              lost += std::abs(polygon_area(overlap));
+          // More than the fit tolerance (0.05 mm of the tooth's width) bitten off.
+          if (lost > 0.05 * std::abs(sp.offset)) bitten.emplace_back(sp.border, sp.interval);
+        }
+      }
+      if (bitten.empty()) break;
+      changed = true;
+      for (const auto& [border, interval] : bitten) {
+        BorderJoint& b = out_.borders[border];
+        JointInterval& in = b.intervals[interval];
+        if (in.owner < 0) continue;
+        in.owner = -1;
+        --b.teeth, --out_.teeth, ++b.blocked;
+        out_.toothed_length -= in.s1 - in.s0;
+      }
+    }
+    return changed;
+  }
+
+  static Polygon2 largest(const std::vector<Polygon2>& polys) {
+    const Polygon2* best = nullptr;
+    for (const auto& c : polys)
+      if (polygon_area(c) > 0 && (!best || polygon_area(c) > polygon_area(*best))) best = &c;
+    return best ? *best : Polygon2{};
+  }
+
+  PartOutline outline(int p) {
+    Shapes sh = shapes(p);
+    PartOutline part;
+    part.spans = std::move(sh.spans);
+    const auto pieces = polygon_difference(polygon_union(sh.add), sh.cut);
     // Slivers far smaller than a tooth (left where a tooth corner meets a cut-back wedge) are
     // dropped silently; a second piece of tooth size means the part fell apart.
     const double significant = 0.25 * o_.tooth_width * std::max(o_.min_depth, 0.1);
     int outer = 0;
     for (const auto& c : pieces) outer += polygon_area(c) > significant ? 1 : 0;
-    part.repaired = outer != 1;
-    part.designed = largest(pieces);
+    const auto left = without_thin_features(largest(pieces), part.spans);
+    for (const auto& c : left) outer += polygon_area(c) > significant ? 1 : 0;
+    part.repaired = outer != 2;  // one piece from the Booleans, one after the cleanup
+    part.designed = largest(left);
     part.cut = largest(polygon_offset({part.designed}, 0.5 * kerf_width_));
     return part;
+  }
+
+  /// How far the vertices of \p piece reach away from the boundary of \p region [mm].
+  static double reach(const Polygon2& piece, const std::vector<Polygon2>& region) {
+    double far = 0;
+    for (const Vec2& v : piece) {
+      double d = std::numeric_limits<double>::infinity();
+      for (const Polygon2& ring : region)
+        for (std::size_t i = 0; i < ring.size(); ++i) {
+          const Vec2 a = ring[i], e = ring[(i + 1) % ring.size()] - a;
+          const double t = std::clamp((v - a).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+          d = std::min(d, (a + t * e - v).norm());
+        }
+      far = std::max(far, d);
+    }
+    return far;
+  }
+
+  /// The outline without tails or slits narrower than JointOptions::min_feature (where a tooth
+  /// corner meets a cut-back wedge, or two cut-backs nearly meet): such a tail breaks off or
+  /// burns away, such a slit is a cut the laser cannot make. Both go by removing material, which
+  /// can never collide with a neighbour: a tail is cut off, a slit widened. Teeth are kept.
+  /// A feature is what an opening (tails) or closing (slits) by half the minimum width changes
+  /// and that reaches more than half that width from the rest: the rounding of a corner of 60
+  /// degrees or more, or a low wide bump such as a shallow tooth, is no feature.
+  /// Returns the pieces left (more than one: the part fell apart).
+  std::vector<Polygon2> without_thin_features(const Polygon2& outline,
+                                              const std::vector<JointSpan>& spans) const {
+    const double r = 0.5 * o_.min_feature;
+    if (outline.size() < 3 || !(r > 0)) return {outline};
+    const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
+    if (opened.empty()) return {outline};  // narrower than a feature everywhere: reported as such
+    std::vector<Polygon2> teeth;
+    for (const JointSpan& sp : spans)
+      if (sp.tooth && sp.region.size() >= 3) {
+        teeth.push_back(sp.region);
+        if (polygon_area(teeth.back()) < 0) std::reverse(teeth.back().begin(), teeth.back().end());
+      }
+    std::vector<Polygon2> remove;
+    // Tails: what the opening takes away, except tooth material.
+    for (const auto& piece : polygon_difference({outline}, opened)) {
+      if (reach(piece, opened) <= r) continue;
+      for (auto& rest :
+           teeth.empty() ? std::vector<Polygon2>{piece} : polygon_difference({piece}, teeth))
+        remove.push_back(std::move(rest));
+    }
+    // Slits: what the closing would fill, widened to the minimum width instead (never into a
+    // tooth: the slot it goes into is cut to its width).
+    const auto closed = polygon_offset(polygon_offset({outline}, r), -r);
+    for (const auto& gap : polygon_difference(closed, {outline})) {
+      if (reach(gap, closed) <= r) continue;
+      // Widened by what it lacks: a slit of mean width w (area over half its perimeter) grows
+      // by r - w/2 on each side, its end by as much; wider cuts would eat into thin parts.
+      double perimeter = 0;
+      for (std::size_t i = 0; i < gap.size(); ++i)
+        perimeter += (gap[(i + 1) % gap.size()] - gap[i]).norm();
+      const double w = 2 * std::abs(polygon_area(gap)) / std::max(perimeter, 1e-9);
+      auto wide = polygon_offset({gap}, std::clamp(r - 0.5 * w, 0.1 * r, r));
+      for (auto& poly : wide)
+        if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+      if (!teeth.empty()) wide = polygon_difference(wide, teeth);
+      remove.insert(remove.end(), wide.begin(), wide.end());
+    }
+    if (remove.empty()) return {outline};
+    for (auto& poly : remove)
+      if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+    std::vector<Polygon2> left;
+    for (auto& c : polygon_difference({outline}, remove))
+      if (polygon_area(c) > 0) left.push_back(std::move(c));
+    if (left.empty()) return {outline};
+    return left;
   }
 };
 

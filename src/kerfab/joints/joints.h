@@ -24,6 +24,8 @@ struct JointOptions {
                                  ///< where nearly coplanar parts would get ever longer teeth)
   double sharp_turn = M_PI / 6;  ///< consecutive outline edges turning more than this restrict
                                  ///< each other's teeth [rad]
+  double min_feature = 1.0;      ///< tails and slits of the outline narrower than this are
+                                 ///< removed (tails cut off, slits widened) [mm], >= 0
 };
 
 /// One tooth or slot interval of a border piece (a coarse edge shared by two patch sides).
@@ -52,7 +54,9 @@ struct JointSpan {
   double length = 0;  ///< length along the flattened border line [mm]
   double offset = 0;  ///< tip (> 0), slot or plain offset (< 0) [mm]
   bool tooth = false;
-  Polygon2 region;  ///< for a tooth: the part of it beyond the border line
+  Polygon2 region;            ///< for a tooth: the part of it beyond the border line
+  Vec2 from{0, 0}, to{0, 0};  ///< the stretch of the border line it spans [mm]
+  Vec2 normal{0, 0};          ///< outward unit normal of the border there
 };
 
 struct PartOutline {
@@ -61,7 +65,8 @@ struct PartOutline {
   Polygon2 cut;       ///< the same grown by half the kerf width: the path the laser follows
   std::vector<JointSpan> spans;  ///< every stretch of joint contour (a tooth across two outline
                                  ///< edges gives two spans)
-  bool repaired = false;         ///< the Booleans split the part; only its largest piece is kept
+  bool repaired = false;  ///< the Booleans or the removal of thin features split the part: only
+                          ///< its largest piece is here (the resolve stage rebuilds such parts)
 };
 
 struct Joints {

@@ -1,14 +1,22 @@
 #include "kerfab/kerf/kerf.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <optional>
+#include <set>
 
 #include "kerfab/core/errors.h"
 
 namespace kerfab {
 namespace {
+
+/// A cut may turn this far from its ruling to keep the spacing where rulings fan out: the beam
+/// then twists with cos(15 deg) = 0.97 of the strip's rotation and bends out of plane with the
+/// rest, a few MPa in MDF, far below its bending strength [rad].
+constexpr double kMaxTurn = 15 * M_PI / 180;
 
 /// Parameters in [0, 1] where segment a-b crosses the polygons' boundaries.
 std::vector<double> crossings(const Vec2& a, const Vec2& b, const std::vector<Polygon2>& polys) {
@@ -99,6 +107,19 @@ class TwistProfile {
   }
 
   double length() const { return length_; }
+
+  /// Smallest 2 l / kappa over the stretches: the tightest bend (0: none bends) [mm^2].
+  double tightest() const {
+    double best = 0;
+    for (std::size_t k = 1; k < knot_s_.size(); ++k) {
+      const double a = knot_s_[k - 1], b = knot_s_[k];
+      const double kappa = b > a ? (knot_phi_[k] - knot_phi_[k - 1]) / (b - a) : 0.0;
+      if (!(kappa > 0)) continue;
+      const double c = 2 * width(a, b) / kappa;
+      if (best == 0 || c < best) best = c;
+    }
+    return best;
+  }
   /// The fold each internal ruling's stretch takes, after smoothing [rad] (index 1..n-1).
   const std::vector<double>& folds() const { return smoothed_; }
 
@@ -149,13 +170,19 @@ class PatchKerfBuilder {
   PatchKerf run(std::vector<CriticalRegion>& critical) {
     const int n = static_cast<int>(patch_.faces.size());
     PatchKerf out;
+    if (patch_.flat) {  // a facet is cut flat and never bent
+      out.face_density.assign(n, 0.0);
+      out.face_critical.assign(n, 0);
+      return out;
+    }
     const StripFrame frame(x_, n);
     const TwistProfile profile(frame, folds(), smoothing_width(s_, o_));
     for (int e = 1; e < n; ++e) {
       out.twist.push_back(profile.folds()[e]);
       out.positions.push_back(frame.s[e]);
     }
-    std::vector<double> positions;  // cut positions along the strip
+    out.tightest_bend = profile.tightest();
+    std::vector<Plan> positions;  // cuts along the strip
     if (o_.constant_cuts_per_quad) {
       // Baseline: N cuts spread evenly over each coarse quad, never closer than the laser allows.
       int first = 0;
@@ -164,9 +191,11 @@ class PatchKerfBuilder {
         const double a = frame.s[first], b = frame.s[first + k];
         for (int c = 0; c < *o_.constant_cuts_per_quad; ++c) {
           const double at = a + (c + 0.5) * (b - a) / *o_.constant_cuts_per_quad;
-          if (positions.empty() || (at - positions.back() >= o_.min_cut_spacing &&
-                                    gap(frame, positions.back(), at) >= o_.min_cut_spacing))
-            positions.push_back(at);
+          if (positions.empty()) {
+            positions.push_back({at, 0.0});
+          } else if (const auto next = spaced_at(frame, positions.back(), at)) {
+            positions.push_back(*next);
+          }
         }
         first += k;
       }
@@ -228,54 +257,92 @@ class PatchKerfBuilder {
     return lo;
   }
 
-  /// Distance between the cut lines (rail to rail) at strip coordinates a and b [mm]: where
-  /// rulings fan out, their narrow ends are closer than the positions along the strip.
-  double gap(const StripFrame& frame, double a, double b) const {
-    const auto u = frame.section(a), v = frame.section(b);
+  /// A planned cut: where along the strip, and how far it turns from the ruling there [rad].
+  struct Plan {
+    double at = 0;
+    double turn = 0;
+  };
+
+  /// The cut line of a plan, rail to rail: through the strip's middle at the position, along
+  /// the ruling turned by the plan's angle.
+  std::array<Vec2, 2> line(const StripFrame& frame, const Plan& c) const {
+    const auto [r0, r1] = frame.section(c.at);
+    const Vec2 mid = 0.5 * (r0 + r1);
+    const Vec2 d = Eigen::Rotation2Dd(c.turn) * Vec2((r1 - r0).normalized());
+    const double half = 0.5 * (r1 - r0).norm() / std::cos(c.turn);
+    return {mid - half * d, mid + half * d};
+  }
+
+  double gap(const StripFrame& frame, const Plan& a, const Plan& b) const {
+    const auto u = line(frame, a), v = line(frame, b);
     return segment_distance(u[0], u[1], v[0], v[1]);
   }
 
-  /// The nearest b >= \p from whose cut line keeps the minimum spacing from the one at a, or
-  /// the strip's end.
-  double spaced(const StripFrame& frame, double a, double from) const {
+  /// A cut at \p at at least the minimum spacing from \p prev: along its ruling if that keeps
+  /// the spacing, else turned (at most kMaxTurn) as little as keeps it; none if no turn does.
+  std::optional<Plan> spaced_at(const StripFrame& frame, const Plan& prev, double at) const {
+    if (at - prev.at < o_.min_cut_spacing) return std::nullopt;
+    Plan c{at, 0.0};
+    if (gap(frame, prev, c) >= o_.min_cut_spacing) return c;
+    // Turning towards the previous cut's direction opens a fan's narrow end.
+    const auto [p0, p1] = line(frame, prev);
+    const auto [r0, r1] = frame.section(at);
+    const Vec2 dp = (p1 - p0).normalized(), dr = (r1 - r0).normalized();
+    const double parallel = std::atan2(cross2(dr, dp), dr.dot(dp));
+    const double limit = std::clamp(parallel, -kMaxTurn, kMaxTurn);
+    if (gap(frame, prev, {at, limit}) < o_.min_cut_spacing) return std::nullopt;
+    double lo = 0, hi = 1;  // fraction of the limit
+    while (hi - lo > 1e-3) {
+      const double mid = 0.5 * (lo + hi);
+      (gap(frame, prev, {at, mid * limit}) >= o_.min_cut_spacing ? hi : lo) = mid;
+    }
+    return Plan{at, hi * limit};
+  }
+
+  /// The nearest cut at or after \p from that keeps the minimum spacing from \p prev, or none
+  /// before the strip's end.
+  std::optional<Plan> spaced(const StripFrame& frame, const Plan& prev, double from) const {
     const double end = frame.s.back();
-    from = std::max(from, a + o_.min_cut_spacing);
-    if (from >= end || gap(frame, a, from) >= o_.min_cut_spacing) return std::min(from, end);
-    if (gap(frame, a, end) < o_.min_cut_spacing) return end;
+    from = std::max(from, prev.at + o_.min_cut_spacing);
+    if (from >= end) return std::nullopt;
+    if (auto c = spaced_at(frame, prev, from)) return c;
+    if (!spaced_at(frame, prev, end)) return std::nullopt;
     double lo = from, hi = end;
     while (hi - lo > 1e-4) {
       const double mid = 0.5 * (lo + hi);
-      (gap(frame, a, mid) >= o_.min_cut_spacing ? hi : lo) = mid;
+      (spaced_at(frame, prev, mid) ? hi : lo) = mid;
     }
-    return hi;
+    return spaced_at(frame, prev, hi);
   }
 
   /// Cuts from the start of the strip, each as far from the last as a beam within \p limit
   /// reaches, but never closer to it than the minimum spacing: for a stress monotone in the
   /// beam's extent this greedy walk uses the fewest cuts that keep every beam within the limit.
-  std::vector<double> walk(const TwistProfile& t, const StripFrame& frame, double limit) const {
-    std::vector<double> cuts;
+  std::vector<Plan> walk(const TwistProfile& t, const StripFrame& frame, double limit) const {
+    std::vector<Plan> cuts;
+    Plan prev{-1e300, 0.0};  // the strip's start: no cut to keep away from
     double a = 0;
     for (;;) {
-      double b = reach(t, a, limit);
+      const double b = reach(t, a, limit);
       if (b >= t.length()) break;
-      b = spaced(frame, a, b);
-      if (b >= t.length() - 1e-9) break;
-      cuts.push_back(b);
-      a = b;
+      const auto c = cuts.empty() ? std::optional<Plan>(Plan{b, 0.0}) : spaced(frame, prev, b);
+      if (!c || c->at >= t.length() - 1e-9) break;
+      cuts.push_back(*c);
+      prev = *c;
+      a = c->at;
     }
     return cuts;
   }
 
   /// The fewest cuts that keep every beam within the allowed stress, then spread so that the
   /// largest stress is as low as that count allows (bisection on the limit).
-  std::vector<double> adaptive_positions(const TwistProfile& t, const StripFrame& frame) const {
-    std::vector<double> best = walk(t, frame, 1.0);
+  std::vector<Plan> adaptive_positions(const TwistProfile& t, const StripFrame& frame) const {
+    std::vector<Plan> best = walk(t, frame, 1.0);
     if (best.empty()) return best;
     double lo = 0.0, hi = 1.0;
     for (int it = 0; it < 24; ++it) {
       const double mid = 0.5 * (lo + hi);
-      std::vector<double> cuts = walk(t, frame, mid);
+      std::vector<Plan> cuts = walk(t, frame, mid);
       if (cuts.size() <= best.size()) {
         hi = mid;
         best = std::move(cuts);
@@ -286,10 +353,11 @@ class PatchKerfBuilder {
     return best;
   }
 
-  void place(const std::vector<double>& positions, const StripFrame& frame, PatchKerf& out) {
+  void place(const std::vector<Plan>& plans, const StripFrame& frame, PatchKerf& out) {
     int index = 0;
-    for (double pos : positions) {
-      const auto [a, b] = frame.section(pos);
+    for (const Plan& plan : plans) {
+      const double pos = plan.at;
+      const auto [a, b] = line(frame, plan);
       // Extend across the outline, keep the stretch inside the shrunk part around the middle.
       const Vec2 d = (b - a).normalized();
       const double reach = (b - a).norm() + 20.0;
@@ -346,7 +414,13 @@ class PatchKerfBuilder {
         continue;
       }
       if (!open) {
-        critical.push_back({p_, a, b, reach(t, a, 1.0) - a, 0, r, false});
+        CriticalRegion c;
+        c.patch = p_;
+        c.start = a;
+        c.end = b;
+        c.spacing = reach(t, a, 1.0) - a;
+        c.stress_ratio = r;
+        critical.push_back(std::move(c));
         open = true;
       }
       CriticalRegion& c = critical.back();
@@ -355,12 +429,29 @@ class PatchKerfBuilder {
       c.spacing = std::min(c.spacing, needed);
       c.stress_ratio = std::max(c.stress_ratio, r);
       c.cuts += i + 1 < stops.size() - 1 ? 1 : 0;
-      // Too narrow: the bend itself could be cut (needs no beam under the minimum spacing), but
-      // a planned cut did not fit the part in this stretch.
+      // A bend that needs beams under the minimum spacing explains it first; else a planned
+      // cut that did not fit the part; else the spacing of converging cut lines (a fan).
       bool skipped = false;
       for (double at : skipped_) skipped = skipped || (at > c.start && at < b);
-      c.too_narrow = skipped && c.spacing >= o_.min_cut_spacing;
+      c.cause = c.spacing < o_.min_cut_spacing - 1e-6 ? CriticalCause::kTooDense
+                : skipped                             ? CriticalCause::kTooNarrow
+                                                      : CriticalCause::kFan;
       for (int f = frame.face_at(a); f <= frame.face_at(b); ++f) out.face_critical[f] = 1;
+    }
+    // Where each region of this patch lies: its quads and its middle in 3D.
+    for (CriticalRegion& c : critical) {
+      if (c.patch != p_ || !c.quads.empty()) continue;
+      std::set<int> quads;
+      Vec3 sum = Vec3::Zero();
+      int count = 0;
+      for (int f = frame.face_at(c.start); f <= frame.face_at(c.end); ++f)
+        for (int row = 0; row < patch_.rows(); ++row) {
+          const int face = patch_.face(f, row);
+          quads.insert(s_.face_quad[face]);
+          for (int v : s_.faces[face]) sum += s_.vertices[v], ++count;
+        }
+      c.quads.assign(quads.begin(), quads.end());
+      c.centre = sum / std::max(count, 1);
     }
     // Density at each sub-quad: one over the spacing of the two cuts around its middle.
     for (int f = 0; f < n; ++f) {
@@ -376,8 +467,27 @@ class PatchKerfBuilder {
 
 }  // namespace
 
+std::string to_string(CriticalCause cause) {
+  switch (cause) {
+    case CriticalCause::kTooDense:
+      return "too_dense";
+    case CriticalCause::kTooNarrow:
+      return "too_narrow";
+    case CriticalCause::kFan:
+      return "fan";
+  }
+  return "";
+}
+
 double smoothing_width(const Strips& strips, const KerfOptions& options) {
   return options.smoothing.value_or(2.0 * strips.target_facet_size);
+}
+
+double bend_scale(double tightest_bend, const Material& m, double spacing) {
+  if (!(tightest_bend > 0) || !(m.thickness > 0) || !std::isfinite(m.yield_strength)) return 1.0;
+  const double g = m.shear_modulus / (m.yield_strength / m.safety);
+  const double need = g * spacing * std::sqrt(m.thickness * m.thickness + spacing * spacing);
+  return std::max(1.0, std::sqrt(need / tightest_bend));
 }
 
 double beam_stress(double twist, double width, double length, double thickness,
@@ -425,6 +535,9 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
     }
   }
   for (int q : r.quad_cuts) r.max_cuts_per_quad = std::max(r.max_cuts_per_quad, q);
+  for (const PatchKerf& p : r.patches)
+    if (p.tightest_bend > 0 && (r.tightest_bend == 0 || p.tightest_bend < r.tightest_bend))
+      r.tightest_bend = p.tightest_bend;
   CuttingEstimate& c = r.cutting;
   for (const auto& part : joints.parts)
     for (std::size_t i = 0; i < part.cut.size(); ++i)

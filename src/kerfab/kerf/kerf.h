@@ -55,25 +55,38 @@ struct KerfCut {
   int face = -1;        ///< sub-quad (index into Patch::faces) it crosses
 };
 
-/// A stretch of a strip that the cuts cannot make bendable enough in this material: the bend
-/// needs beams narrower than the minimum cut spacing, or the strip is too narrow there for a cut
-/// of the minimum length. Cuts there keep the minimum spacing; their beams are overstressed.
+/// Why a stretch cannot be cut bendable enough.
+enum class CriticalCause {
+  kTooDense,   ///< the bend needs beams narrower than the minimum cut spacing (a larger model,
+               ///< a thinner sheet or longer beams cure it)
+  kTooNarrow,  ///< a cut the bend needs does not fit the part there (the strip is too narrow)
+  kFan,        ///< the bend could be cut, but the cut lines converge across the strip and
+               ///< their narrow ends would come closer than the minimum spacing
+};
+
+std::string to_string(CriticalCause cause);
+
+/// A stretch of a strip that the cuts cannot make bendable enough in this material. Cuts there
+/// keep the minimum spacing and the minimum length; the beams are overstressed.
 struct CriticalRegion {
   int patch = -1;
   double start = 0, end = 0;  ///< along the strip [mm]
-  double spacing = 0;         ///< narrowest beam the bend needs there [mm] (0: no cut fits)
+  double spacing = 0;         ///< narrowest beam the bend needs there [mm]
   int cuts = 0;               ///< cuts placed in the stretch
   double stress_ratio = 0;    ///< largest beam stress there over the allowed stress [-], > 1
-  bool too_narrow = false;    ///< the bend needs no beam under the minimum spacing, but a cut
-                              ///< did not fit the part there (the strip is too narrow)
+  CriticalCause cause = CriticalCause::kTooDense;
+  std::vector<int> quads;      ///< quad-mesh faces under the stretch (every row)
+  Vec3 centre = Vec3::Zero();  ///< middle of the stretch on the 3D strip [mm]
 };
 
 struct PatchKerf {
   std::vector<double> twist;  ///< per internal ruling: the fold it takes (after smoothing) [rad]
   std::vector<double> positions;  ///< along the strip, per internal ruling [mm]
   std::vector<KerfCut> cuts;
-  double min_spacing = 0;            ///< smallest distance between neighbouring cuts [mm] (0: < 2)
-  double stress_ratio = 0;           ///< largest beam stress over the allowed stress [-]
+  double min_spacing = 0;    ///< smallest distance between neighbouring cuts [mm] (0: < 2)
+  double stress_ratio = 0;   ///< largest beam stress over the allowed stress [-]
+  double tightest_bend = 0;  ///< smallest 2 l / kappa over its stretches (l its width, kappa
+                             ///< its twist per length) [mm^2]; 0: it does not bend
   std::vector<double> face_density;  ///< cuts per mm at each sub-quad: 1 / spacing of the cuts
                                      ///< around its middle (0 outside the first and last cut)
   std::vector<char> face_critical;   ///< sub-quad holds a critical region
@@ -94,10 +107,18 @@ struct KerfResult {
   std::vector<int> quad_cuts;  ///< cuts per coarse quad
   int max_cuts_per_quad = 0;   ///< the constant density that would match the tightest quad
   int cuts = 0;
-  double cut_length = 0;    ///< [mm]
-  double smoothing = 0;     ///< width of the smoothing kernel as used [mm]
+  double cut_length = 0;  ///< [mm]
+  double smoothing = 0;   ///< width of the smoothing kernel as used [mm]
+  /// The tightest bend of all strips, as 2 l / kappa [mm^2] (0: nothing bends). Beams at
+  /// spacing d hold in a material of thickness h and G / tau_eff = g where
+  /// g d sqrt(h^2 + d^2) <= C; scaling the model by s scales C by s^2 (bend_scale()).
+  double tightest_bend = 0;
   CuttingEstimate cutting;  ///< outlines (from the joints) and kerf cuts on \p machine
 };
+
+/// The smallest scale of the model at which its tightest bend (KerfResult::tightest_bend) needs
+/// no beam narrower than \p spacing in \p material [-] (1 when nothing bends).
+double bend_scale(double tightest_bend, const Material& material, double spacing);
 
 /// Places the kerf cuts of every patch in \p material and estimates the cutting time on
 /// \p machine. \throw InvalidInput options or material out of range.

@@ -83,16 +83,19 @@ Label upright(const Label& label, double placement_angle) {
 
 namespace {
 
-/// Kerf-free stretches along the strip: the positions of the cuts, with the strip's ends.
-std::vector<double> cut_stops(const KerfResult& kerf, int patch, double length) {
-  std::vector<double> stops = {0.0};
-  for (const auto& c : kerf.patches[patch].cuts) stops.push_back(c.position);
-  stops.push_back(length);
-  std::sort(stops.begin(), stops.end());
-  return stops;
+constexpr double kClear = 0.4;  // engraving keeps this far inside the outline and off cuts [mm]
+
+/// The label's box in the part's frame: [0, length] x [-0.3 h, h] (digits over the underline),
+/// grown by \p grow on every side, as four corners counter-clockwise.
+std::array<Vec2, 4> label_box(const Label& l, double grow) {
+  const double length = (kAdvance * l.text.size() - 0.3) * l.height;
+  const Eigen::Rotation2Dd r(l.angle);
+  const double x0 = -grow, x1 = length + grow, y0 = -0.3 * l.height - grow, y1 = l.height + grow;
+  return {l.origin + r * Vec2(x0, y0), l.origin + r * Vec2(x1, y0), l.origin + r * Vec2(x1, y1),
+          l.origin + r * Vec2(x0, y1)};
 }
 
-/// A label of \p text and \p height centred at \p spot, its baseline along the strip.
+/// A label of \p text and \p height centred at \p spot, its baseline along \p along.
 Label label_at(const std::string& text, double height, const Vec2& spot, const Vec2& along) {
   const double length = (kAdvance * text.size() - 0.3) * height;
   const Vec2 up(-along.y(), along.x());
@@ -105,94 +108,201 @@ Label label_at(const std::string& text, double height, const Vec2& spot, const V
   return l;
 }
 
-constexpr double kClear = 0.6;  // distance kept from a kerf cut [mm]
+bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const double d1 = cross2(b - a, c - a), d2 = cross2(b - a, d - a);
+  const double d3 = cross2(d - c, a - c), d4 = cross2(d - c, b - c);
+  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
+}
+
+bool inside(const Vec2& p, const std::vector<Polygon2>& polys) {
+  int winding = 0;
+  for (const auto& poly : polys)
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+      const double c = cross2(b - a, p - a);
+      if (a.y() <= p.y() && b.y() > p.y() && c > 0) ++winding;
+      if (a.y() > p.y() && b.y() <= p.y() && c < 0) --winding;
+    }
+  return winding != 0;
+}
+
+/// Where engraving may go on one part: inside its outline (slots and teeth included) by the
+/// clearance, off its kerf cuts by the clearance, and off labels already placed.
+class LabelRoom {
+ public:
+  LabelRoom(const Polygon2& outline, const std::vector<KerfCut>& cuts)
+      : inset_(polygon_offset({outline}, -kClear)) {
+    for (const auto& c : cuts) cuts_.push_back({c.a, c.b});
+  }
+
+  bool fits(const Label& l) const {
+    const auto box = label_box(l, 0.0);
+    const auto grown = label_box(l, kClear);
+    for (const Vec2& p : box)
+      if (!inside(p, inset_)) return false;
+    for (const auto& poly : inset_)
+      for (std::size_t i = 0; i < poly.size(); ++i)
+        if (crosses(box, poly[i], poly[(i + 1) % poly.size()])) return false;
+    for (const auto& c : cuts_)
+      if (crosses(grown, c[0], c[1]) || inside_box(grown, c[0]) || inside_box(grown, c[1]))
+        return false;
+    for (const auto& other : taken_) {
+      for (const Vec2& p : other)
+        if (inside_box(grown, p)) return false;
+      for (const Vec2& p : grown)
+        if (inside_box(other, p)) return false;
+      for (int k = 0; k < 4; ++k)
+        if (crosses(grown, other[k], other[(k + 1) % 4])) return false;
+    }
+    return true;
+  }
+  void take(const Label& l) { taken_.push_back(label_box(l, kClear)); }
+
+ private:
+  std::vector<Polygon2> inset_;
+  std::vector<std::array<Vec2, 2>> cuts_;
+  std::vector<std::array<Vec2, 4>> taken_;
+
+  static bool crosses(const std::array<Vec2, 4>& box, const Vec2& a, const Vec2& b) {
+    for (int k = 0; k < 4; ++k)
+      if (segments_cross(box[k], box[(k + 1) % 4], a, b)) return true;
+    return false;
+  }
+  static bool inside_box(const std::array<Vec2, 4>& box, const Vec2& p) {
+    for (int k = 0; k < 4; ++k)
+      if (cross2(box[(k + 1) % 4] - box[k], p - box[k]) < 0) return false;
+    return true;
+  }
+};
+
+/// The part's flattened outline as edges in 2D, with the coarse edge each lies on.
+struct FlatEdge {
+  Vec2 a, b;
+  int coarse_edge;
+};
+std::vector<FlatEdge> flat_edges(const Strips& strips, const Flattening& flat, int patch) {
+  std::vector<FlatEdge> out;
+  const auto& x = flat.patches[patch].points;
+  auto ring = strips.patches[patch].outline();
+  double area = 0;
+  for (const auto& e : ring) area += cross2(x[e.v[0]], x[e.v[1]]);
+  for (const auto& e : ring)
+    out.push_back(area >= 0 ? FlatEdge{x[e.v[0]], x[e.v[1]], e.coarse_edge}
+                            : FlatEdge{x[e.v[1]], x[e.v[0]], e.coarse_edge});
+  return out;
+}
 
 }  // namespace
 
 std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
-                                const KerfResult& kerf, int patch, double max_height) {
-  const StripFrame frame(flat.patches[patch].points,
-                         static_cast<int>(strips.patches[patch].faces.size()));
-  const auto stops = cut_stops(kerf, patch, frame.s.back());
+                                const KerfResult& kerf, const Polygon2& outline, int patch,
+                                double max_height) {
+  const LabelRoom room(outline, kerf.patches[patch].cuts);
   const std::string text = std::to_string(patch);
-  const double length_per_height = kAdvance * text.size() - 0.3;  // along the strip
-  std::optional<Label> best;
-  for (std::size_t k = 0; k + 1 < stops.size(); ++k) {
-    const double a = stops[k] + kClear, b = stops[k + 1] - kClear;
-    if (b <= a) continue;
-    const double centre = 0.5 * (a + b);
-    const auto [r0, r1] = frame.section(centre);
-    const double height =
-        std::min({max_height, 0.3 * (r1 - r0).norm(), (b - a) / std::max(length_per_height, 0.5)});
-    if (height < 1.5 || (best && height <= best->height)) continue;
-    best = label_at(text, height, 0.5 * (r0 + r1), frame.along(centre));
+  const Patch& p = strips.patches[patch];
+  // Candidate spots and directions: along a ladder, the middles of the kerf-free stretches
+  // (and of every sub-quad); on a facet, a grid over it, along its long side.
+  std::vector<std::pair<Vec2, Vec2>> spots;
+  Vec2 centre(0, 0);
+  if (!p.flat) {
+    const StripFrame frame(flat.patches[patch].points, static_cast<int>(p.faces.size()));
+    std::vector<double> stops = {0.0};
+    for (const auto& c : kerf.patches[patch].cuts) stops.push_back(c.position);
+    stops.push_back(frame.s.back());
+    std::sort(stops.begin(), stops.end());
+    std::vector<double> at;
+    for (std::size_t k = 0; k + 1 < stops.size(); ++k)
+      at.push_back(0.5 * (stops[k] + stops[k + 1]));
+    for (int f = 0; f < frame.n; ++f) at.push_back(0.5 * (frame.s[f] + frame.s[f + 1]));
+    for (double a : at) {
+      const auto [r0, r1] = frame.section(a);
+      const Vec2 along = frame.along(a);
+      spots.push_back({0.5 * (r0 + r1), along});
+      spots.push_back({0.5 * (r0 + r1), Vec2(-along.y(), along.x())});  // across, between cuts
+    }
+    centre = frame.mid(frame.n / 2);
+  } else {
+    Polygon2 poly = outline;
+    double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
+    for (const Vec2& v : poly) {
+      centre += v / static_cast<double>(poly.size());
+      min_x = std::min(min_x, v.x()), max_x = std::max(max_x, v.x());
+      min_y = std::min(min_y, v.y()), max_y = std::max(max_y, v.y());
+    }
+    Vec2 along(1, 0);  // the outline's longest edge
+    double longest = 0;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Vec2 d = poly[(i + 1) % poly.size()] - poly[i];
+      if (d.norm() > longest) longest = d.norm(), along = d.normalized();
+    }
+    for (double y = min_y; y <= max_y; y += 0.5)
+      for (double x = min_x; x <= max_x; x += 0.5) spots.push_back({Vec2(x, y), along});
   }
-  return best;
+  std::sort(spots.begin(), spots.end(), [&](const auto& a, const auto& b) {
+    return (a.first - centre).squaredNorm() < (b.first - centre).squaredNorm();
+  });
+  for (double height = max_height; height >= 1.0 - 1e-9; height -= 0.25)
+    for (const auto& [spot, along] : spots) {
+      const Label l = label_at(text, height, spot, along);
+      if (room.fits(l)) return l;
+    }
+  return std::nullopt;
 }
 
 std::vector<Label> border_labels(const Strips& strips, const Flattening& flat,
-                                 const KerfResult& kerf, const Joints& joints, int patch,
+                                 const KerfResult& kerf, const Joints& joints,
+                                 const Polygon2& outline, int patch,
                                  const std::optional<Label>& part_label) {
-  const Patch& p = strips.patches[patch];
-  const StripFrame frame(flat.patches[patch].points, static_cast<int>(p.faces.size()));
-  const auto& s = frame.s;
-  // Where along the strip, and on which side, each neighbour's border lies.
-  std::map<int, std::vector<std::pair<double, int>>> places;  // neighbour -> (s, side)
-  for (const OutlineEdge& e : p.outline()) {
-    const double at = e.side == 2   ? 0.0
-                      : e.side == 3 ? s.back()
-                                    : 0.5 * (s[e.face] + s[e.face + 1]);
-    for (const BorderJoint& b : joints.borders) {
-      if (b.edge != e.coarse_edge) continue;
-      for (int k = 0; k < 2; ++k)
-        if (b.patches[k] == patch && b.patches[1 - k] != patch)
-          places[b.patches[1 - k]].push_back({at, e.side});
-    }
+  LabelRoom room(outline, kerf.patches[patch].cuts);
+  if (part_label) room.take(*part_label);
+  // Per neighbour, the outline edges on borders with it.
+  std::map<int, std::vector<FlatEdge>> along_border;
+  std::map<int, std::vector<int>> neighbours_of_edge;
+  for (const BorderJoint& b : joints.borders)
+    for (int k = 0; k < 2; ++k)
+      if (b.patches[k] == patch && b.patches[1 - k] != patch)
+        neighbours_of_edge[b.edge].push_back(b.patches[1 - k]);
+  for (const FlatEdge& e : flat_edges(strips, flat, patch)) {
+    const auto it = neighbours_of_edge.find(e.coarse_edge);
+    if (it == neighbours_of_edge.end()) continue;
+    for (int n : it->second) along_border[n].push_back(e);
   }
-  const auto stops = cut_stops(kerf, patch, s.back());
   std::vector<Label> out;
-  std::vector<std::array<double, 3>> taken;  // s0, s1, across-position of placed labels
-  if (part_label) {
-    // The part's number: its middle, found on the strip's middle line, and its length.
-    const double length = (kAdvance * part_label->text.size() - 0.3) * part_label->height;
-    const Vec2 centre = part_label->origin + Eigen::Rotation2Dd(part_label->angle) *
-                                                 Vec2(0.5 * length, 0.35 * part_label->height);
-    int nearest = 0;
-    for (int i = 0; i <= frame.n; ++i)
-      if ((frame.mid(i) - centre).norm() < (frame.mid(nearest) - centre).norm()) nearest = i;
-    taken.push_back({s[nearest] - length, s[nearest] + length, 0.5});
-  }
-  for (const auto& [neighbour, list] : places) {
-    // The middle of this neighbour's border stretch, on that side.
-    std::vector<std::pair<double, int>> sorted = list;
-    std::sort(sorted.begin(), sorted.end());
-    const auto [target, side] = sorted[sorted.size() / 2];
-    std::string text = std::to_string(neighbour);
+  for (const auto& [neighbour, edges] : along_border) {
+    std::string text = std::to_string(neighbour);  // built in place: GCC 12 warns falsely on a +
     text.insert(text.begin(), '-');
-    const double length_per_height = kAdvance * text.size() - 0.3;
-    // Kerf-free stretches, nearest to the target first.
-    std::vector<std::pair<double, std::size_t>> gaps;
-    for (std::size_t k = 0; k + 1 < stops.size(); ++k)
-      gaps.push_back({std::abs(0.5 * (stops[k] + stops[k + 1]) - target), k});
-    std::sort(gaps.begin(), gaps.end());
-    for (const auto& [distance, k] : gaps) {
-      if (distance > 40) break;  // too far from its border to be useful
-      const double a = stops[k] + kClear, b = stops[k + 1] - kClear;
-      if (b <= a) continue;
-      const double centre = 0.5 * (a + b);
-      const auto [r0, r1] = frame.section(centre);
-      const double height =
-          std::min({3.0, 0.15 * (r1 - r0).norm(), (b - a) / std::max(length_per_height, 0.5)});
-      if (height < 1.0) continue;
-      const double across = side == 0 ? 0.2 : side == 1 ? 0.8 : 0.5;
-      bool clash = false;  // another label in an overlapping stretch at the same height
-      for (const auto& t : taken)
-        if (std::abs(t[2] - across) < 0.35 && std::min(t[1], b) > std::max(t[0], a)) clash = true;
-      if (clash) continue;
-      out.push_back(label_at(text, height, r0 + across * (r1 - r0), frame.along(centre)));
-      taken.push_back({a, b, across});
-      break;
+    // Points along the border, the middle of its length first, then outwards.
+    double total = 0;
+    for (const auto& e : edges) total += (e.b - e.a).norm();
+    std::vector<std::pair<double, std::pair<Vec2, Vec2>>> spots;  // distance from the middle
+    double walked = 0;
+    for (const auto& e : edges) {
+      const double len = (e.b - e.a).norm();
+      if (len <= 0) continue;
+      const Vec2 d = (e.b - e.a) / len;
+      for (double t = 0.5; t < len; t += 1.0) {
+        const double from_middle = std::abs(walked + t - 0.5 * total);
+        if (from_middle <= 40) spots.push_back({from_middle, {e.a + t * d, d}});
+      }
+      walked += len;
     }
+    std::sort(spots.begin(), spots.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    bool placed = false;
+    for (double height = 3.0; height >= 1.0 - 1e-9 && !placed; height -= 0.5)
+      for (const auto& [distance, where] : spots) {
+        const auto& [point, d] = where;
+        const Vec2 inward(-d.y(), d.x());       // the outline runs counter-clockwise
+        for (double depth : {0.9, 1.6, 2.5}) {  // label box half-height plus a margin
+          const Label l = label_at(text, height, point + (depth * height + kClear) * inward, d);
+          if (!room.fits(l)) continue;
+          room.take(l);
+          out.push_back(l);
+          placed = true;
+          break;
+        }
+        if (placed) break;
+      }
   }
   return out;
 }

@@ -1,6 +1,7 @@
 #pragma once
 /// \file Engraved labels: single-stroke digits (no font needed at the laser), placed on each part
-/// in the widest stretch between its kerf cuts, along the strip.
+/// where they fit entirely inside its outline (teeth and slots as cut) and clear of its kerf
+/// cuts and of each other.
 #include <optional>
 #include <string>
 #include <vector>
@@ -29,18 +30,21 @@ std::vector<std::array<Vec2, 2>> label_strokes(const Label& label);
 /// "25").
 Label upright(const Label& label, double placement_angle);
 
-/// The part's number, as large as fits (at most \p max_height mm, at least 1.5 mm) between two
-/// kerf cuts away from the rails; empty when nothing fits.
+/// The part's number, as large as fits (at most \p max_height mm, at least 1 mm) inside
+/// \p outline (the part as cut, in its flattened frame) by 0.4 mm and at least 0.4 mm from every
+/// kerf cut; along the strip or across it between two cuts, nearest its middle (a facet: along
+/// its longest edge, nearest its centre). Empty when nothing fits.
 std::optional<Label> part_label(const Strips& strips, const Flattening& flat,
-                                const KerfResult& kerf, int patch, double max_height = 5.0);
+                                const KerfResult& kerf, const Polygon2& outline, int patch,
+                                double max_height = 5.0);
 
 /// For every part this one joins, "-N" (N: the neighbour's number) engraved next to the shared
-/// border: in the kerf-free stretch nearest the middle of that border, a fifth of the strip's
-/// width in from the border's rail (or in the first or last stretch for a border at the strip's
-/// end), at most 3 mm and at least 1 mm tall, within 40 mm of the border's middle; borders with no
+/// border, along it and just inside, as near its middle as there is room (within 40 mm), 3 mm
+/// down to 1 mm tall, with the clearances of part_label and off \p part_label; borders with no
 /// room get no label.
 std::vector<Label> border_labels(const Strips& strips, const Flattening& flat,
-                                 const KerfResult& kerf, const Joints& joints, int patch,
+                                 const KerfResult& kerf, const Joints& joints,
+                                 const Polygon2& outline, int patch,
                                  const std::optional<Label>& part_label);
 
 }  // namespace kerfab

@@ -18,8 +18,10 @@ LayoutResult lay_out_parts(const Strips& strips, const Flattening& flat, const J
   LayoutResult out = nest_parts(outlines, options);
   const int parts = static_cast<int>(strips.patches.size());
   for (int p = 0; p < parts; ++p) {
-    out.labels.push_back(part_label(strips, flat, kerf, p));
-    out.engravings.push_back(border_labels(strips, flat, kerf, joints, p, out.labels.back()));
+    const Polygon2& outline = joints.parts[p].designed;
+    out.labels.push_back(part_label(strips, flat, kerf, outline, p));
+    out.engravings.push_back(
+        border_labels(strips, flat, kerf, joints, outline, p, out.labels.back()));
     if (out.labels.back())
       out.engravings.back().insert(out.engravings.back().begin(), *out.labels.back());
   }

@@ -24,6 +24,7 @@ std::string report_json(const RunResult& run, const OutputOptions& output) {
     r["kerf"] = report::kerf_section(*run.kerf, run.options.kerf);
     r["cutting"] = report::cutting_section(run.kerf->cutting, run.options.machine);
   }
+  if (run.resolve) r["resolve"] = report::resolve_section(*run.resolve, run.options.resolve);
   if (run.layout)
     r["layout"] = report::layout_section(*run.layout, run.options.layout, output.formats,
                                          run.flat->oversize_splits);

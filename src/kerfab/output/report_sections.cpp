@@ -139,6 +139,7 @@ json strips_section(const Strips& s, int overlap_splits,
   for (const Patch& p : s.patches)
     patches.push_back({{"quads", p.all_quads().size()},
                        {"rows", p.rows()},
+                       {"facet", p.flat},
                        {"sub_quads", p.all_faces().size()},
                        {"chain", p.chain},
                        {"loop_cut", p.loop_cut}});
@@ -193,6 +194,7 @@ json flatten_section(const CuttablePatches& c, double diagonal) {
             {"inverted_quads", f.inverted_quads},
             {"non_simple_outlines", f.non_simple_outlines},
             {"overlap_splits", c.overlap_splits},
+            {"distortion_splits", c.distortion_splits},
             {"unconverged_patches", f.unconverged},
             {"patches", patches},
             {"borders", borders}};
@@ -244,7 +246,9 @@ json kerf_section(const KerfResult& k, const KerfOptions& options) {
                         {"cuts", c.cuts},
                         {"spacing_mm", c.spacing},
                         {"stress_ratio", c.stress_ratio},
-                        {"cause", c.too_narrow ? "too_narrow" : "too_dense"}});
+                        {"cause", to_string(c.cause)},
+                        {"quads", c.quads},
+                        {"centre_mm", to_json(c.centre)}});
   return {{"cuts", k.cuts},
           {"cut_length_mm", k.cut_length},
           {"smoothing_mm", k.smoothing},
@@ -262,6 +266,41 @@ json cutting_section(const CuttingEstimate& c, const Machine& machine) {
           {"paths", c.paths},
           {"estimated_minutes", c.minutes},
           {"machine", {{"speed_mm_s", machine.speed}, {"per_cut_s", machine.per_cut}}}};
+}
+
+json resolve_section(const ResolveResult& r, const ResolveOptions& options) {
+  json changes = json::array();
+  for (const RegionChange& c : r.changes)
+    changes.push_back({{"action", c.action},
+                       {"centre_mm", to_json(c.centre)},
+                       {"quads", c.quads},
+                       {"spacing_mm", c.spacing},
+                       {"stress_ratio", c.stress_ratio},
+                       {"size_factor", c.size_factor},
+                       {"local_distance_mm", c.local_distance},
+                       {"reason", c.reason}});
+  json materials = json::array();
+  for (const MaterialSize& m : r.materials)
+    materials.push_back(
+        {{"material", m.material}, {"thickness_mm", m.thickness}, {"min_size_mm", m.size_mm}});
+  return {{"enabled", options.enabled},
+          {"rounds", r.rounds},
+          {"critical_before", r.critical_before},
+          {"critical_after", r.critical_after},
+          {"small_parts_after", r.small_parts_after},
+          {"parts_before", r.parts_before},
+          {"parts_after", r.parts_after},
+          {"minutes_before", r.minutes_before},
+          {"minutes_after", r.minutes_after},
+          {"size_mm", r.current_size_mm},
+          {"min_size_mm", r.min_size_mm},
+          {"materials", materials},
+          {"added",
+           {{"stiff_edges", r.added.edges.size()},
+            {"split_edges", r.added.split.size()},
+            {"merge_edges", r.added.merge.size()},
+            {"facets", r.added.facets.size()}}},
+          {"changes", changes}};
 }
 
 json layout_section(const LayoutResult& l, const LayoutOptions& options,

@@ -19,6 +19,7 @@ json flatten_section(const CuttablePatches& flat, double target_diagonal);
 json joints_section(const Joints& joints, const Material& material);
 json kerf_section(const KerfResult& kerf, const KerfOptions& options);
 json cutting_section(const CuttingEstimate& cutting, const Machine& machine);
+json resolve_section(const ResolveResult& resolve, const ResolveOptions& options);
 json layout_section(const LayoutResult& layout, const LayoutOptions& options,
                     const SheetFormats& formats, int oversize_splits);
 json quality_section(const SurfaceDistance& quality, double target_diagonal);

@@ -13,9 +13,13 @@ CuttablePatches flatten_cuttable(const Strips& strips, const FlattenOptions& opt
     int splits = 0;
     for (std::size_t p = 0; p < out.flattening.patches.size(); ++p) {
       const int quads = static_cast<int>(split.patches[p].quads.size());
-      if (quads < 2) continue;
-      if (!out.flattening.patches[p].outline_simple) {
+      // A facet is flat by construction: its outline is what the resolver chose (never split).
+      if (quads < 2 || split.patches[p].flat) continue;
+      const PatchFlattening& flat = out.flattening.patches[p];
+      if (!flat.outline_simple) {
         ++out.overlap_splits;
+      } else if (flat.inverted_quads > 0 || flat.max_angle_error >= options.max_angle_error) {
+        ++out.distortion_splits;
       } else if (oversize(p)) {
         ++out.oversize_splits;
       } else {

@@ -13,13 +13,16 @@ namespace kerfab {
 struct CuttablePatches {
   Strips strips;  ///< the strips with every split applied (patch ids as used from here on)
   Flattening flattening;
-  int overlap_splits = 0;   ///< patches split because their flat outline crossed itself
-  int oversize_splits = 0;  ///< patches split because their part did not fit the sheet
+  int overlap_splits = 0;     ///< patches split because their flat outline crossed itself
+  int distortion_splits = 0;  ///< strips split because they flattened with an inverted quad
+                              ///< or an angle error of FlattenOptions::max_angle_error or more
+  int oversize_splits = 0;    ///< patches split because their part did not fit the sheet
   /// 3D strips against their deformation to the flat metric (FlattenOptions::mimic_3d) [mm].
   std::optional<SurfaceDistance> deformation;
 };
 
-/// Flattens the patches of \p strips; a patch whose outline crosses itself, or that does not fit
+/// Flattens the patches of \p strips; a strip whose outline crosses itself, that flattens with
+/// an inverted quad or too large an angle error, or that does not fit
 /// \p usable (the sheet less its margins, with room for teeth), is split at the quad boundary
 /// nearest its middle and flattened again, for up to 12 rounds. \p deformation_spacing [mm]
 /// samples the deformation distance. \throw InvalidInput options out of range.

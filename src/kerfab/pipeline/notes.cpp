@@ -1,5 +1,7 @@
 #include "kerfab/pipeline/notes.h"
 
+#include <cmath>
+#include <map>
 #include <sstream>
 
 namespace kerfab {
@@ -75,9 +77,10 @@ StageNotes notes(const Strips& s, const std::optional<RowBaseline>& baseline,
 StageNotes notes(const CuttablePatches& c, double diagonal) {
   StageNotes n;
   const Flattening& f = c.flattening;
-  if (c.overlap_splits + c.oversize_splits > 0)
+  if (c.overlap_splits + c.distortion_splits + c.oversize_splits > 0)
     n.lines.push_back(
         std::to_string(c.overlap_splits) + " patch splits because a flat outline crossed itself, " +
+        std::to_string(c.distortion_splits) + " because a strip flattened too distorted, " +
         std::to_string(c.oversize_splits) + " because a part was larger than the sheet; now " +
         std::to_string(c.strips.patches.size()) + " patches");
   int iterations = 0;
@@ -135,12 +138,40 @@ StageNotes notes(const KerfResult& k, const KerfOptions& options) {
      << " critical regions (the bend needs cuts closer than " << options.min_cut_spacing
      << " mm, or no cut fits); estimated cutting time " << k.cutting.minutes << " min";
   n.lines.push_back(os.str());
-  if (!k.critical.empty()) {
-    Line w(3);
-    w << k.critical.size() << " critical kerf regions: the bend needs cuts closer than "
-      << options.min_cut_spacing << " mm or the strip is too narrow for a cut (first: patch "
-      << k.critical.front().patch << " at " << k.critical.front().start << " mm, needs spacing "
-      << k.critical.front().spacing << " mm); see kerf.critical and model/kerf_density.ply";
+  return n;
+}
+
+StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
+  StageNotes n;
+  std::map<std::string, int> actions;
+  for (const RegionChange& c : r.changes) ++actions[c.action];
+  Line os;
+  os << r.critical_before << " critical regions at first, " << r.critical_after << " after "
+     << r.rounds << " rebuilds (";
+  bool first = true;
+  for (const auto& [action, count] : actions)
+    os << (first ? "" : ", ") << count << " " << action, first = false;
+  os << "); parts " << r.parts_before << " -> " << r.parts_after << ", cutting " << r.minutes_before
+     << " -> " << r.minutes_after << " min";
+  n.lines.push_back(os.str());
+  const int changed = static_cast<int>(r.changes.size()) - actions["unresolved"];
+  if (r.critical_after > 0 || changed > 0 || r.small_parts_after > 0) {
+    Line w(4);
+    if (changed > 0) w << changed << " regions were changed to be buildable (resolve.changes)";
+    if (r.critical_after > 0)
+      w << (changed > 0 ? " and " : "") << r.critical_after << " remain critical: their cuts keep "
+        << kerf.min_cut_spacing << " mm but the bend overstresses the beams there (kerf.critical)";
+    if (r.small_parts_after > 0)
+      w << "; " << r.small_parts_after
+        << " parts stay too small or narrow to handle (resolve.changes, \"unresolved\")";
+    if (r.min_size_mm > r.current_size_mm + 0.5) {
+      w << "; the tightest bends would need no change at --size " << std::ceil(r.min_size_mm);
+      for (const MaterialSize& m : r.materials)
+        if (m.size_mm < r.min_size_mm - 0.5) {
+          w << " (in --material " << m.material << " at " << std::ceil(m.size_mm) << ")";
+          break;
+        }
+    }
     n.warnings.push_back(w.str());
   }
   return n;

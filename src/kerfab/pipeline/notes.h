@@ -11,6 +11,9 @@ namespace kerfab {
 struct StageNotes {
   std::vector<std::string> lines;     ///< progress details, one line each
   std::vector<std::string> warnings;  ///< also listed in the report
+  /// Earlier stages whose warnings no longer hold: this stage rebuilt their results (its own
+  /// warnings then say what holds for the rebuilt ones).
+  std::vector<Stage> supersedes;
 };
 
 StageNotes notes(const PreparedInput& input);
@@ -20,6 +23,7 @@ StageNotes notes(const Strips& strips, const std::optional<RowBaseline>& baselin
 StageNotes notes(const CuttablePatches& flat, double target_diagonal);
 StageNotes notes(const Joints& joints, const JointOptions& options);
 StageNotes notes(const KerfResult& kerf, const KerfOptions& options);
+StageNotes notes(const ResolveResult& resolve, const KerfOptions& kerf);
 StageNotes notes(const LayoutResult& layout, const LayoutOptions& options);
 StageNotes notes(const SurfaceDistance& quality, double target_diagonal);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 
 #include "kerfab/core/errors.h"
 #include "kerfab/io/guidance.h"
@@ -30,13 +31,18 @@ class StageRunner {
     run_.timings.push_back({name, seconds_since(t0)});
     for (const auto& line : notes.lines)
       if (progress_) progress_("  " + line);
-    run_.warnings.insert(run_.warnings.end(), notes.warnings.begin(), notes.warnings.end());
+    for (Stage earlier : notes.supersedes) warnings_.erase(earlier);
+    warnings_[stage] = notes.warnings;
+    run_.warnings.clear();
+    for (const auto& [s, list] : warnings_)  // in stage order
+      run_.warnings.insert(run_.warnings.end(), list.begin(), list.end());
     return !(run_.options.stop_after && *run_.options.stop_after == name);
   }
 
  private:
   RunResult& run_;
   const Progress& progress_;
+  std::map<Stage, std::vector<std::string>> warnings_;
 };
 
 LoadedInputs load_inputs(const RunInputs& in) {
@@ -59,6 +65,16 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   auto diag = [&] { return r.input->target_diagonal; };
   LayoutOptions usable = o.layout;  // room for a plate thickness of teeth along the margins
   usable.margin += o.material.thickness;
+  // The options the stages from bending to kerf run with, the guidance file's edges included.
+  auto parts_options = [&] {
+    PartsOptions p{o.bending,  o.strips,  o.flatten, usable, 5 * o.quality_sample_spacing * diag(),
+                   o.material, o.machine, o.joints,  o.kerf};
+    const Guidance& g = r.loaded->guidance;
+    p.bending.guidance.insert(p.bending.guidance.end(), g.edges.begin(), g.edges.end());
+    p.strips.split_edges.insert(p.strips.split_edges.end(), g.split.begin(), g.split.end());
+    p.strips.merge_edges.insert(p.strips.merge_edges.end(), g.merge.begin(), g.merge.end());
+    return p;
+  };
 
   // The stages in order; each stores its result in r and returns what it tells the user.
   const std::vector<std::pair<Stage, std::function<StageNotes()>>> stages = {
@@ -74,19 +90,14 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kBending,
        [&] {
-         BendingOptions bending = o.bending;  // with the guidance file's edges
-         const Guidance& g = r.loaded->guidance;
-         bending.guidance.insert(bending.guidance.end(), g.edges.begin(), g.edges.end());
-         r.bending = choose_bending_edges(r.input->quads, r.input->surface, bending);
+         r.bending =
+             choose_bending_edges(r.input->quads, r.input->surface, parts_options().bending);
          return notes(*r.bending);
        }},
       {Stage::kStrips,
        [&] {
-         StripsOptions strips = o.strips;  // with the guidance file's splits and merges
-         const Guidance& g = r.loaded->guidance;
-         strips.split_edges.insert(strips.split_edges.end(), g.split.begin(), g.split.end());
-         strips.merge_edges.insert(strips.merge_edges.end(), g.merge.begin(), g.merge.end());
-         r.strips = build_strips(r.input->quads, *r.bending, r.input->surface, strips);
+         r.strips =
+             build_strips(r.input->quads, *r.bending, r.input->surface, parts_options().strips);
          if (o.row_baseline) r.baseline = row_baseline(r.input->quads, r.input->surface, o.strips);
          return notes(*r.strips, r.baseline, o.strips);
        }},
@@ -107,6 +118,28 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
          r.kerf = place_kerf_cuts(r.flat->strips, r.flat->flattening, *r.joints, o.material,
                                   o.machine, o.kerf);
          return notes(*r.kerf, o.kerf);
+       }},
+      {Stage::kResolve,
+       [&] {
+         PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
+                          std::move(*r.joints), std::move(*r.kerf)};
+         r.resolve = resolve_critical_regions(build, *r.input, parts_options(), o.resolve);
+         r.bending = std::move(build.bending);
+         r.strips = std::move(build.strips);
+         r.flat = std::move(build.flat);
+         r.joints = std::move(build.joints);
+         r.kerf = std::move(build.kerf);
+         StageNotes n = notes(*r.resolve, o.kerf);
+         if (r.resolve->rounds > 0) {  // what holds for the rebuilt parts
+           n.supersedes = {Stage::kStrips, Stage::kFlatten, Stage::kJoints, Stage::kKerf};
+           std::vector<std::string> held;
+           for (const StageNotes& rebuilt :
+                {notes(*r.strips, r.baseline, o.strips), notes(*r.flat, diag()),
+                 notes(*r.joints, o.joints), notes(*r.kerf, o.kerf)})
+             held.insert(held.end(), rebuilt.warnings.begin(), rebuilt.warnings.end());
+           n.warnings.insert(n.warnings.begin(), held.begin(), held.end());
+         }
+         return n;
        }},
       {Stage::kLayout,
        [&] {

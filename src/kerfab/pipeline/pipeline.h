@@ -16,6 +16,7 @@
 #include "kerfab/kerf/kerf.h"
 #include "kerfab/layout/layout.h"
 #include "kerfab/pipeline/cuttable_patches.h"
+#include "kerfab/pipeline/resolve.h"
 #include "kerfab/pipeline/stages.h"
 #include "kerfab/strips/strips.h"
 
@@ -35,6 +36,7 @@ struct PipelineOptions {
   FlattenOptions flatten;
   JointOptions joints;
   KerfOptions kerf;
+  ResolveOptions resolve;
   LayoutOptions layout;
   Material material;  ///< the sheet: thickness and strength (joints, kerf cuts)
   Machine machine;    ///< the laser: kerf width (joints) and speed (cutting time)
@@ -68,6 +70,7 @@ struct RunResult {
   std::optional<CuttablePatches> flat;  ///< patches split as needed and flattened
   std::optional<Joints> joints;
   std::optional<KerfResult> kerf;
+  std::optional<ResolveResult> resolve;  ///< after it, bending .. kerf hold the final build
   std::optional<LayoutResult> layout;
   std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
   std::vector<StageTiming> timings;

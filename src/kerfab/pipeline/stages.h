@@ -16,12 +16,14 @@ enum class Stage {
   kFlatten,
   kJoints,
   kKerf,
+  kResolve,
   kLayout,
   kQuality
 };
 
-inline constexpr std::array<std::string_view, 9> kStageNames = {
-    "load", "prepare", "bending", "strips", "flatten", "joints", "kerf", "layout", "quality"};
+inline constexpr std::array<std::string_view, 10> kStageNames = {
+    "load",   "prepare", "bending", "strips", "flatten",
+    "joints", "kerf",    "resolve", "layout", "quality"};
 
 inline std::string_view stage_name(Stage stage) { return kStageNames[static_cast<int>(stage)]; }
 

@@ -1,5 +1,6 @@
 #include "kerfab/strips/strips.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -129,6 +130,7 @@ class Builder {
       face_verts_[f.idx()] = quad_vertices(m_, f);
     }
     out_.quads = bending_.quads;
+    mark_facets();
     assign_rigid_axes();
     choose_segment_counts();
     project_corners();
@@ -157,6 +159,21 @@ class Builder {
   std::vector<std::array<int, 2>> ruling_side_neighbour_;  // per quad, side 0/1: neighbour
   std::vector<std::array<int, 2>> ruling_side_entry_;      // side by which the neighbour is
                                                            // entered
+  std::vector<int> facet_of_;  // per coarse quad: its facet group, or kNone
+
+  /// Facet groups of the options, checked: quads exist, each in one group.
+  void mark_facets() {
+    facet_of_.assign(m_.n_faces(), kNone);
+    for (std::size_t g = 0; g < opt_.facets.size(); ++g)
+      for (int q : opt_.facets[g]) {
+        if (q < 0 || q >= static_cast<int>(m_.n_faces()))
+          throw InvalidInput("facet quad " + std::to_string(q) + " is not a face of the quad mesh");
+        if (facet_of_[q] != kNone)
+          throw InvalidInput("quad " + std::to_string(q) + " is in two facets");
+        facet_of_[q] = static_cast<int>(g);
+      }
+  }
+  bool facet(int q) const { return facet_of_[q] != kNone; }
 
   int other_face(int e, int f) const {
     const auto eh = m_.edge_handle(e);
@@ -210,6 +227,7 @@ class Builder {
     UnionFind groups(nf);
     std::vector<int> need(nf, 1);
     for (int f = 0; f < nf; ++f) {
+      if (facet(f)) continue;  // a facet quad is one flat piece
       const int a = out_.quads[f].axis;
       double longest = 0;
       for (int k : {a, a + 2}) {
@@ -218,7 +236,7 @@ class Builder {
             longest,
             (m_.point(m_.to_vertex_handle(h)) - m_.point(m_.from_vertex_handle(h))).norm());
         const int g = other_face(face_edges_[f][k], f);
-        if (g != kNone &&
+        if (g != kNone && !facet(g) &&
             in_bending_pair(out_.quads[g], local_edge(face_edges_[g], face_edges_[f][k])))
           groups.unite(f, g);
       }
@@ -229,7 +247,7 @@ class Builder {
     for (int f = 0; f < nf; ++f)
       group_need[groups.find(f)] = std::max(group_need[groups.find(f)], need[f]);
     out_.quad_segments.resize(nf);
-    for (int f = 0; f < nf; ++f) out_.quad_segments[f] = group_need[groups.find(f)];
+    for (int f = 0; f < nf; ++f) out_.quad_segments[f] = facet(f) ? 1 : group_need[groups.find(f)];
   }
 
   /// Area-weighted vertex normals of the coarse quad mesh.
@@ -304,6 +322,32 @@ class Builder {
         out_.vertices[v.idx()] = project(p, coarse_normals_[v.idx()]);
       }
     }
+    flatten_facet_corners();
+  }
+
+  /// A facet is a flat plate: its corners move onto its best-fit plane (a corner of two facets
+  /// to the mean of its two places), before any edge between them is subdivided.
+  void flatten_facet_corners() {
+    std::map<int, std::pair<Vec3, int>> moved;  // vertex -> sum of projections, count
+    for (const auto& group : opt_.facets) {
+      std::set<int> corners;
+      for (int q : group)
+        for (int v : face_verts_[q]) corners.insert(v);
+      Vec3 mean = Vec3::Zero();
+      for (int v : corners) mean += out_.vertices[v];
+      mean /= static_cast<double>(corners.size());
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (int v : corners)
+        cov += (out_.vertices[v] - mean) * (out_.vertices[v] - mean).transpose();
+      const Vec3 n = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
+      for (int v : corners) {
+        auto& [sum, count] = moved[v];
+        if (count == 0) sum = Vec3::Zero();
+        sum += out_.vertices[v] - (out_.vertices[v] - mean).dot(n) * n;
+        ++count;
+      }
+    }
+    for (const auto& [v, pc] : moved) out_.vertices[v] = pc.first / pc.second;
   }
 
   /// Vertices along every edge that a quad subdivides: projected on bendable edges, kept on the
@@ -314,11 +358,16 @@ class Builder {
       const auto h = m_.halfedge_handle(e, 0);
       const int a = m_.from_vertex_handle(h).idx(), b = m_.to_vertex_handle(h).idx();
       int segments = 1, subdividing_sides = 0, sides = 0;
+      bool next_to_facet = false;
       for (int s = 0; s < 2; ++s) {
         const auto fh = m_.face_handle(m_.halfedge_handle(e, s));
         if (!fh.is_valid()) continue;
         ++sides;
         const int f = fh.idx();
+        if (facet(f)) {
+          next_to_facet = true;
+          continue;  // a facet quad takes only the edge's ends
+        }
         if (in_bending_pair(out_.quads[f], local_edge(face_edges_[f], e.idx()))) {
           segments = out_.quad_segments[f];
           ++subdividing_sides;
@@ -327,7 +376,8 @@ class Builder {
       auto& pts = edge_points_[e.idx()];
       pts.push_back(a);
       if (subdividing_sides > 0) {
-        const bool bendable = bending_.bendable[e.idx()] != 0;
+        // Beside a facet the edge stays straight: the facet is flat along it.
+        const bool bendable = bending_.bendable[e.idx()] != 0 && !next_to_facet;
         const Vec3 pa = out_.vertices[a], pb = out_.vertices[b];
         for (int i = 1; i < segments; ++i) {
           const double t = static_cast<double>(i) / segments;
@@ -366,6 +416,12 @@ class Builder {
       const int a = out_.quads[f].axis, k = out_.quad_segments[f];
       const auto& c = face_verts_[f];
       const int c0 = c[a], c1 = c[(a + 1) % 4], c2 = c[(a + 2) % 4], c3 = c[(a + 3) % 4];
+      if (facet(f)) {  // one sub-quad on the corners, edge j on coarse edge (a + j) % 4
+        face_first_sub_[f].push_back(static_cast<int>(out_.faces.size()));
+        out_.faces.push_back({c0, c1, c2, c3});
+        out_.face_quad.push_back(f);
+        continue;
+      }
       const auto p = points_from(face_edges_[f][a], c0);            // c0 -> c1
       const auto q = points_from(face_edges_[f][(a + 2) % 4], c3);  // c3 -> c2
       if (static_cast<int>(p.size()) != k + 1 || static_cast<int>(q.size()) != k + 1)
@@ -390,7 +446,7 @@ class Builder {
       for (int side = 0; side < 2; ++side) {
         const int e = face_edges_[f][ruling_local(f, side)];
         const int g = other_face(e, f);
-        if (g == kNone) continue;
+        if (g == kNone || facet(f) || facet(g)) continue;
         const int lg = local_edge(face_edges_[g], e);
         if (in_bending_pair(out_.quads[g], lg)) continue;
         ruling_side_neighbour_[f][side] = g;
@@ -408,7 +464,7 @@ class Builder {
     std::vector<char> seen(nf, 0);
     std::vector<std::vector<ChainQuad>> out;
     for (int f0 = 0; f0 < nf; ++f0) {
-      if (seen[f0]) continue;
+      if (seen[f0] || facet(f0)) continue;
       // Walk backwards to the start of the chain, or around the loop.
       int cur = f0, exit_side = 0;
       bool loop = false;
@@ -761,9 +817,11 @@ class Builder {
         }
       }
     }
+    for (const auto& group : opt_.facets) build_facet(group);
     straighten_inner_rails();
     // Largest fold kept inside a patch, over every junction of consecutive sub-quads.
     for (const Patch& p : out_.patches) {
+      if (p.flat) continue;
       const auto lv = p.local_vertices();
       for (int r = 0; r < p.rows(); ++r)
         for (std::size_t i = 1; i < p.faces.size(); ++i)
@@ -776,6 +834,62 @@ class Builder {
     }
   }
 
+  /// One flat facet from a group of quads: their sub-quads (one each, on the corners), the
+  /// union's vertices and its boundary as the outline. \throw InvalidInput the group is not a
+  /// disk (its boundary is not one loop).
+  void build_facet(const std::vector<int>& group) {
+    Patch p;
+    p.flat = true;
+    p.quads = group;
+    std::map<int, int> local;  // global vertex -> local
+    std::map<std::pair<int, int>, OutlineEdge> directed;
+    for (int q : group) {
+      const int face = face_first_sub_[q].front();
+      p.faces.push_back(face);
+      p.face_flipped.push_back(0);
+      const auto& corners = out_.faces[face];
+      std::array<int, 4> lq{};
+      for (int j = 0; j < 4; ++j)
+        lq[j] = local.try_emplace(corners[j], static_cast<int>(local.size())).first->second;
+      p.flat_quads.push_back(lq);
+      const int a = out_.quads[q].axis;
+      for (int j = 0; j < 4; ++j)
+        directed[{corners[j], corners[(j + 1) % 4]}] = {{lq[j], lq[(j + 1) % 4]},
+                                                        face_edges_[q][(a + j) % 4],
+                                                        static_cast<int>(p.faces.size()) - 1,
+                                                        0,
+                                                        face};
+    }
+    p.flat_vertices.resize(local.size());
+    for (const auto& [global, id] : local) p.flat_vertices[id] = global;
+    // Boundary: directed edges whose reverse is not in the group, chained head to tail.
+    std::map<int, OutlineEdge> from;  // local start -> edge
+    for (const auto& [key, e] : directed)
+      if (!directed.count({key.second, key.first})) {
+        if (from.count(e.v[0]))
+          throw InvalidInput("facet of quad " + std::to_string(group.front()) +
+                             " touches itself at a vertex");
+        from[e.v[0]] = e;
+      }
+    if (from.empty())
+      throw InvalidInput("facet of quad " + std::to_string(group.front()) + " is closed");
+    int at = from.begin()->first;
+    for (std::size_t k = 0; k < from.size(); ++k) {
+      const auto it = from.find(at);
+      if (it == from.end()) break;
+      p.flat_outline.push_back(it->second);
+      at = it->second.v[1];
+    }
+    if (p.flat_outline.size() != from.size() || at != from.begin()->first)
+      throw InvalidInput("facet of quad " + std::to_string(group.front()) +
+                         " is not a disk (its boundary has more than one loop)");
+    const int id = static_cast<int>(out_.patches.size());
+    for (int q : group) out_.quad_patch[q] = id;
+    out_.face_patch.resize(out_.faces.size(), kNone);
+    for (int f : p.faces) out_.face_patch[f] = id;
+    out_.patches.push_back(std::move(p));
+  }
+
   /// Swaps a single-row ladder's rails.
   static void swap_rails(Patch& p) {
     for (auto& r : p.rulings) std::swap(r[0], r[1]);
@@ -783,9 +897,28 @@ class Builder {
     for (auto& e : p.rail_edges) std::swap(e[0], e[1]);
   }
 
+  /// Reverses a single-row ladder's direction along the strip.
+  static void reverse_ladder(Patch& p) {
+    std::reverse(p.quads.begin(), p.quads.end());
+    std::reverse(p.rulings.begin(), p.rulings.end());
+    std::reverse(p.faces.begin(), p.faces.end());
+    std::reverse(p.face_flipped.begin(), p.face_flipped.end());
+    for (auto& f : p.face_flipped) f = f ? 0 : 1;
+    std::reverse(p.rail_edges.begin(), p.rail_edges.end());
+    std::reverse(p.ruling_edges.begin(), p.ruling_edges.end());
+    std::swap(p.end_edges[0], p.end_edges[1]);
+  }
+
   /// One patch from single-row ladders over the same columns, each sharing a rail with the next.
   static Patch assemble(std::vector<Patch>& rows) {
     if (rows.size() == 1) return std::move(rows.front());
+    // Every row runs the way row 0 does: its first ruling meets the previous row's first one
+    // (a bundle of one column gives no step to tell).
+    auto meets = [](const std::array<int, 2>& a, const std::array<int, 2>& b) {
+      return a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1];
+    };
+    for (std::size_t r = 1; r < rows.size(); ++r)
+      if (!meets(rows[r].rulings.front(), rows[r - 1].rulings.front())) reverse_ladder(rows[r]);
     auto shares = [](const Patch& a, int rail, const Patch& b) {
       return a.rulings[0][rail] == b.rulings[0][0] || a.rulings[0][rail] == b.rulings[0][1];
     };
@@ -931,6 +1064,7 @@ int Patch::local(int k, int i) const {
 }
 
 std::vector<int> Patch::local_vertices() const {
+  if (flat) return flat_vertices;
   const int n1 = static_cast<int>(rulings.size());
   std::vector<int> out(static_cast<std::size_t>((rows() + 1) * n1));
   for (int i = 0; i < n1; ++i) out[2 * i] = rulings[i][0], out[2 * i + 1] = rulings[i][1];
@@ -940,6 +1074,7 @@ std::vector<int> Patch::local_vertices() const {
 }
 
 std::vector<std::array<int, 4>> Patch::local_quads() const {
+  if (flat) return flat_quads;
   std::vector<std::array<int, 4>> out;
   for (int r = 0; r < rows(); ++r) {
     const auto& flipped = r == 0 ? face_flipped : more_rows[r - 1].face_flipped;
@@ -955,6 +1090,7 @@ std::vector<std::array<int, 4>> Patch::local_quads() const {
 }
 
 std::vector<OutlineEdge> Patch::outline() const {
+  if (flat) return flat_outline;
   std::vector<OutlineEdge> out;
   const int n = static_cast<int>(rulings.size()) - 1, rr = rows();
   auto end_edge = [&](int row, int which) {
@@ -993,6 +1129,7 @@ Strips split_patch(const Strips& strips, int patch, int at) {
   if (patch < 0 || patch >= static_cast<int>(strips.patches.size()))
     throw InvalidInput("split_patch: no patch " + std::to_string(patch));
   const Patch& old = strips.patches[patch];
+  if (old.flat) throw InvalidInput("split_patch: patch " + std::to_string(patch) + " is a facet");
   if (at < 1 || at >= static_cast<int>(old.quads.size()))
     throw InvalidInput("split_patch: patch " + std::to_string(patch) + " has no quad boundary " +
                        std::to_string(at));

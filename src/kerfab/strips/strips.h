@@ -37,6 +37,10 @@ struct StripsOptions {
   /// sideways into one patch (paper Sec. 3.5): each must be a rail edge of both quads, so that
   /// their rulings continue; consecutive merge edges along a rail join one merged run.
   std::vector<std::array<int, 2>> merge_edges;
+  /// Groups of quads (face indices of the quad mesh) each cut as one flat plate: a planar facet
+  /// with no rulings and no kerf cuts (the fallback where nothing can bend the material enough).
+  /// Every group must be edge-connected and form a disk; its quads are not subdivided.
+  std::vector<std::vector<int>> facets;
 };
 
 /// One edge of a patch's outline, over the patch's own vertices (Patch::local_vertices).
@@ -79,6 +83,12 @@ struct Patch {
   bool loop_cut = false;                 ///< the chain closed on itself and was cut open here
   int chain = -1;                        ///< index of the maximal chain the patch came from
   std::vector<PatchRow> more_rows;       ///< rows 1, 2, ... of a merged patch, from rail 0 on
+  /// A flat facet (StripsOptions::facets): quads holds its coarse quads, faces their sub-quads
+  /// (one each); it has no rulings, rails or rows, and its own vertices, quads and outline.
+  bool flat = false;
+  std::vector<int> flat_vertices;              ///< local vertex -> Strips::vertices id
+  std::vector<std::array<int, 4>> flat_quads;  ///< over the local vertices
+  std::vector<OutlineEdge> flat_outline;       ///< counter-clockwise around the facet
 
   /// Rows side by side (1 unless merged).
   int rows() const { return 1 + static_cast<int>(more_rows.size()); }
@@ -86,7 +96,7 @@ struct Patch {
   std::vector<int> all_quads() const;
   /// Every sub-quad of the patch, row by row.
   std::vector<int> all_faces() const;
-  /// Sub-quad of interval \p i in row \p row.
+  /// Sub-quad of interval \p i in row \p row (of a facet: its i-th sub-quad).
   int face(int i, int row) const { return row == 0 ? faces[i] : more_rows[row - 1].faces[i]; }
 
   /// The patch's own vertices: local 2 * i + r is ruling i on rail 0 (r = 0) or the last rail

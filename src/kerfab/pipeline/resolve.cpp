@@ -1,0 +1,969 @@
+#include "kerfab/pipeline/resolve.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "kerfab/adapters/polygon_ops.h"
+#include "kerfab/core/errors.h"
+#include "kerfab/joints/tooth_offsets.h"
+
+namespace kerfab {
+namespace {
+
+constexpr int kNone = -1;
+
+/// A critical region as it sits on the strips.
+struct Region {
+  int patch = kNone;
+  int c0 = 0, c1 = 0;      // first and last column (position of row 0's quad along the strip)
+  std::vector<int> quads;  // every row's quads in those columns
+  Vec3 centre = Vec3::Zero();
+  double spacing = 0, stress_ratio = 0;
+  CriticalCause cause = CriticalCause::kTooDense;
+  double width = 0;         // narrowest strip width in the region [mm]
+  bool small_part = false;  // a whole part too small or too narrow to handle, not a bend
+};
+
+/// Parts a maker cannot handle: less than \p min_area as cut, nowhere as wide as \p
+/// min_width (the outline shrunk by half of it is empty), or fallen apart when cut [mm^2, mm].
+std::vector<int> small_parts(const PartsBuild& b, double min_area, double min_width) {
+  std::vector<int> out;
+  for (std::size_t p = 0; p < b.joints.parts.size(); ++p) {
+    const Polygon2& outline = b.joints.parts[p].designed;
+    if (b.joints.parts[p].repaired || outline.size() < 3 ||
+        std::abs(polygon_area(outline)) < min_area ||
+        polygon_offset({outline}, -0.5 * min_width).empty())
+      out.push_back(static_cast<int>(p));
+  }
+  return out;
+}
+
+/// Ruling index where each column of \p p starts (and one past the last).
+std::vector<int> column_starts(const Strips& s, const Patch& p) {
+  std::vector<int> starts = {0};
+  for (int q : p.quads) starts.push_back(starts.back() + s.quad_segments[q]);
+  return starts;
+}
+
+int column_of(const std::vector<int>& starts, int interval) {
+  return std::clamp(
+      static_cast<int>(std::upper_bound(starts.begin(), starts.end(), interval) - starts.begin()) -
+          1,
+      0, static_cast<int>(starts.size()) - 2);
+}
+
+Region region_of(const Strips& s, const Flattening& f, const CriticalRegion& c) {
+  Region r;
+  r.patch = c.patch;
+  r.spacing = c.spacing;
+  r.stress_ratio = c.stress_ratio;
+  r.cause = c.cause;
+  const Patch& p = s.patches[c.patch];
+  const auto& x = f.patches[c.patch].points;
+  const StripFrame frame(x, static_cast<int>(p.faces.size()));
+  const int i0 = frame.face_at(c.start), i1 = frame.face_at(c.end);
+  const auto starts = column_starts(s, p);
+  r.c0 = column_of(starts, i0);
+  r.c1 = column_of(starts, i1);
+  for (int col = r.c0; col <= r.c1; ++col) {
+    r.quads.push_back(p.quads[col]);
+    for (const PatchRow& row : p.more_rows) r.quads.push_back(row.quads[col]);
+  }
+  r.width = 1e300;
+  int n = 0;
+  for (int i = i0; i <= i1 + 1; ++i) {
+    r.centre += s.vertices[p.rulings[i][0]] + s.vertices[p.rulings[i][1]];
+    n += 2;
+    r.width = std::min(r.width, (x[2 * i + 1] - x[2 * i]).norm());
+  }
+  r.centre /= n;
+  return r;
+}
+
+/// Largest fold across ruling \p i of patch \p p, over its rows' rail vertices [rad].
+double fold_at(const Strips& s, const Patch& p, int i) {
+  if (i <= 0 || i >= static_cast<int>(p.faces.size())) return 0.0;
+  const auto lv = p.local_vertices();
+  double fold = 0;
+  for (int row = 0; row < p.rows(); ++row)
+    for (int rail : {row, row + 1}) {
+      const int v = lv[p.local(rail, i)];
+      fold = std::max(fold, angle_between(sector_normal(s.vertices, s.faces[p.face(i - 1, row)], v),
+                                          sector_normal(s.vertices, s.faces[p.face(i, row)], v)));
+    }
+  return fold;
+}
+
+std::array<int, 2> ends(const PolyMesh& m, int edge) {
+  const auto h = m.halfedge_handle(m.edge_handle(edge), 0);
+  return {m.from_vertex_handle(h).idx(), m.to_vertex_handle(h).idx()};
+}
+
+int edge_between(const PolyMesh& m, const std::array<int, 2>& v) {
+  const auto h = m.find_halfedge(m.vertex_handle(v[0]), m.vertex_handle(v[1]));
+  return h.is_valid() ? m.edge_handle(h).idx() : kNone;
+}
+
+/// The scale at which a bend would need no change in material \p m: its beams reach the
+/// minimum spacing (w sqrt(h^2 + w^2) grows with the scale squared at a fixed twist per
+/// length times strip width). Only bends too dense to cut count: a strip narrowing to a point,
+/// converging cuts or a part too small are matters of layout that no scale cures, so they
+/// give 1.
+double size_factor(const Region& r, const Material& used, const Material& m, const KerfOptions& k) {
+  const double g_used = used.shear_modulus / (used.yield_strength / used.safety);
+  const double g = m.shear_modulus / (m.yield_strength / m.safety);
+  // Geometry constant 2 l / kappa of the region's tightest beam, from the spacing it needed.
+  const double w = r.spacing, h = used.thickness;
+  const double geometry = g_used * w * std::sqrt(h * h + w * w);
+  double s = 1.0;
+  if (geometry > 0 && r.cause == CriticalCause::kTooDense && !r.small_part) {
+    const double d = k.min_cut_spacing;
+    s = std::max(s, std::sqrt(g * d * std::sqrt(m.thickness * m.thickness + d * d) / geometry));
+  }
+  return s;
+}
+
+enum class Remedy { kSplit, kMerge, kFacets };
+
+const char* remedy_name(Remedy r) {
+  switch (r) {
+    case Remedy::kSplit:
+      return "split";
+    case Remedy::kMerge:
+      return "merge";
+    case Remedy::kFacets:
+      return "facets";
+  }
+  return "";
+}
+
+/// The guidance the loop has added, with the coarse edges and quads it names (to avoid
+/// contradictions).
+struct Added {
+  Guidance guidance;
+  std::set<int> stiff, merge, split, facet_quads;
+};
+
+class Resolver {
+ public:
+  Resolver(PartsBuild& build, const PreparedInput& input, const PartsOptions& options,
+           const ResolveOptions& resolve)
+      : build_(build), in_(input), m_(input.quads), o_(options), r_(resolve) {}
+
+  ResolveResult run() {
+    out_.critical_before = static_cast<int>(build_.kerf.critical.size());
+    out_.parts_before = static_cast<int>(build_.flat.strips.patches.size());
+    out_.minutes_before = build_.kerf.cutting.minutes;
+    tightest_bend_ = build_.kerf.tightest_bend;
+    out_.current_size_mm = in_.target_summary.bbox.largest_side();
+    for (const auto& g : o_.bending.guidance)
+      if (g.bendable) user_bendable_.insert(edge_between(m_, {g.v0, g.v1}));
+    for (const auto& v : o_.strips.merge_edges) user_merge_.insert(edge_between(m_, v));
+    for (const auto& v : o_.strips.split_edges) user_split_.insert(edge_between(m_, v));
+    std::set<int> cheap_failed;  // quads where a crease split or a merge did not resolve
+    for (int round = 0; r_.enabled && round < r_.max_rounds; ++round) {
+      std::vector<Region> pending = current_regions();
+      if (pending.empty()) break;
+      // 1. Crease splits and merges, tried together and kept where they resolve their region.
+      Added trial = accepted_;
+      std::vector<std::tuple<Region, Added, Remedy>> applied;
+      for (const Region& region : pending) {
+        bool failed = false;
+        for (int q : region.quads) failed = failed || cheap_failed.count(q);
+        if (failed) continue;
+        for (Remedy remedy : {Remedy::kSplit, Remedy::kMerge}) {
+          Added own;
+          if (apply(remedy, region, trial, own)) {
+            applied.push_back({region, own, remedy});
+            break;
+          }
+        }
+      }
+      if (!applied.empty()) {
+        std::optional<PartsBuild> tried;
+        try {
+          tried = rebuild(trial);
+          ++out_.rounds;
+        } catch (const InvalidInput&) {  // the strips refused a merge (a branch or a tube)
+          for (const auto& a : applied)
+            cheap_failed.insert(std::get<0>(a).quads.begin(), std::get<0>(a).quads.end());
+        }
+        if (tried) {
+          const std::set<int> still = critical_quads(*tried);
+          std::size_t kept = 0;
+          for (const auto& [region, own, remedy] : applied) {
+            bool resolved = true;
+            for (int q : region.quads)
+              for (int n : with_neighbours(q)) resolved = resolved && !still.count(n);
+            if (!resolved) {
+              cheap_failed.insert(region.quads.begin(), region.quads.end());
+              continue;
+            }
+            merge_into(accepted_, own);
+            record(region, remedy_name(remedy));
+            ++kept;
+          }
+          if (kept == applied.size()) {
+            build_ = std::move(*tried);
+          } else if (kept > 0) {
+            build_ = rebuild(accepted_);
+            ++out_.rounds;
+          }
+        }
+        pending = current_regions();
+      }
+      // 2. Facets where nothing cheaper applies or it did not help.
+      int made = 0;
+      for (const Region& region : pending) {
+        bool failed = false;
+        for (int q : region.quads) failed = failed || cheap_failed.count(q);
+        Added scratch = accepted_, ignore;
+        const bool cheap = apply(Remedy::kSplit, region, scratch, ignore) ||
+                           apply(Remedy::kMerge, region, scratch, ignore);
+        if (cheap && !failed) continue;  // its cheap remedy comes first, next round
+        Added own;
+        if (!facets(region, accepted_, own)) continue;
+        record(region, remedy_name(Remedy::kFacets));
+        ++made;
+      }
+      if (made == 0 && applied.empty()) break;
+      if (made > 0) {
+        consolidate_facets();
+        build_ = rebuild(accepted_);
+        ++out_.rounds;
+      }
+    }
+    for (const CriticalRegion& c : build_.kerf.critical) {
+      const Region r = region_of(build_.flat.strips, build_.flat.flattening, c);
+      record(r, "unresolved");
+      out_.changes.back().reason = "the bend overstresses the beams even at the minimum spacing";
+    }
+    for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width)) {
+      Region r;
+      r.patch = p;
+      r.quads = build_.flat.strips.patches[p].all_quads();
+      r.small_part = true;
+      for (int v : build_.flat.strips.patches[p].local_vertices())
+        r.centre += build_.flat.strips.vertices[v];
+      r.centre /= std::max<std::size_t>(1, build_.flat.strips.patches[p].local_vertices().size());
+      record(r, "unresolved");
+      const Polygon2& outline = build_.joints.parts[p].designed;
+      const double area = outline.size() < 3 ? 0.0 : std::abs(polygon_area(outline));
+      RegionChange& c = out_.changes.back();
+      std::ostringstream why;
+      why << "part " << p << " is too small to handle (" << area << " mm^2 as cut";
+      if (build_.joints.parts[p].repaired) why << ", falls apart at its slots";
+      why << "; no flat plate around it is big enough)";
+      c.reason = why.str();
+      c.size_factor =
+          area > 0 ? std::max(1.0, std::sqrt(r_.min_part_area / area)) : 0.0;  // 0: unknown
+      ++out_.small_parts_after;
+    }
+    finish();
+    return std::move(out_);
+  }
+
+ private:
+  PartsBuild& build_;
+  const PreparedInput& in_;
+  const PolyMesh& m_;
+  const PartsOptions& o_;
+  const ResolveOptions& r_;
+  ResolveResult out_;
+  Added accepted_;
+  std::set<int> user_bendable_, user_merge_, user_split_;
+  double tightest_bend_ = 0;     // of the first build [mm^2]
+  mutable std::set<int> stuck_;  // quads of facets that could not grow big enough
+
+  PartsBuild rebuild(const Added& a) {
+    return build_parts(
+        in_, o_, a.guidance,
+        a.stiff == accepted_.stiff && a.guidance.edges.size() == accepted_.guidance.edges.size()
+            ? &build_.bending
+            : nullptr);
+  }
+
+  static void merge_into(Added& into, const Added& from) {
+    auto& g = into.guidance;
+    g.edges.insert(g.edges.end(), from.guidance.edges.begin(), from.guidance.edges.end());
+    g.split.insert(g.split.end(), from.guidance.split.begin(), from.guidance.split.end());
+    g.merge.insert(g.merge.end(), from.guidance.merge.begin(), from.guidance.merge.end());
+    g.facets.insert(g.facets.end(), from.guidance.facets.begin(), from.guidance.facets.end());
+    into.facet_quads.insert(from.facet_quads.begin(), from.facet_quads.end());
+    into.stiff.insert(from.stiff.begin(), from.stiff.end());
+    into.merge.insert(from.merge.begin(), from.merge.end());
+    into.split.insert(from.split.begin(), from.split.end());
+  }
+
+  /// What the loop works on: critical regions, and parts too small or too narrow to handle.
+  /// Facets that could not grow into a part a maker can handle are not tried again: each try
+  /// would release and regrow the same quads.
+  std::vector<Region> current_regions() const {
+    std::vector<Region> out;
+    for (const CriticalRegion& c : build_.kerf.critical)
+      out.push_back(region_of(build_.flat.strips, build_.flat.flattening, c));
+    for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width)) {
+      const Patch& patch = build_.flat.strips.patches[p];
+      bool tried = patch.flat;
+      for (int q : patch.all_quads()) tried = tried && stuck_.count(q);
+      if (tried) continue;
+      Region r;
+      r.patch = p;
+      r.c0 = 0;
+      r.c1 = static_cast<int>(patch.quads.size()) - 1;
+      r.quads = patch.all_quads();
+      r.small_part = true;
+      for (int v : patch.local_vertices()) r.centre += build_.flat.strips.vertices[v];
+      r.centre /= std::max<std::size_t>(1, patch.local_vertices().size());
+      out.push_back(std::move(r));
+    }
+    return out;
+  }
+
+  /// Quads of the critical regions and small parts of \p b.
+  std::set<int> critical_quads(const PartsBuild& b) const {
+    std::set<int> out;
+    for (const CriticalRegion& c : b.kerf.critical) {
+      const Region r = region_of(b.flat.strips, b.flat.flattening, c);
+      out.insert(r.quads.begin(), r.quads.end());
+    }
+    for (int p : small_parts(b, r_.min_part_area, r_.min_part_width)) {
+      const auto quads = b.flat.strips.patches[p].all_quads();
+      out.insert(quads.begin(), quads.end());
+    }
+    return out;
+  }
+
+  /// Quad \p q and the quads sharing an edge with it.
+  std::vector<int> with_neighbours(int q) const {
+    std::vector<int> out = {q};
+    for (auto f : m_.ff_range(m_.face_handle(q))) out.push_back(f.idx());
+    return out;
+  }
+
+  void record(const Region& r, const std::string& action) {
+    RegionChange c;
+    c.centre = r.centre;
+    c.quads = r.quads;
+    c.action = action;
+    c.spacing = r.spacing;
+    c.stress_ratio = r.stress_ratio;
+    c.size_factor = size_factor(r, o_.material, o_.material, o_.kerf);
+    out_.changes.push_back(std::move(c));
+  }
+
+  const Strips& strips() const { return build_.flat.strips; }
+
+  static void add_edge(const PolyMesh& m, int e, std::set<int>& set, std::set<int>& own_set,
+                       std::vector<std::array<int, 2>>& list) {
+    set.insert(e);
+    own_set.insert(e);
+    list.push_back(ends(m, e));
+  }
+
+  /// Adds remedy \p remedy for region \p r to \p state (and, alone, to \p own); false where it
+  /// does not apply.
+  bool apply(Remedy remedy, const Region& r, Added& state, Added& own) const {
+    if (r.small_part && remedy == Remedy::kSplit) return false;
+    if (strips().patches[r.patch].flat && remedy != Remedy::kFacets) return false;  // no strip
+    switch (remedy) {
+      case Remedy::kSplit:
+        return split_crease(r, state, own);
+      case Remedy::kMerge:
+        return merge_sideways(r, state, own);
+      case Remedy::kFacets:
+        return facets(r, state, own);
+    }
+    return false;
+  }
+
+  /// A border at the sharpest fold between two quads in or at the ends of the region: a joint
+  /// takes that fold instead of the kerf cuts (one more part, no loss of fidelity). For a
+  /// crease this is the cure; for a bend spread over the quads it may take off just enough.
+  bool split_crease(const Region& r, Added& state, Added& own) const {
+    const Patch& p = strips().patches[r.patch];
+    const auto starts = column_starts(strips(), p);
+    double best = 0;
+    int at = kNone;
+    for (int col = std::max(1, r.c0);
+         col <= std::min(r.c1 + 1, static_cast<int>(p.quads.size()) - 1); ++col) {
+      const double fold = fold_at(strips(), p, starts[col]);
+      if (fold > best) best = fold, at = col;
+    }
+    if (at == kNone) return false;
+    const int edge = p.ruling_edges[starts[at]];
+    if (edge < 0 || state.merge.count(edge) || user_merge_.count(edge) || state.split.count(edge))
+      return false;
+    add_edge(m_, edge, state.split, own.split, state.guidance.split);
+    own.guidance.split.push_back(ends(m_, edge));
+    return true;
+  }
+
+  /// Merge with the aligned neighbour on one side, over the whole run where the two lie side by
+  /// side, if the inner rail does not have to move too far.
+  bool merge_sideways(const Region& r, Added& state, Added& own) const {
+    const Patch& p = strips().patches[r.patch];
+    const auto starts = column_starts(strips(), p);
+    const int columns = static_cast<int>(p.quads.size());
+    std::optional<std::pair<std::vector<int>, double>> best;  // edges, deviation
+    for (int side = 0; side < 2; ++side) {
+      // The neighbour across this side in column col if aligned there, and the rail edges.
+      auto across = [&](int col) -> std::pair<int, std::vector<int>> {
+        std::vector<int> edges;
+        int neighbour = kNone;
+        for (int i = starts[col]; i < starts[col + 1]; ++i) {
+          const int e = p.rail_edges[i][side];
+          if (!edges.empty() && edges.back() == e) continue;
+          const auto eh = m_.edge_handle(e);
+          int other = kNone;
+          for (int k = 0; k < 2; ++k) {
+            const auto f = m_.face_handle(m_.halfedge_handle(eh, k));
+            if (f.is_valid() && strips().quad_patch[f.idx()] != r.patch) other = f.idx();
+          }
+          if (other == kNone || state.facet_quads.count(other)) return {kNone, {}};
+          const auto qe = quad_edges(m_, m_.face_handle(other));
+          const int local = static_cast<int>(std::find(qe.begin(), qe.end(), e) - qe.begin());
+          if (local % 2 != strips().quads[other].axis) return {kNone, {}};  // not a rail there
+          const int q = strips().quad_patch[other];
+          if (neighbour != kNone && q != neighbour) return {kNone, {}};
+          neighbour = q;
+          edges.push_back(e);
+        }
+        return {neighbour, edges};
+      };
+      const int q = across(r.c0).first;
+      if (q == kNone) continue;
+      std::vector<int> edges;
+      bool ok = true;
+      for (int col = r.c0; col <= r.c1 && ok; ++col) {
+        const auto [qc, e] = across(col);
+        ok = qc == q;
+        edges.insert(edges.end(), e.begin(), e.end());
+      }
+      if (!ok) continue;
+      // Grow along the strip while the same neighbour stays aligned beside it.
+      for (int col = r.c0 - 1; col >= 0; --col) {
+        const auto [qc, e] = across(col);
+        if (qc != q) break;
+        edges.insert(edges.begin(), e.begin(), e.end());
+      }
+      for (int col = r.c1 + 1; col < columns; ++col) {
+        const auto [qc, e] = across(col);
+        if (qc != q) break;
+        edges.insert(edges.end(), e.begin(), e.end());
+      }
+      // No singularity inside, no contradiction, and how far the inner rail moves.
+      std::map<int, int> count;
+      for (int e : edges)
+        for (int v : ends(m_, e)) ++count[v];
+      for (int e : state.merge)
+        for (int v : ends(m_, e)) ++count[v];
+      for (const auto& [v, c] : count) {
+        const auto vh = m_.vertex_handle(v);
+        if (c >= 2 && !m_.is_boundary(vh) && m_.valence(vh) != 4) ok = false;
+      }
+      for (int e : edges)
+        ok = ok && !user_split_.count(e) && !state.split.count(e) && !state.merge.count(e) &&
+             !state.stiff.count(e);
+      if (!ok) continue;
+      const double deviation = merge_deviation(p, q, side);
+      if (deviation > r_.max_merge_deviation * in_.target_diagonal) continue;
+      if (!best || deviation < best->second) best = {{edges, deviation}};
+    }
+    if (!best) return false;
+    for (int e : best->first) {
+      add_edge(m_, e, state.merge, own.merge, state.guidance.merge);
+      own.guidance.merge.push_back(ends(m_, e));
+    }
+    return true;
+  }
+
+  /// How far merging patch \p p with patch \p q across p's rail \p side would move the shared
+  /// rail's vertices: their distance to the straight rulings from p's far rail to q's [mm].
+  double merge_deviation(const Patch& p, int q, int side) const {
+    const Patch& other = strips().patches[q];
+    const auto lv = other.local_vertices();
+    std::map<int, int> local_of;
+    for (std::size_t i = 0; i < lv.size(); ++i) local_of[lv[i]] = static_cast<int>(i);
+    const int n1 = static_cast<int>(other.rulings.size());
+    double worst = 0;
+    for (const auto& ruling : p.rulings) {
+      const int shared = ruling[side], far = ruling[1 - side];
+      const auto it = local_of.find(shared);
+      if (it == local_of.end()) continue;
+      // Its ruling in q and q's rail on the other side of it.
+      int i = kNone, rail = kNone;
+      for (int k = 0; k <= other.rows() && i == kNone; ++k)
+        for (int j = 0; j < n1; ++j)
+          if (other.local(k, j) == it->second) i = j, rail = k;
+      if (i == kNone || (rail != 0 && rail != other.rows())) return 1e300;
+      const int beyond = rail == 0 ? other.rulings[i][1] : other.rulings[i][0];
+      const Vec3 a = strips().vertices[far], b = strips().vertices[beyond];
+      const Vec3 x = strips().vertices[shared];
+      const double t =
+          std::clamp((x - a).dot(b - a) / std::max((b - a).squaredNorm(), 1e-300), 0.0, 1.0);
+      worst = std::max(worst, (x - (a + t * (b - a))).norm());
+    }
+    return worst;
+  }
+
+  /// A group of quads on its way to a facet.
+  struct Group {
+    std::set<int> quads;
+    double area = 0;
+  };
+
+  Vec3 corner(int v) const { return strips().vertices[v]; }
+
+  double quad_area(int q) const {
+    const auto v = quad_vertices(m_, m_.face_handle(q));
+    return 0.5 * ((corner(v[2]) - corner(v[0])).cross(corner(v[3]) - corner(v[1]))).norm();
+  }
+
+  /// Length of the boundary of a group of quads [mm].
+  double perimeter(const std::set<int>& quads) const {
+    std::set<std::pair<int, int>> directed;
+    for (int q : quads) {
+      const auto v = quad_vertices(m_, m_.face_handle(q));
+      for (int k = 0; k < 4; ++k) directed.insert({v[k], v[(k + 1) % 4]});
+    }
+    double length = 0;
+    for (const auto& [a, b] : directed)
+      if (!directed.count({b, a})) length += (corner(b) - corner(a)).norm();
+    return length;
+  }
+
+  /// Largest distance of the quads' corners (on the target) to their best-fit plane [mm].
+  double flatness(const std::set<int>& quads) const {
+    std::vector<Vec3> pts;
+    for (int q : quads)
+      for (int v : quad_vertices(m_, m_.face_handle(q))) pts.push_back(corner(v));
+    Vec3 mean = Vec3::Zero();
+    for (const Vec3& p : pts) mean += p;
+    mean /= static_cast<double>(pts.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const Vec3& p : pts) cov += (p - mean) * (p - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    const Vec3 n = eig.eigenvectors().col(0);
+    double worst = 0;
+    for (const Vec3& p : pts) worst = std::max(worst, std::abs((p - mean).dot(n)));
+    return worst;
+  }
+
+  /// True when the quads can be one flat plate: a disk whose quads all face the same way as
+  /// the best-fit plane (within \p max_tilt [rad]; a group flat within the tolerance can still
+  /// fold back on itself in small quads), with a simple outline on that plane.
+  bool plate(const std::set<int>& quads, double max_tilt = M_PI / 4) const {
+    if (!disk(quads)) return false;
+    const Vec3 n = plane_of(quads).n;
+    for (int q : quads) {
+      // Each corner's triangle, so that a quad folded along a diagonal cannot flip half of it.
+      const auto v = quad_vertices(m_, m_.face_handle(q));
+      for (int k = 0; k < 4; ++k) {
+        const Vec3 a =
+            (corner(v[(k + 1) % 4]) - corner(v[k])).cross(corner(v[(k + 3) % 4]) - corner(v[k]));
+        if (!(a.norm() > 0) || a.normalized().dot(n) < std::cos(max_tilt)) return false;
+      }
+    }
+    const Polygon2 poly = plane_outline(quads);
+    // No corner nearly closing on itself (a fan of quads almost all around a vertex): moving
+    // the corners onto the plane would make such an outline cross itself.
+    const std::size_t m = poly.size();
+    for (std::size_t i = 0; i < m; ++i) {
+      const Vec2 a = poly[(i + m - 1) % m] - poly[i], b = poly[(i + 1) % m] - poly[i];
+      double inner = std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));  // b to a, ccw
+      if (inner < 0) inner += 2 * M_PI;
+      inner = 2 * M_PI - inner;
+      if (inner > 2 * M_PI - M_PI / 9) return false;
+    }
+    std::vector<int> ring(m);
+    for (std::size_t i = 0; i < m; ++i) ring[i] = static_cast<int>(i);
+    return is_simple_polygon(poly, ring);
+  }
+
+  /// True when the quads form one disk: connected across edges, and a boundary that is one loop
+  /// never touching itself.
+  bool disk(const std::set<int>& quads) const {
+    std::map<std::pair<int, int>, int> directed;
+    for (int q : quads) {
+      const auto v = quad_vertices(m_, m_.face_handle(q));
+      for (int k = 0; k < 4; ++k) ++directed[{v[k], v[(k + 1) % 4]}];
+    }
+    std::map<int, int> next;
+    for (const auto& [e, count] : directed) {
+      if (directed.count({e.second, e.first})) continue;
+      if (next.count(e.first)) return false;  // the boundary touches itself
+      next[e.first] = e.second;
+    }
+    if (next.empty()) return false;
+    int at = next.begin()->first, steps = 0;
+    do {
+      at = next[at];
+      ++steps;
+    } while (at != next.begin()->first && steps <= static_cast<int>(next.size()));
+    std::set<int> seen = {*quads.begin()}, todo = seen;
+    while (!todo.empty()) {
+      const int q = *todo.begin();
+      todo.erase(todo.begin());
+      for (auto f : m_.ff_range(m_.face_handle(q)))
+        if (quads.count(f.idx()) && seen.insert(f.idx()).second) todo.insert(f.idx());
+    }
+    return steps == static_cast<int>(next.size()) && seen.size() == quads.size();
+  }
+
+  /// Planar facets over the region's quads (those not yet in one): adjacent groups merge,
+  /// flattest first, while their corners stay within ResolveOptions::facet_flatness of a plane;
+  /// a group still smaller than a part then takes in its flattest neighbour quads (from outside
+  /// the region too). Every edge of the facets' quads is forced stiff, so neighbours meet them
+  /// along straight borders.
+  bool facets(const Region& r, Added& state, Added& own) const {
+    const double tolerance = r_.facet_flatness * in_.target_diagonal;
+    std::set<std::set<int>> before;  // the facets so far: making one of them again is no change
+    for (const auto& list : state.guidance.facets) before.insert({list.begin(), list.end()});
+    std::vector<Group> groups;
+    std::map<int, int> group_of;
+    // An earlier facet that came out too small or narrow is taken back and grown.
+    auto release = [&](int q) {  // the facet group holding q leaves the state; its quads
+      auto& list = state.guidance.facets;
+      for (std::size_t g = 0; g < list.size(); ++g)
+        if (std::find(list[g].begin(), list[g].end(), q) != list[g].end()) {
+          std::vector<int> quads = list[g];
+          list.erase(list.begin() + static_cast<std::ptrdiff_t>(g));
+          for (int x : quads) state.facet_quads.erase(x);
+          return quads;
+        }
+      return std::vector<int>{};
+    };
+    if (strips().patches[r.patch].flat) {
+      Group g;
+      for (int q : release(r.quads.front())) g.quads.insert(q), g.area += quad_area(q);
+      for (int q : g.quads) group_of[q] = 0;
+      groups.push_back(std::move(g));
+    }
+    for (int q : r.quads)
+      if (!state.facet_quads.count(q) && !group_of.count(q)) {
+        group_of[q] = static_cast<int>(groups.size());
+        groups.push_back({{q}, quad_area(q)});
+      }
+    if (groups.empty()) return false;
+    // Quads around a group; with \p facets also those of other facets (taken whole).
+    auto neighbours = [&](const Group& g, bool facets_too) {
+      std::set<int> out;
+      for (int q : g.quads)
+        for (auto f : m_.ff_range(m_.face_handle(q))) {
+          if (g.quads.count(f.idx())) continue;
+          if (state.facet_quads.count(f.idx()) && !facets_too) continue;
+          bool merged = false;  // a quad the loop merged sideways keeps its strip
+          for (int e : quad_edges(m_, f)) merged = merged || state.merge.count(e);
+          if (!merged) out.insert(f.idx());
+        }
+      return out;
+    };
+    auto facet_of = [&](int q) {  // the quads of the earlier facet holding q, or q alone
+      for (const auto& list : state.guidance.facets)
+        if (std::find(list.begin(), list.end(), q) != list.end()) return list;
+      return std::vector<int>{q};
+    };
+    auto take = [&](int a, int q) {  // quad q (with its group or earlier facet) into group a
+      const auto it = group_of.find(q);
+      if (it != group_of.end()) {
+        const int b = it->second;
+        for (int x : groups[b].quads) group_of[x] = a, groups[a].quads.insert(x);
+        groups[a].area += groups[b].area;
+        groups[b] = {};
+        return;
+      }
+      for (int x : state.facet_quads.count(q) ? release(q) : std::vector<int>{q}) {
+        group_of[x] = a;
+        groups[a].quads.insert(x);
+        groups[a].area += quad_area(x);
+      }
+    };
+    auto with = [&](int a, int q) {
+      std::set<int> merged = groups[a].quads;
+      const auto it = group_of.find(q);
+      if (it != group_of.end()) {
+        merged.insert(groups[it->second].quads.begin(), groups[it->second].quads.end());
+      } else {
+        const auto quads = facet_of(q);
+        merged.insert(quads.begin(), quads.end());
+      }
+      return merged;
+    };
+    for (;;) {  // the flattest merge of two groups of the region, within the tolerance
+      double best = tolerance;
+      int ba = kNone, bq = kNone;
+      for (std::size_t a = 0; a < groups.size(); ++a) {
+        if (groups[a].quads.empty()) continue;
+        for (int q : neighbours(groups[a], false)) {
+          const auto it = group_of.find(q);
+          if (it == group_of.end() || it->second == static_cast<int>(a)) continue;
+          const auto merged = with(static_cast<int>(a), q);
+          const double e = flatness(merged);
+          if (e <= best && plate(merged) && compact(merged))
+            best = e, ba = static_cast<int>(a), bq = q;
+        }
+      }
+      if (ba == kNone) break;
+      take(ba, bq);
+    }
+    for (std::size_t a = 0; a < groups.size(); ++a)
+      for (int guard = 0; !groups[a].quads.empty() && !big_enough(groups[a].quads) && guard < 64;
+           ++guard) {
+        // The flattest neighbour that keeps the group compact (a snake of quads falls
+        // apart at its necks once its slots are cut), else the flattest.
+        double best = 1e300;
+        bool best_compact = false;
+        int pick = kNone;
+        // A plate too small for its folds grows over curved ground too (a cap over a tip):
+        // fidelity given up there is reported as the region's local distance. Steeper quads
+        // only where nothing else is left.
+        for (double tilt : {0.4 * M_PI, 0.49 * M_PI}) {
+          for (int q : neighbours(groups[a], true)) {
+            const auto merged = with(static_cast<int>(a), q);
+            if (!plate(merged, tilt)) continue;
+            const double e = flatness(merged);
+            const bool c = compact(merged);
+            if ((c && !best_compact) || (c == best_compact && e < best))
+              best = e, best_compact = c, pick = q;
+          }
+          if (pick != kNone) break;
+        }
+        if (pick == kNone) break;
+        take(static_cast<int>(a), pick);
+      }
+    bool changed = false;
+    for (const Group& g : groups) changed = changed || (!g.quads.empty() && !before.count(g.quads));
+    if (!changed) return false;
+    int made = 0;
+    for (const Group& g : groups) {
+      if (g.quads.empty()) continue;
+      if (!big_enough(g.quads)) stuck_.insert(g.quads.begin(), g.quads.end());
+      std::vector<int> list(g.quads.begin(), g.quads.end());
+      for (int q : list) {
+        state.facet_quads.insert(q);
+        own.facet_quads.insert(q);
+        for (int e : quad_edges(m_, m_.face_handle(q))) {
+          if (state.stiff.count(e) || user_bendable_.count(e)) continue;
+          const auto v = ends(m_, e);
+          state.stiff.insert(e);
+          own.stiff.insert(e);
+          state.guidance.edges.push_back({v[0], v[1], false});
+          own.guidance.edges.push_back({v[0], v[1], false});
+        }
+      }
+      state.guidance.facets.push_back(list);
+      own.guidance.facets.push_back(list);
+      ++made;
+    }
+    return made > 0;
+  }
+
+  /// The best-fit plane of the quads' corners (as the facet will be flattened onto it): its
+  /// centre, two in-plane directions and the normal on the side the quads face.
+  struct Plane {
+    Vec3 mean, u, w, n;
+  };
+  Plane plane_of(const std::set<int>& quads) const {
+    std::set<int> corners;
+    Vec3 facing = Vec3::Zero();
+    for (int q : quads) {
+      for (int v : quad_vertices(m_, m_.face_handle(q))) corners.insert(v);
+      facing += quad_normal(q);
+    }
+    Plane p;
+    p.mean = Vec3::Zero();
+    for (int v : corners) p.mean += corner(v) / static_cast<double>(corners.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (int v : corners) cov += (corner(v) - p.mean) * (corner(v) - p.mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    p.n = eig.eigenvectors().col(0);
+    if (p.n.dot(facing) < 0) p.n = -p.n;
+    p.u = eig.eigenvectors().col(2);
+    p.w = p.n.cross(p.u);  // (u, w) counter-clockwise seen from the facing side
+    return p;
+  }
+
+  /// The boundary loop of a disk of quads, as vertex ids in the quads' own order.
+  std::vector<int> boundary_loop(const std::set<int>& quads) const {
+    std::map<int, int> next;
+    std::set<std::pair<int, int>> directed;
+    for (int q : quads) {
+      const auto v = quad_vertices(m_, m_.face_handle(q));
+      for (int k = 0; k < 4; ++k) directed.insert({v[k], v[(k + 1) % 4]});
+    }
+    for (const auto& [a, b] : directed)
+      if (!directed.count({b, a})) next[a] = b;
+    std::vector<int> loop;
+    for (int at = next.begin()->first; loop.size() <= next.size();) {
+      loop.push_back(at);
+      at = next[at];
+      if (at == next.begin()->first) break;
+    }
+    return loop;
+  }
+
+  /// What is left of a facet once its borders are cut back on its best-fit plane: each
+  /// outline edge goes back by the deeper of the plain mitre and the slot its fold with the
+  /// quad across would need (a sharp fold takes back far more than half the thickness).
+  std::vector<Polygon2> cut_back_outline(const std::set<int>& quads) const {
+    const std::vector<int> loop = boundary_loop(quads);
+    const Plane pl = plane_of(quads);
+    const Vec3 n = pl.n;
+    Polygon2 poly;
+    for (int v : loop)
+      poly.emplace_back((corner(v) - pl.mean).dot(pl.u), (corner(v) - pl.mean).dot(pl.w));
+    const double h = o_.material.thickness;
+    std::vector<Polygon2> cut;
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const int a = loop[k], b = loop[(k + 1) % loop.size()];
+      const auto he = m_.find_halfedge(m_.vertex_handle(b), m_.vertex_handle(a));
+      if (!he.is_valid() || !m_.face_handle(he).is_valid()) continue;  // the mesh's boundary
+      const double fold = angle_between(n, quad_normal(m_.face_handle(he).idx()));
+      const double depth =
+          std::min(2 * h, std::max(-plain_offset(fold, h), -tooth_offsets(fold, h).slot));
+      if (!(depth > 0)) continue;
+      const Vec2 pa = poly[k], pb = poly[(k + 1) % poly.size()], e = pb - pa;
+      if (!(e.norm() > 0)) continue;
+      const Vec2 in = Vec2(-e.y(), e.x()).normalized() * depth;
+      Polygon2 rect = {pa - 1e-3 * in, pb - 1e-3 * in, pb + in, pa + in};
+      if (polygon_area(rect) < 0) std::reverse(rect.begin(), rect.end());
+      cut.push_back(std::move(rect));
+    }
+    if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+    return cut.empty() ? std::vector<Polygon2>{poly} : polygon_difference({poly}, cut);
+  }
+
+  Vec3 quad_normal(int q) const {
+    const auto v = quad_vertices(m_, m_.face_handle(q));
+    const Vec3 a = (corner(v[2]) - corner(v[0])).cross(corner(v[3]) - corner(v[1]));
+    return a.norm() > 0 ? Vec3(a.normalized()) : Vec3::Zero();
+  }
+
+  /// A facet a maker can handle once its borders are cut back: one piece, at least the
+  /// minimum part area, and somewhere as wide as the minimum part width.
+  bool big_enough(const std::set<int>& quads) const {
+    const auto left = cut_back_outline(quads);
+    double area = 0;
+    int pieces = 0;
+    for (const auto& p : left) {
+      area = std::max(area, std::abs(polygon_area(p)));
+      pieces += std::abs(polygon_area(p)) > 0.1 * r_.min_part_area ? 1 : 0;
+    }
+    if (pieces != 1 || area < r_.min_part_area) return false;
+    return !polygon_offset(left, -0.5 * r_.min_part_width).empty();
+  }
+
+  /// True when no more than a tenth of the facet lies in necks or tails narrower than a part
+  /// may be with a slot cut into each side: such a facet would fall apart when cut.
+  bool compact(const std::set<int>& quads) const {
+    const Polygon2 poly = plane_outline(quads);
+    const double r = 0.5 * r_.min_part_width + 0.5 * o_.material.thickness;
+    double kept = 0;
+    for (const auto& p : polygon_offset(polygon_offset({poly}, -r), r)) kept += polygon_area(p);
+    return kept >= 0.9 * polygon_area(poly);
+  }
+
+  /// The boundary loop of a disk of quads on its best-fit plane, counter-clockwise [mm].
+  Polygon2 plane_outline(const std::set<int>& quads) const {
+    const Plane pl = plane_of(quads);
+    Polygon2 poly;
+    for (int v : boundary_loop(quads))
+      poly.emplace_back((corner(v) - pl.mean).dot(pl.u), (corner(v) - pl.mean).dot(pl.w));
+    if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+    return poly;
+  }
+
+  /// Adjacent facets join while the joined one stays flat enough (fewer, larger parts).
+  bool consolidate_facets() {
+    auto& groups = accepted_.guidance.facets;
+    const double tolerance = r_.facet_flatness * in_.target_diagonal;
+    bool any = false;
+    for (bool joined = true; joined;) {
+      joined = false;
+      std::map<int, int> group_of;
+      for (std::size_t g = 0; g < groups.size(); ++g)
+        for (int q : groups[g]) group_of[q] = static_cast<int>(g);
+      double best = tolerance;
+      int ba = kNone, bb = kNone;
+      for (std::size_t a = 0; a < groups.size(); ++a)
+        for (int q : groups[a])
+          for (auto f : m_.ff_range(m_.face_handle(q))) {
+            const auto it = group_of.find(f.idx());
+            if (it == group_of.end() || it->second <= static_cast<int>(a)) continue;
+            std::set<int> merged(groups[a].begin(), groups[a].end());
+            merged.insert(groups[it->second].begin(), groups[it->second].end());
+            const double e = flatness(merged);
+            if (e <= best && plate(merged) && compact(merged))
+              best = e, ba = static_cast<int>(a), bb = it->second;
+          }
+      if (ba == kNone) break;
+      groups[ba].insert(groups[ba].end(), groups[bb].begin(), groups[bb].end());
+      groups.erase(groups.begin() + bb);
+      joined = any = true;
+    }
+    return any;
+  }
+
+  /// Local distances, sizes per material, counts after.
+  void finish() {
+    out_.added = accepted_.guidance;
+    out_.critical_after = static_cast<int>(build_.kerf.critical.size());
+    out_.parts_after = static_cast<int>(build_.flat.strips.patches.size());
+    out_.minutes_after = build_.kerf.cutting.minutes;
+    const Strips& s = build_.flat.strips;
+    std::vector<std::vector<int>> faces_of(m_.n_faces());
+    for (std::size_t f = 0; f < s.face_quad.size(); ++f)
+      if (s.face_patch[f] != kNone) faces_of[s.face_quad[f]].push_back(static_cast<int>(f));
+    for (RegionChange& c : out_.changes) {
+      std::set<int> vertices;
+      for (int q : c.quads)
+        for (int f : faces_of[q])
+          for (int v : s.faces[f]) vertices.insert(v);
+      for (int v : vertices)
+        c.local_distance = std::max(c.local_distance, in_.surface.closest(s.vertices[v]).distance);
+    }
+    // Sizes from the first build's tightest bend: the shape as laid out before any change.
+    const double d = o_.kerf.min_cut_spacing;
+    out_.min_size_mm = bend_scale(tightest_bend_, o_.material, d) * out_.current_size_mm;
+    for (const Material& m : sheet_presets())
+      out_.materials.push_back(
+          {m.name, m.thickness, bend_scale(tightest_bend_, m, d) * out_.current_size_mm});
+  }
+};
+
+}  // namespace
+
+PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const Guidance& g,
+                       const BendingResult* reuse) {
+  PartsBuild b;
+  if (reuse) {
+    b.bending = *reuse;
+  } else {
+    BendingOptions bending = o.bending;
+    bending.guidance.insert(bending.guidance.end(), g.edges.begin(), g.edges.end());
+    b.bending = choose_bending_edges(input.quads, input.surface, bending);
+  }
+  StripsOptions strips = o.strips;
+  strips.split_edges.insert(strips.split_edges.end(), g.split.begin(), g.split.end());
+  strips.merge_edges.insert(strips.merge_edges.end(), g.merge.begin(), g.merge.end());
+  strips.facets.insert(strips.facets.end(), g.facets.begin(), g.facets.end());
+  b.strips = build_strips(input.quads, b.bending, input.surface, strips);
+  b.flat = flatten_cuttable(b.strips, o.flatten, o.usable, o.deformation_spacing);
+  b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints);
+  b.kerf =
+      place_kerf_cuts(b.flat.strips, b.flat.flattening, b.joints, o.material, o.machine, o.kerf);
+  return b;
+}
+
+ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& input,
+                                       const PartsOptions& options, const ResolveOptions& resolve) {
+  if (resolve.max_rounds < 1) throw InvalidInput("resolve: max_rounds must be >= 1");
+  return Resolver(build, input, options, resolve).run();
+}
+
+}  // namespace kerfab

@@ -1,0 +1,113 @@
+#pragma once
+/// \file Buildable by construction: the loop that removes critical kerf regions (stretches the
+/// laser cannot make bendable enough in the chosen material) by changing the layout where they
+/// are, then rebuilding. The paper leaves these to the user (its limitation 4.1); here each
+/// region escalates through the least costly changes that apply, in this order:
+///   1. split the strip at the sharpest fold between two of its quads there: a joint takes that
+///      fold (one more part, no loss of fidelity);
+///   2. merge the strip sideways with an aligned neighbour (paper Sec. 3.5): longer beams need
+///      fewer cuts; the inner rail moves onto the straight rulings (fidelity loss measured first
+///      and bounded);
+///   3. re-solve the bending program with the region's bending edges forced stiff: the strips
+///      there turn the other way;
+///   4. planar facets: every edge of the region's quads stiff, split at every fold: flat parts
+///      joined by box joints.
+/// What no change resolves is reported with the smallest model size (and the thinnest material)
+/// at which it would need none.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kerfab/bending/bending.h"
+#include "kerfab/core/guidance.h"
+#include "kerfab/input/prepare.h"
+#include "kerfab/joints/joints.h"
+#include "kerfab/kerf/kerf.h"
+#include "kerfab/pipeline/cuttable_patches.h"
+#include "kerfab/strips/strips.h"
+
+namespace kerfab {
+
+struct ResolveOptions {
+  bool enabled = true;  ///< false: only report critical regions (the paper's behaviour)
+  int max_rounds = 16;  ///< rounds at most (each up to three rebuilds) [-], >= 1
+  double max_merge_deviation = 0.004;  ///< a merge may move inner rail vertices by at most this
+                                       ///< fraction of the target's bbox diagonal [-]
+  double facet_flatness = 0.0035;      ///< quads join one flat facet while their corners stay
+                                       ///< this close to its plane, as a fraction of the
+                                       ///< target's bbox diagonal [-]
+  double min_part_area = 50;           ///< parts smaller than this once cut are changed (a facet
+                                       ///< takes in its flattest neighbours until it is not)
+                                       ///< [mm^2]
+  double min_part_width = 3;           ///< parts nowhere this wide are changed too [mm]
+};
+
+/// Everything the loop rebuilds, as one consistent set.
+struct PartsBuild {
+  BendingResult bending;
+  Strips strips;
+  CuttablePatches flat;
+  Joints joints;
+  KerfResult kerf;
+};
+
+/// What the loop did to one critical region.
+struct RegionChange {
+  Vec3 centre;                ///< where on the model [mm]
+  std::vector<int> quads;     ///< quad-mesh faces of the region
+  std::string action;         ///< "split", "merge", "restiffen", "facets", or "unresolved"
+  double spacing = 0;         ///< the beam spacing the bend needed there before [mm]
+  double stress_ratio = 0;    ///< its largest beam stress over the allowed stress, before [-]
+  double size_factor = 1;     ///< the model scale at which the region would need no change [-]
+  double local_distance = 0;  ///< after the change: largest distance of the region's strip
+                              ///< vertices to the target [mm]
+  std::string reason;         ///< why an "unresolved" region stays: the bend or the part size
+};
+
+/// A material preset and the smallest model size at which none of the regions would need a
+/// change in it.
+struct MaterialSize {
+  std::string material;
+  double thickness = 0;  ///< [mm]
+  double size_mm = 0;    ///< smallest largest bbox side [mm]
+};
+
+struct ResolveResult {
+  int rounds = 0;             ///< rebuilds made
+  int critical_before = 0;    ///< critical regions of the first build
+  int critical_after = 0;     ///< left at the end (listed in kerf.critical)
+  int small_parts_after = 0;  ///< parts still too small or narrow to handle at the end
+  int parts_before = 0, parts_after = 0;
+  double minutes_before = 0, minutes_after = 0;  ///< estimated cutting time [min]
+  std::vector<RegionChange> changes;             ///< one per region changed or left unresolved
+  Guidance added;              ///< the guidance the loop added (stiff edges, splits, merges)
+  double current_size_mm = 0;  ///< the model's largest bbox side as run [mm]
+  double min_size_mm = 0;      ///< smallest size at which no region would need a change [mm]
+  std::vector<MaterialSize> materials;  ///< the same per material preset, thinnest first
+};
+
+/// The stage options the loop rebuilds with.
+struct PartsOptions {
+  BendingOptions bending;
+  StripsOptions strips;
+  FlattenOptions flatten;
+  LayoutOptions usable;              ///< the sheet less its margins (parts must fit)
+  double deformation_spacing = 1.0;  ///< sample spacing of the flattening's 3D check [mm]
+  Material material;
+  Machine machine;
+  JointOptions joints;
+  KerfOptions kerf;
+};
+
+/// Bending (forced edges of \p guidance added), strips (its splits and merges added),
+/// flattening until cuttable, joints and kerf cuts. \p reuse: a bending result to keep when
+/// \p guidance forces no edge beyond the options'.
+PartsBuild build_parts(const PreparedInput& input, const PartsOptions& options,
+                       const Guidance& guidance, const BendingResult* reuse = nullptr);
+
+/// Rebuilds with more guidance until no critical region remains or nothing more applies;
+/// \p build holds the first build (made with \p options) and is replaced by the final one.
+ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& input,
+                                       const PartsOptions& options, const ResolveOptions& resolve);
+
+}  // namespace kerfab
