@@ -12,6 +12,7 @@
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/pipeline/stages.h"
 #include "shapes.h"
+#include "sheet_audit.h"
 #include "test_util.h"
 
 namespace kerfab {
@@ -370,6 +371,72 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   for (const auto& part : parts["parts"]) {
     EXPECT_GE(part["cut"].size(), 4u);
     EXPECT_FALSE(part["repaired"].get<bool>());
+  }
+  // Buildable: every critical region resolved; the written sheets, read back by the
+  // independent auditor, have no cuts closer than the laser can make, none too short, and no
+  // engraving off its part. The one part still under 50 mm^2 is the one the report lists
+  // (Spot's snout: 12 quads of 6-18 mm^2 at 250 mm, no plate around them is big enough).
+  const auto& res = report["resolve"];
+  EXPECT_GT(res["critical_before"].get<int>(), 50);
+  EXPECT_EQ(res["critical_after"].get<int>(), 0);
+  EXPECT_EQ(report["kerf"]["critical"].size(), 0u);
+  EXPECT_LE(res["small_parts_after"].get<int>(), 1);
+  EXPECT_LT(report["quality"]["hausdorff_rel"].get<double>(), 0.01);
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_EQ(audit.parts, strips);
+  EXPECT_EQ(audit.close_cut_pairs, 0);
+  EXPECT_EQ(audit.short_cuts, 0);
+  EXPECT_EQ(audit.labels_off_part, 0);
+  EXPECT_EQ(audit.small_parts + audit.narrow_parts, res["small_parts_after"].get<int>());
+  EXPECT_LE(audit.thin_features, 1);
+}
+
+// Shapes too tight for the sheet at this size: the resolver makes every one buildable, and the
+// sheets as written (read back independently) have no defect at all; with --no-resolve the
+// same regions stay critical (warned about, cut at the minimum spacing).
+TEST(Cli, TooTightShapesAreResolvedIntoCleanSheets) {
+  const fs::path scratch = test::fresh_dir();
+  struct Case {
+    const char* name;
+    PolyMesh quads;
+    double size;
+  };
+  const Case cases[] = {{"sphere", test::sphere(40, 4).quads, 30},
+                        {"torus", test::torus(60, 20, 16, 8).quads, 50},
+                        {"ring", test::open_cylinder(12, 40, 12, 2).quads, 15}};
+  for (const Case& c : cases) {
+    const fs::path target = scratch / (std::string(c.name) + ".obj");
+    write_mesh(c.quads, target);
+    const std::string args =
+        "run --target " + target.string() + " --size " + std::to_string(c.size) + " --out ";
+    const fs::path out = scratch / c.name, before = scratch / (std::string(c.name) + "-paper");
+    const CliRun r = run_cli(args + out.string(), scratch);
+    ASSERT_EQ(r.exit_code, 0) << c.name << r.err;
+    const auto report = read_report(out);
+    const auto& res = report["resolve"];
+    EXPECT_GT(res["critical_before"].get<int>(), 0) << c.name;
+    EXPECT_EQ(res["critical_after"].get<int>(), 0) << c.name;
+    EXPECT_EQ(res["small_parts_after"].get<int>(), 0) << c.name;
+    EXPECT_GT(res["changes"].size(), 0u) << c.name;
+    for (const auto& change : res["changes"]) EXPECT_NE(change["action"], "unresolved");
+    // The size at which no change would be needed is larger than this one.
+    EXPECT_GT(res["min_size_mm"].get<double>(), c.size) << c.name;
+    EXPECT_EQ(report["flatten"]["inverted_quads"].get<int>(), 0) << c.name;
+    EXPECT_LT(report["flatten"]["max_angle_error_deg"].get<double>(), 20.0) << c.name;
+    EXPECT_EQ(report["joints"]["repaired_parts"].get<int>(), 0) << c.name;
+    EXPECT_TRUE(report["layout"]["unplaced"].empty()) << c.name;
+    const auto audit = test::audit_sheets(out / "cut");
+    EXPECT_EQ(audit.parts, report["resolve"]["parts_after"].get<int>()) << c.name;
+    EXPECT_TRUE(audit.clean()) << c.name << ": "
+                               << (audit.findings.empty() ? "" : audit.findings[0]);
+
+    const CliRun paper = run_cli(args + before.string() + " --no-resolve", scratch);
+    ASSERT_EQ(paper.exit_code, 0) << c.name << paper.err;
+    const auto kept = read_report(before);
+    EXPECT_EQ(kept["resolve"]["critical_after"], kept["resolve"]["critical_before"]);
+    EXPECT_EQ(kept["kerf"]["critical"].size(),
+              static_cast<std::size_t>(res["critical_before"].get<int>()));
+    EXPECT_NE(paper.err.find("remain critical"), std::string::npos) << paper.err;
   }
 }
 

@@ -281,6 +281,16 @@ TEST(Joints, RealMeshesHaveSoundOutlines) {
   }
 }
 
+// Two parts folded back onto each other (a collapsed strip end) would need an endless
+// cut-back: the joint is made as at 170 degrees, h/2 tan(85 deg) deep, never more.
+TEST(Joints, FoldsBackOntoEachOtherGetABoundedCutBack) {
+  const double h = 3.0, deepest = 0.5 * h * std::tan(85.0 * M_PI / 180.0);
+  EXPECT_NEAR(plain_offset(M_PI, h), -deepest, 1e-9);
+  EXPECT_NEAR(plain_offset(M_PI - 1e-12, h), -deepest, 1e-9);
+  EXPECT_NEAR(plain_offset(M_PI / 2, h), -0.5 * h, 1e-12);  // box corner: the mitre, unclamped
+  EXPECT_TRUE(std::isfinite(plain_offset(-M_PI, h)));
+}
+
 TEST(Joints, RejectsBadOptions) {
   const Case c = folded_sheet(90);
   Material thin;

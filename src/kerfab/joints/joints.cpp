@@ -214,7 +214,8 @@ class Builder {
   }
 
   ToothOffsets offsets_at(const Piece& piece, double s) const {
-    return tooth_offsets(std::max(piece.fold_at(s), 1e-6), thickness_, o_.protrusion, o_.max_tip);
+    return tooth_offsets(std::clamp(piece.fold_at(s), 1e-6, kMaxJointFold), thickness_,
+                         o_.protrusion, o_.max_tip);
   }
 
   /// Paper Fig. 6: every mated outline edge gets a band from its slot to its tip offset; where
@@ -627,7 +628,7 @@ class Builder {
 }  // namespace
 
 double plain_offset(double fold, double thickness) {
-  return -0.5 * thickness * std::tan(0.5 * std::min(std::abs(fold), M_PI - 1e-9));
+  return -0.5 * thickness * std::tan(0.5 * std::min(std::abs(fold), kMaxJointFold));
 }
 
 Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,

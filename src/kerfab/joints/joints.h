@@ -4,6 +4,7 @@
 /// (Clipper), interlocking teeth with a phase shared by both sides of a border, laser-kerf
 /// compensation, and each part's closed outline.
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -84,8 +85,13 @@ struct Joints {
 Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,
                    const Machine& machine, const JointOptions& options);
 
+/// Folds sharper than this are joined as if they were this sharp [rad]: two parts folded back
+/// onto each other (only where a strip's rail collapses to a point) would need a cut-back
+/// growing without bound; at 170 degrees it is h/2 tan(85 deg) = 5.7 h.
+inline constexpr double kMaxJointFold = 170.0 * M_PI / 180.0;
+
 /// Offset of both parts where a border has no teeth: the edges meet at the inner mitre point,
-/// -h/2 tan(|fold|/2) [mm]; never overlapping.
+/// -h/2 tan(min(|fold|, kMaxJointFold)/2) [mm]; never overlapping.
 double plain_offset(double fold, double thickness);
 
 }  // namespace kerfab

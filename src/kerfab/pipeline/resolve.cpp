@@ -194,6 +194,8 @@ class Resolver {
         }
         if (tried) {
           const std::set<int> still = critical_quads(*tried);
+          const Added before = accepted_;
+          const std::size_t recorded = out_.changes.size();
           std::size_t kept = 0;
           for (const auto& [region, own, remedy] : applied) {
             bool resolved = true;
@@ -210,13 +212,23 @@ class Resolver {
           if (kept == applied.size()) {
             build_ = std::move(*tried);
           } else if (kept > 0) {
-            build_ = rebuild(accepted_);
-            ++out_.rounds;
+            try {
+              build_ = rebuild(accepted_);
+              ++out_.rounds;
+            } catch (const InvalidInput&) {  // the kept ones contradict each other alone
+              accepted_ = before;
+              out_.changes.resize(recorded);
+              for (const auto& a : applied)
+                cheap_failed.insert(std::get<0>(a).quads.begin(), std::get<0>(a).quads.end());
+            }
           }
         }
         pending = current_regions();
       }
       // 2. Facets where nothing cheaper applies or it did not help.
+      const Added before = accepted_;
+      const std::size_t recorded = out_.changes.size();
+      std::set<int> tried;
       int made = 0;
       for (const Region& region : pending) {
         bool failed = false;
@@ -225,7 +237,11 @@ class Resolver {
         const bool cheap = apply(Remedy::kSplit, region, scratch, ignore) ||
                            apply(Remedy::kMerge, region, scratch, ignore);
         if (cheap && !failed) continue;  // its cheap remedy comes first, next round
+        bool given_up = true;
+        for (int q : region.quads) given_up = given_up && stuck_.count(q);
+        if (given_up) continue;
         Added own;
+        tried.insert(region.quads.begin(), region.quads.end());
         if (!facets(region, accepted_, own)) continue;
         record(region, remedy_name(Remedy::kFacets));
         ++made;
@@ -233,8 +249,17 @@ class Resolver {
       if (made == 0 && applied.empty()) break;
       if (made > 0) {
         consolidate_facets();
-        build_ = rebuild(accepted_);
-        ++out_.rounds;
+        try {
+          build_ = rebuild(accepted_);
+          ++out_.rounds;
+        } catch (const InvalidInput&) {
+          // The facets cut an earlier merge or split apart (the strips refuse the mix): this
+          // round's facets are taken back and their regions not tried again.
+          accepted_ = before;
+          out_.changes.resize(recorded);
+          stuck_.insert(tried.begin(), tried.end());
+          cheap_failed.insert(tried.begin(), tried.end());
+        }
       }
     }
     for (const CriticalRegion& c : build_.kerf.critical) {
