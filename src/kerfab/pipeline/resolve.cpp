@@ -29,12 +29,17 @@ struct Region {
 };
 
 /// Parts a maker cannot handle: less than \p min_area as cut, nowhere as wide as \p
-/// min_width (the outline shrunk by half of it is empty), or fallen apart when cut [mm^2, mm].
+/// min_width (the outline shrunk by half of it is empty), fallen apart when cut, or a facet
+/// that flattens inverted or crossing itself (its corners shared with other facets moved it
+/// off its plane) [mm^2, mm].
 std::vector<int> small_parts(const PartsBuild& b, double min_area, double min_width) {
   std::vector<int> out;
   for (std::size_t p = 0; p < b.joints.parts.size(); ++p) {
     const Polygon2& outline = b.joints.parts[p].designed;
-    if (b.joints.parts[p].repaired || outline.size() < 3 ||
+    const PatchFlattening& flat = b.flat.flattening.patches[p];
+    const bool bad_facet =
+        b.flat.strips.patches[p].flat && (flat.inverted_quads > 0 || !flat.outline_simple);
+    if (bad_facet || b.joints.parts[p].repaired || outline.size() < 3 ||
         std::abs(polygon_area(outline)) < min_area ||
         polygon_offset({outline}, -0.5 * min_width).empty())
       out.push_back(static_cast<int>(p));
@@ -280,9 +285,16 @@ class Resolver {
       const double area = outline.size() < 3 ? 0.0 : std::abs(polygon_area(outline));
       RegionChange& c = out_.changes.back();
       std::ostringstream why;
-      why << "part " << p << " is too small to handle (" << area << " mm^2 as cut";
-      if (build_.joints.parts[p].repaired) why << ", falls apart at its slots";
-      why << "; no flat plate around it is big enough)";
+      const PatchFlattening& flat = build_.flat.flattening.patches[p];
+      if (flat.inverted_quads > 0 || !flat.outline_simple) {
+        why << "facet " << p << " flattens "
+            << (flat.inverted_quads > 0 ? "with an inverted quad" : "crossing itself")
+            << " (its corners are shared with facets at other angles)";
+      } else {
+        why << "part " << p << " is too small to handle (" << area << " mm^2 as cut";
+        if (build_.joints.parts[p].repaired) why << ", falls apart at its slots";
+        why << "; no flat plate around it is big enough)";
+      }
       c.reason = why.str();
       c.size_factor =
           area > 0 ? std::max(1.0, std::sqrt(r_.min_part_area / area)) : 0.0;  // 0: unknown
