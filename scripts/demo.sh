@@ -3,6 +3,8 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/build.sh"
+# out/demo is the project's own folder: one written before kerfab marked its runs (.kerfab) goes.
+if [ -d "$root/out/demo" ] && [ ! -e "$root/out/demo/.kerfab" ]; then rm -rf "$root/out/demo"; fi
 "$root/build/kerfab" demo --out "$root/out/demo"
 # A picture of the chosen bending directions (bendable edges red).
 python3 "$root/scripts/render_bending.py" "$root/out/demo/stages/bending.json" \

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli_util.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/pipeline/stages.h"
 #include "shapes.h"
@@ -19,43 +20,10 @@ namespace kerfab {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct CliRun {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-CliRun run_cli(const std::string& args, const fs::path& scratch) {
-  const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
-  const std::string cmd = std::string(KERFAB_CLI) + " " + args + " >" + out.string() + " 2>" +
-                          err.string() + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  CliRun r;
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
-
-// The lines of stderr that are not progress lines ("[stage] ..." or indented details).
-std::vector<std::string> message_lines(const std::string& err) {
-  std::vector<std::string> lines;
-  std::istringstream in(err);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty() && line[0] != '[' && line.rfind("  ", 0) != 0) lines.push_back(line);
-  return lines;
-}
-
-nlohmann::json read_report(const fs::path& dir) {
-  return nlohmann::json::parse(std::ifstream(dir / "report.json"));
-}
+using test::CliRun;
+using test::message_lines;
+using test::read_report;
+using test::run_cli;
 
 // Optional extra check on the shared collection: every real mesh either loads and is summarised,
 // or fails with one clear line and exit code 1.

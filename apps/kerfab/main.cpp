@@ -1,7 +1,13 @@
 // kerfab command line: flags -> options, run the pipeline, write outputs, map errors to exit
 // codes (docs/outputs.md). No geometry here.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -17,6 +23,40 @@ namespace {
 namespace fs = std::filesystem;
 
 enum ExitCode { kOk = 0, kInvalid = 1, kIo = 2, kSolver = 3, kInternal = 4 };
+
+// SIGINT, SIGTERM, SIGHUP: stop at once. The run writes into a staging folder beside --out that
+// is put in place only when complete, so nothing partial reaches --out; the next run removes
+// the staging folder. Only async-signal-safe calls here.
+extern "C" void stop_on_signal(int signal) {
+  const char* text =
+      signal == SIGINT    ? "kerfab: error: interrupted (SIGINT); nothing partial was written\n"
+      : signal == SIGTERM ? "kerfab: error: terminated (SIGTERM); nothing partial was written\n"
+                          : "kerfab: error: hung up (SIGHUP); nothing partial was written\n";
+  (void)!::write(STDERR_FILENO, text, std::strlen(text));
+  ::_exit(128 + signal);
+}
+
+void stop_on_signals() {
+  struct sigaction action {};
+  action.sa_handler = stop_on_signal;
+  sigemptyset(&action.sa_mask);
+  for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaction(s, &action, nullptr);
+}
+
+// Every numeric value given on the command line must be finite: CLI11's range checks let "nan"
+// through (every comparison with it is false). Returns the message for the first that is not.
+std::optional<std::string> non_finite_option(const CLI::App& cmd) {
+  for (const CLI::Option* opt : cmd.get_options()) {
+    for (const std::string& value : opt->results()) {
+      const char* text = value.c_str();
+      char* end = nullptr;
+      const double x = std::strtod(text, &end);
+      if (end != text && *end == '\0' && !std::isfinite(x))
+        return opt->get_name() + " must be a finite number, got '" + value + "'";
+    }
+  }
+  return std::nullopt;
+}
 
 struct RunFlags {
   std::string target, quad, guidance, out;
@@ -35,13 +75,27 @@ struct RunFlags {
   kerfab::OutputOptions output;
 };
 
+// Range checks with a short message naming the limit (CLI11's own print the largest double).
+const CLI::Validator kPositive(
+    [](std::string& value) -> std::string {
+      const double x = std::strtod(value.c_str(), nullptr);
+      return x > 0 ? std::string() : "must be > 0, got " + value;
+    },
+    "> 0");
+const CLI::Validator kNonNegative(
+    [](std::string& value) -> std::string {
+      const double x = std::strtod(value.c_str(), nullptr);
+      return x >= 0 ? std::string() : "must be >= 0, got " + value;
+    },
+    ">= 0");
+
 void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
   auto& in = f.options.input;
   auto& b = f.options.bending;
   cmd.add_option("--size", f.size,
                  "Scale the model so its largest bounding-box side is this many mm [mm]; "
                  "without it, inputs are millimetres and must measure 10 mm .. 10 m")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option("--subdivide", in.subdivide,
                  "Catmull-Clark steps applied to the quad mesh first; any polygon mesh is all "
                  "quads after one [count, 0..4]")
@@ -51,12 +105,12 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "Refuse a quad mesh with a vertex farther from the target than this fraction of "
                  "the target's bbox diagonal [ratio]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option("--alignment", b.alignment,
                  "Alignment bias c: w0 = c * max edge weight is added to every edge weight; "
                  "larger c gives fewer, longer strips (paper Sec. 3.1) [ratio, >= 0]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--edge-samples", b.edge_samples,
                  "Signed-distance samples per quad edge for its weight (variance) [count, >= 2]")
       ->capture_default_str()
@@ -65,11 +119,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "Time limit of the bending integer program; the best selection found is used "
                  "and the report says so [s]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option("--ilp-gap", b.relative_gap,
                  "Accepted relative optimality gap of the bending integer program [ratio, >= 0]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   auto& st = f.options.strips;
   cmd.add_option("--rulings-per-quad", st.rulings_per_quad,
                  "Segments each bending edge of a quad is split into, i.e. new rulings + 1 "
@@ -80,7 +134,7 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "Largest distance between rulings along a bending edge; a long edge gets more "
                  "segments than --rulings-per-quad (the larger count wins) [mm]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option("--projection", f.projection,
                  "How new vertices reach the target: along the normal (ray, closest point as "
                  "fallback) or to the closest point [normal|closest]")
@@ -111,13 +165,13 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->capture_default_str()
       ->check(CLI::IsMember({"mdf", "mdf2", "plywood", "plywood3", "paper"}));
   cmd.add_option("--thickness", f.thickness, "Sheet thickness h, overrides the material's [mm]")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--shear-modulus", f.shear_modulus,
                  "Shear modulus G, overrides the material's [MPa]")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option("--yield-strength", f.yield_strength,
                  "Shear yield strength tau, overrides the material's [MPa]")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option(
          "--safety", f.safety,
          "Safety factor dividing the yield strength, overrides the material's [ratio, >= 1]")
@@ -126,39 +180,39 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "How far a box-joint tooth may stick out of the shell between the surface "
                  "offsets +-h/2 [mm]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--tooth-width", jo.tooth_width, "Width of box-joint teeth along the border [mm]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option("--min-tooth-depth", jo.min_depth,
                  "No teeth where the tooth would overlap its slot by less than this [mm]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--kerf-width", f.options.machine.kerf_width,
                  "Width of the laser cut; outlines are offset by half of it so parts fit as "
                  "designed [mm]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--min-cut-spacing", ko.min_cut_spacing,
                  "Kerf cuts closer than this are a critical region (reported, shown red in "
                  "model/kerf_density.ply) [mm]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option("--min-cut-length", ko.min_cut_length,
                  "Kerf cuts shorter than this are not made [mm]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option("--bridge", ko.bridge, "Material left at alternating ends of each kerf cut [mm]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--kerf-margin", ko.margin,
                  "Kerf cuts keep this far from the part outline and its joints [mm]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--kerf-smoothing", ko.smoothing,
                  "Width of the tent kernel averaging the twist rate along a strip; default: twice "
                  "the target's facet size (median sqrt(2 area) of its triangles) [mm]")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--constant-density", f.constant_density,
                  "Instead of the adaptive density: this many kerf cuts per quad of the quad mesh "
                  "(the paper's baseline) [count]")
@@ -166,11 +220,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--cut-speed", f.options.machine.speed,
                  "Laser cutting speed for the time estimate [mm/s]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   cmd.add_option("--per-cut-time", f.options.machine.per_cut,
                  "Overhead per separate cut path (pierce, travel) for the time estimate [s]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--sheet", f.sheet, "Sheet size WxH of the laser bed or stock, e.g. 600x450 [mm]")
       ->capture_default_str();
   cmd.add_option("--format", f.format,
@@ -180,7 +234,7 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "Line width of cut and engrave lines in the SVG and PDF sheets; the default "
                  "hairline is what laser drivers expect [mm]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   const auto colour = CLI::Validator(
       [](std::string& c) {
         const bool ok = c.size() == 7 && c[0] == '#' &&
@@ -197,10 +251,10 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->check(colour);
   cmd.add_option("--margin", f.options.layout.margin, "Free border along each sheet edge [mm]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--spacing", f.options.layout.spacing, "Gap between parts on a sheet [mm]")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   cmd.add_option("--quality-spacing", f.options.quality_sample_spacing,
                  "Distance-sample spacing for the Hausdorff and mean distance, as a fraction of "
                  "the target's bbox diagonal [ratio]")
@@ -242,9 +296,10 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     double w = 0, h = 0;
     char x = 0, rest = 0;
     if (std::sscanf(f.sheet.c_str(), "%lf%c%lf%c", &w, &x, &h, &rest) != 3 ||
-        (x != 'x' && x != 'X') || !(w > 0) || !(h > 0)) {
-      std::cerr << "kerfab: error: --sheet must be WxH in mm, e.g. 600x450, got '" << f.sheet
-                << "'\n";
+        (x != 'x' && x != 'X') || !(w > 0) || !(h > 0) || !(w <= 10000) || !(h <= 10000)) {
+      std::cerr << "kerfab: error: --sheet must be WxH in mm, each side in (0, 10000], e.g. "
+                   "600x450, got '"
+                << kerfab::one_line(f.sheet) << "'\n";
       return kInvalid;
     }
     options.layout.sheet_width = w;
@@ -272,23 +327,26 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   options.strips.projection =
       f.projection == "closest" ? kerfab::Projection::kClosest : kerfab::Projection::kNormal;
   if (!f.stop_after.empty()) options.stop_after = f.stop_after;
-  bool dir_ready = false;
+  std::optional<kerfab::OutputFolder> folder;
   auto fail = [&](int code, const char* kind, const std::string& message) {
-    std::cerr << "kerfab: error: " << message << "\n";
-    if (dir_ready) kerfab::write_failure(out, code, kind, message);
+    std::cerr << "kerfab: error: " << kerfab::one_line(message);
+    if (folder && !folder->fail(code, kind, message))
+      std::cerr << " (" << kerfab::one_line(folder->dir().string()) << " is as it was)";
+    std::cerr << "\n";
     return code;
   };
   try {
-    kerfab::prepare_output_dir(out);
-    dir_ready = true;
+    folder.emplace(out);
     kerfab::Progress progress;
     if (!f.quiet) progress = [](std::string_view line) { std::cerr << line << "\n"; };
     const kerfab::RunResult result = kerfab::run_pipeline(inputs, options, progress);
-    kerfab::write_run(result, output, out);
+    kerfab::write_run(result, output, folder->staging());
+    folder->commit();
     for (const auto& w : result.warnings) std::cerr << "kerfab: warning: " << w << "\n";
     if (!f.quiet)
       std::cerr << "done in " << result.total_seconds
-                << " s; report: " << (out / "report.json").string() << "\n";
+                << " s; report: " << kerfab::one_line((folder->dir() / "report.json").string())
+                << "\n";
     return kOk;
   } catch (const kerfab::InvalidInput& e) {
     return fail(kInvalid, "invalid_input", e.what());
@@ -296,6 +354,9 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     return fail(kIo, "io", e.what());
   } catch (const kerfab::SolverError& e) {
     return fail(kSolver, "solver", e.what());
+  } catch (const std::bad_alloc&) {
+    return fail(kInvalid, "invalid_input",
+                "out of memory: the input or the options ask for more than this machine has");
   } catch (const std::exception& e) {
     return fail(kInternal, "internal", std::string("internal error: ") + e.what());
   }
@@ -337,9 +398,20 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? kOk : kInvalid;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    std::string message = e.what();
+    if (message.empty()) message = "no subcommand given (run or demo; see kerfab --help)";
+    std::cerr << "kerfab: error: " << kerfab::one_line(message) << " (see kerfab --help)\n";
+    return kInvalid;
   }
+  for (const CLI::App* cmd :
+       {static_cast<const CLI::App*>(run_cmd), static_cast<const CLI::App*>(demo_cmd)})
+    if (*cmd)
+      if (const auto message = non_finite_option(*cmd)) {
+        std::cerr << "kerfab: error: " << kerfab::one_line(*message) << "\n";
+        return kInvalid;
+      }
+  stop_on_signals();
 
   if (*run_cmd) {
     kerfab::RunInputs inputs{.target = run_flags.target};

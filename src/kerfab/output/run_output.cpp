@@ -1,7 +1,20 @@
 #include "kerfab/output/run_output.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
 
 #include "kerfab/core/errors.h"
 #include "kerfab/io/mesh_io.h"
@@ -15,9 +28,6 @@
 namespace kerfab {
 namespace fs = std::filesystem;
 namespace {
-
-// Everything a run may write; only these are ever removed.
-const char* const kOutputs[] = {"report.json", "report.json.tmp", "model", "stages", "cut"};
 
 void write_json(const std::string& text, const fs::path& path) {
   const fs::path tmp = path.string() + ".tmp";
@@ -38,21 +48,226 @@ void make_dirs(const fs::path& dir) {
   if (ec) throw IoError("cannot create directory " + dir.string() + ": " + ec.message());
 }
 
+/// Absolute, normalised, without a trailing separator.
+fs::path normalised(const fs::path& dir) {
+  fs::path p = fs::absolute(dir).lexically_normal();
+  if (p.filename().empty()) p = p.parent_path();
+  return p;
+}
+
+/// Files (and symbolic links) under \p root, relative to it, without the marker.
+std::vector<std::string> files_under(const fs::path& root) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec)) {
+    const auto status = it->symlink_status(ec);
+    if (ec || fs::is_directory(status)) continue;
+    const std::string rel = fs::relative(it->path(), root, ec).generic_string();
+    if (!ec && rel != kRunMarker) out.push_back(rel);
+  }
+  if (ec) throw IoError("cannot list " + root.string() + ": " + ec.message());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// The files an earlier run wrote, from its marker (empty if it has none or it is unreadable).
+std::set<std::string> manifest(const fs::path& dir) {
+  std::set<std::string> out;
+  std::ifstream in(dir / kRunMarker);
+  if (!in) return out;
+  try {
+    const auto doc = nlohmann::json::parse(in);
+    for (const auto& f : doc.at("files")) out.insert(f.get<std::string>());
+  } catch (const nlohmann::json::exception&) {
+  }
+  return out;
+}
+
+void write_marker(const fs::path& dir, const std::vector<std::string>& files) {
+  write_json(nlohmann::json{{"kerfab_output", 1}, {"files", files}}.dump(1) + "\n",
+             dir / kRunMarker);
+}
+
+/// Blocks the signals that end a run, for as long as it lives.
+class SignalsBlocked {
+ public:
+  SignalsBlocked() {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int s : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaddset(&set, s);
+    pthread_sigmask(SIG_BLOCK, &set, &old_);
+  }
+  ~SignalsBlocked() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+
+ private:
+  sigset_t old_;
+};
+
 }  // namespace
 
-void prepare_output_dir(const fs::path& dir) {
-  std::error_code ec;
-  if (fs::exists(dir, ec)) {
-    if (!fs::is_directory(dir, ec))
-      throw IoError("output path is not a directory: " + dir.string());
-    const bool empty = fs::is_empty(dir, ec);
-    if (!empty && !fs::exists(dir / "report.json", ec))
-      throw IoError("output directory " + dir.string() +
-                    " is not empty and holds no kerfab report.json; choose another --out");
-    for (const char* name : kOutputs) fs::remove_all(dir / name, ec);
-    if (ec) throw IoError("cannot clear old outputs in " + dir.string() + ": " + ec.message());
+std::string one_line(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '\n') {
+      out += "\\n";
+    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", static_cast<unsigned char>(c));
+      out += buf;
+    } else {
+      out += c;
+    }
   }
-  make_dirs(dir);
+  return out;
+}
+
+OutputFolder::OutputFolder(const fs::path& dir) : dir_(normalised(dir)) {
+  const fs::path parent = dir_.parent_path();
+  const std::string name = dir_.filename().string();
+  make_dirs(parent);
+  // One run at a time: an advisory lock on a file beside DIR (released by the kernel when a
+  // run dies, so a killed run never blocks the next one).
+  lock_ = parent / ("." + name + ".kerfab-lock");
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    lock_fd_ = ::open(lock_.c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+    if (lock_fd_ < 0)
+      throw IoError("cannot create the lock " + lock_.string() + ": " + std::strerror(errno));
+    if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+      char pid[32] = {0};
+      const ssize_t n = ::pread(lock_fd_, pid, sizeof pid - 1, 0);
+      ::close(lock_fd_);
+      lock_fd_ = -1;
+      throw IoError(
+          "another kerfab run" +
+          (n > 0 ? std::string(" (pid ") + std::string(pid, static_cast<std::size_t>(n)) + ")"
+                 : std::string()) +
+          " is writing " + dir_.string() + "; wait for it or choose another --out");
+    }
+    // The lock file may have been removed by the run that held it just before: lock the file
+    // that is there now.
+    struct stat held {
+    }, now{};
+    if (::fstat(lock_fd_, &held) == 0 && ::stat(lock_.c_str(), &now) == 0 &&
+        held.st_ino == now.st_ino && held.st_dev == now.st_dev)
+      break;
+    ::close(lock_fd_);
+    lock_fd_ = -1;
+  }
+  if (lock_fd_ < 0) throw IoError("cannot lock " + lock_.string());
+  const std::string pid = std::to_string(::getpid());
+  if (::ftruncate(lock_fd_, 0) == 0) (void)!::pwrite(lock_fd_, pid.data(), pid.size(), 0);
+  try {
+    prepare(pid);
+  } catch (...) {
+    ::unlink(lock_.c_str());  // no destructor runs for a constructor that throws
+    ::close(lock_fd_);
+    throw;
+  }
+}
+
+void OutputFolder::prepare(const std::string& pid) {
+  const std::string name = dir_.filename().string();
+  const fs::path parent = dir_.parent_path();
+  std::error_code ec;
+  if (fs::exists(dir_, ec)) {
+    if (!fs::is_directory(dir_, ec))
+      throw IoError("output path is not a directory: " + dir_.string());
+    if (!fs::is_empty(dir_, ec)) {
+      if (!fs::exists(dir_ / kRunMarker, ec))
+        throw IoError("output directory " + dir_.string() +
+                      " is not empty and holds no earlier kerfab run (no " + kRunMarker +
+                      " marker); choose another --out");
+      had_run_ = true;
+    }
+  }
+  // Staging folders of runs that were killed (this run holds the lock: none is in use).
+  const std::string prefix = "." + name + ".kerfab-tmp-";
+  for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec))
+    if (it->path().filename().string().rfind(prefix, 0) == 0) {
+      std::error_code ignore;
+      fs::remove_all(it->path(), ignore);
+    }
+  staging_ = parent / (prefix + pid);
+  fs::create_directory(staging_, ec);
+  if (ec)
+    throw IoError("cannot create the staging folder " + staging_.string() + ": " + ec.message());
+}
+
+OutputFolder::~OutputFolder() {
+  std::error_code ec;
+  if (!committed_) fs::remove_all(staging_, ec);
+  if (lock_fd_ >= 0) {
+    ::unlink(lock_.c_str());  // while still holding it (see the constructor)
+    ::close(lock_fd_);
+  }
+}
+
+void OutputFolder::commit() {
+  const SignalsBlocked blocked;
+  std::error_code ec;
+  const std::vector<std::string> written = files_under(staging_);
+  if (fs::exists(dir_, ec)) {
+    // A user's own files in the earlier run's folder come along (hard links: the earlier
+    // folder keeps them until the exchange is done).
+    const std::set<std::string> earlier = manifest(dir_);
+    for (const std::string& f : files_under(dir_)) {
+      if (earlier.count(f)) continue;
+      const fs::path from = dir_ / f, to = staging_ / f;
+      if (fs::exists(fs::symlink_status(to, ec)))
+        throw IoError(from.string() +
+                      " is not kerfab's and this run writes a file of that name; "
+                      "move it and run again (" +
+                      dir_.string() + " is unchanged)");
+      make_dirs(to.parent_path());
+      fs::create_hard_link(from, to, ec);
+      if (ec) {
+        ec.clear();
+        fs::copy(from, to, fs::copy_options::copy_symlinks, ec);
+      }
+      if (ec)
+        throw IoError("cannot carry over " + from.string() + ": " + ec.message() + " (" +
+                      dir_.string() + " is unchanged)");
+    }
+    write_marker(staging_, written);
+    if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, dir_.c_str(), RENAME_EXCHANGE) != 0) {
+      // No atomic exchange on this file system: move the old folder aside, then back on failure.
+      const fs::path aside = staging_.string() + "-old";
+      fs::rename(dir_, aside, ec);
+      if (ec) throw IoError("cannot replace " + dir_.string() + ": " + ec.message());
+      fs::rename(staging_, dir_, ec);
+      if (ec) {
+        std::error_code back;
+        fs::rename(aside, dir_, back);
+        throw IoError("cannot replace " + dir_.string() + ": " + ec.message());
+      }
+      fs::remove_all(aside, ec);
+    } else {
+      fs::remove_all(staging_, ec);  // now the earlier run
+    }
+  } else {
+    write_marker(staging_, written);
+    fs::rename(staging_, dir_, ec);
+    if (ec) throw IoError("cannot create " + dir_.string() + ": " + ec.message());
+  }
+  committed_ = true;
+}
+
+bool OutputFolder::fail(int exit_code, const std::string& kind,
+                        const std::string& message) noexcept {
+  try {
+    std::error_code ec;
+    fs::remove_all(staging_, ec);
+    committed_ = true;  // nothing left to remove
+    if (had_run_) return false;
+    if (fs::exists(dir_, ec) && !fs::is_empty(dir_, ec)) return false;
+    fs::create_directories(dir_, ec);
+    if (ec) return false;
+    write_json(failure_report_json(exit_code, kind, message), dir_ / "report.json");
+    write_marker(dir_, {"report.json"});
+    return true;
+  } catch (...) {
+    return false;
+  }
 }
 
 void write_run(const RunResult& run, const OutputOptions& output, const fs::path& dir) {
@@ -90,17 +305,6 @@ void write_run(const RunResult& run, const OutputOptions& output, const fs::path
     write_assembly_page(run, dir / "cut");
   }
   write_json(report_json(run, output), dir / "report.json");
-}
-
-void write_failure(const fs::path& dir, int exit_code, const std::string& kind,
-                   const std::string& message) noexcept {
-  try {
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) return;
-    for (const char* name : kOutputs) fs::remove_all(dir / name, ec);
-    write_json(failure_report_json(exit_code, kind, message), dir / "report.json");
-  } catch (...) {
-  }
 }
 
 }  // namespace kerfab
