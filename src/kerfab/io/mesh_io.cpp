@@ -2,9 +2,14 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/System/omstream.hh>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <vector>
 
 #include "kerfab/core/errors.h"
 
@@ -44,6 +49,124 @@ class OpenMeshLogCapture {
   std::ostringstream log_;
 };
 
+/// The element counts an OFF or PLY header promises, and binary STL's triangle count, checked
+/// against the file's size before the reader allocates for them: a header claiming billions of
+/// elements in a small file is refused, not followed into the allocator. Every vertex takes at
+/// least 3 bytes and every face at least 1 in any of these encodings (50 bytes per binary STL
+/// triangle). \throw InvalidInput a count the file cannot hold.
+void check_header_counts(const std::filesystem::path& path, const std::string& ext) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec) return;
+  const std::string name = path.string();
+  auto refuse = [&](const std::string& what, unsigned long long count) {
+    throw InvalidInput("mesh header promises " + std::to_string(count) + " " + what +
+                       " but the file has only " + std::to_string(size) + " bytes: " + name);
+  };
+  std::ifstream in(path, std::ios::binary);
+  if (ext == ".stl") {
+    char head[84];
+    if (!in.read(head, 84)) return;
+    if (std::string(head, 5) == "solid") return;  // ASCII: no count
+    std::uint32_t n = 0;
+    std::memcpy(&n, head + 80, 4);
+    if (84ULL + 50ULL * n > size) refuse("triangles", n);
+    return;
+  }
+  auto check = [&](const std::string& element, unsigned long long n) {
+    if (element == "vertex" || element == "vertices") {
+      if (n > size / 3) refuse("vertices", n);
+    } else if (n > size) {
+      refuse(element + " elements", n);
+    }
+  };
+  if (ext == ".off") {
+    std::string word;
+    if (!(in >> word) || word.find("OFF") == std::string::npos) return;
+    if (word.find('4') != std::string::npos || word.find('n') != std::string::npos) return;
+    std::string token;
+    std::vector<unsigned long long> counts;
+    while (counts.size() < 2 && in >> token) {
+      if (token[0] == '#') {
+        std::getline(in, token);
+        continue;
+      }
+      if (token == "BINARY") continue;
+      const char* text = token.c_str();
+      char* end = nullptr;
+      if (token[0] == '-') throw InvalidInput("OFF header has a negative count: " + name);
+      counts.push_back(std::strtoull(text, &end, 10));
+      if (*end != '\0') return;  // not a count: the reader will say so
+    }
+    if (counts.size() == 2) {
+      check("vertex", counts[0]);
+      check("face", counts[1]);
+    }
+    return;
+  }
+  if (ext == ".ply") {
+    std::string line;
+    for (int lines = 0; lines < 1000 && std::getline(in, line); ++lines) {
+      if (line.rfind("end_header", 0) == 0) break;
+      std::istringstream words(line);
+      std::string keyword, element, count;
+      if (!(words >> keyword >> element >> count) || keyword != "element") continue;
+      if (count[0] == '-') throw InvalidInput("PLY header has a negative count: " + name);
+      char* end = nullptr;
+      const unsigned long long n = std::strtoull(count.c_str(), &end, 10);
+      if (*end == '\0') check(element, n);
+    }
+  }
+}
+
+/// An ASCII mesh with a "nan" or "inf" number: the readers stop there and report a mesh without
+/// faces, so the line is named here instead. \throw InvalidInput such a number.
+void check_ascii_numbers(const std::filesystem::path& path, const std::string& ext) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line)) return;
+  const bool ascii = ext == ".obj" || (ext == ".stl" && line.rfind("solid", 0) == 0) ||
+                     (ext == ".off" && line.find("BINARY") == std::string::npos) || ext == ".ply";
+  if (!ascii) return;
+  bool ply_ascii = false, in_body = ext != ".ply";
+  for (long long number = 1;; ++number) {
+    std::istringstream words(line);
+    std::string first;
+    words >> first;
+    if (ext == ".ply" && first == "format") ply_ascii = line.find("ascii") != std::string::npos;
+    if (ext == ".ply" && first == "end_header") {
+      if (!ply_ascii) return;
+      in_body = true;
+    }
+    // Only numbers: OBJ vertex lines, STL vertex and normal lines, OFF and PLY bodies.
+    const bool numbers = ext == ".obj"   ? first == "v" || first == "vn" || first == "vt"
+                         : ext == ".stl" ? first == "vertex" || first == "facet"
+                         : ext == ".off" ? !first.empty() && first[0] != '#'
+                                         : in_body && first != "end_header";
+    if (ext == ".obj" && first == "f") {  // the reader would drop a repeated corner silently
+      std::vector<std::string> corners;
+      for (std::string word; words >> word;) corners.push_back(word.substr(0, word.find('/')));
+      for (std::size_t i = 0; i < corners.size(); ++i)
+        for (std::size_t j = i + 1; j < corners.size(); ++j)
+          if (corners[i] == corners[j])
+            throw InvalidInput("mesh line " + std::to_string(number) + ": a face repeats vertex " +
+                               corners[i] + ": " + path.string());
+    }
+    if (ext != ".obj" && ext != ".stl" && numbers) words.seekg(0);
+    for (std::string word; numbers && words >> word;) {
+      std::string lower;
+      for (char c : word) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      const std::size_t at = lower.find_first_not_of("+-");
+      if (at == std::string::npos) continue;
+      const std::string bare = lower.substr(at);
+      if (bare == "nan" || bare.rfind("nan(", 0) == 0 || bare == "inf" || bare == "infinity")
+        throw InvalidInput("mesh line " + std::to_string(number) + " has a non-finite number '" +
+                           word + "': " + path.string());
+    }
+    if (!std::getline(in, line)) return;
+  }
+}
+
 int count_occurrences(const std::string& text, const std::string& needle) {
   int n = 0;
   for (auto pos = text.find(needle); pos != std::string::npos; pos = text.find(needle, pos + 1))
@@ -58,6 +181,8 @@ PolyMesh read_mesh(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw IoError("mesh file not found: " + name);
   if (std::filesystem::is_directory(path, ec)) throw IoError("mesh path is a directory: " + name);
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw IoError("mesh path is not a regular file (a FIFO, device or socket): " + name);
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw IoError("mesh file cannot be opened: " + name);
@@ -67,6 +192,9 @@ PolyMesh read_mesh(const std::filesystem::path& path) {
   for (char c : ext) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (lower != ".obj" && lower != ".off" && lower != ".ply" && lower != ".stl")
     throw IoError("unsupported mesh format '" + ext + "' (use .obj, .off, .ply or .stl): " + name);
+
+  check_header_counts(path, lower);
+  check_ascii_numbers(path, lower);
 
   PolyMesh mesh;
   std::string log;
@@ -81,7 +209,12 @@ PolyMesh read_mesh(const std::filesystem::path& path) {
     std::string reason = log.substr(0, log.find('\n'));
     throw IoError("cannot read mesh " + name + (reason.empty() ? "" : ": " + reason));
   }
-  if (mesh.n_faces() == 0) throw InvalidInput("mesh has no faces: " + name);
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+      throw InvalidInput("mesh vertex " + std::to_string(v.idx()) +
+                         " has a non-finite coordinate (nan or inf): " + name);
+  }
 
   const int repeated = count_occurrences(log, "equal vertices");
   const int invalid = count_occurrences(log, "invalid vertex index");
@@ -91,6 +224,7 @@ PolyMesh read_mesh(const std::filesystem::path& path) {
   if (invalid > 0)
     throw InvalidInput("mesh has " + std::to_string(invalid) +
                        " face(s) with an out-of-range vertex index: " + name);
+  if (mesh.n_faces() == 0) throw InvalidInput("mesh has no faces: " + name);
   std::size_t nonmanifold = 0;
   for (auto f : mesh.faces())
     if (mesh.status(f).fixed_nonmanifold()) ++nonmanifold;

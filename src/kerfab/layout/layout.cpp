@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 
 #include "kerfab/core/errors.h"
 
@@ -279,6 +280,22 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     if (!placed) result.unplaced.push_back(i);
   }
   result.sheets = static_cast<int>(sheets.size());
+  if (result.sheets == 0 && n > 0) {
+    // Nothing fits: the sheet is the problem, not the parts. Say what would fit the smallest.
+    double need = 1e300;
+    for (const Polygon2& part : outlines) {
+      if (part.size() < 3) continue;
+      const MinRect r = min_area_rect(part);
+      need = std::min(need, std::min(r.width, r.height));
+    }
+    std::ostringstream os;
+    os << "no part fits a " << o.sheet_width << " x " << o.sheet_height << " mm sheet with "
+       << o.margin << " mm margins";
+    if (need < 1e300)
+      os << " (the narrowest part is " << std::ceil(need) << " mm wide, teeth included)";
+    os << "; use a larger --sheet";
+    throw InvalidInput(os.str());
+  }
   double total = 0;
   for (int i = 0; i < n; ++i)
     if (result.placements[i].sheet >= 0) total += area[i];

@@ -84,10 +84,12 @@ void write_sheet_previews(const RunResult& run, const SheetStyle& style,
   const int pw = static_cast<int>(std::ceil(w * pixels_per_mm));
   const int ph = static_cast<int>(std::ceil(h * pixels_per_mm));
   const int sheets = run.layout->sheets;
-  // Contact sheet: up to three sheets per row, each 500 px wide.
-  const int columns = std::max(1, std::min(3, sheets));
+  // Contact sheet: about as many columns as rows, each sheet 500 px wide up to three columns,
+  // smaller beyond, so that hundreds of sheets still make a picture of a few thousand pixels.
+  const int columns =
+      std::max(1, std::max(std::min(3, sheets), static_cast<int>(std::ceil(std::sqrt(sheets)))));
   const int rows = std::max(1, (sheets + columns - 1) / columns);
-  const double thumb = 500.0 / w;  // pixels per mm in the contact sheet
+  const double thumb = std::min(500.0, 3000.0 / columns) / w;  // pixels per mm in the contact sheet
   const int tw = static_cast<int>(std::ceil(w * thumb)),
             th = static_cast<int>(std::ceil(h * thumb));
   cairo_surface_t* contact = cairo_image_surface_create(
@@ -130,6 +132,8 @@ void write_sheet_previews(const RunResult& run, const SheetStyle& style,
     cairo_restore(cc);
   }
   cairo_destroy(cc);
+  std::error_code ec;
+  std::filesystem::create_directories(cut_dir, ec);
   const auto path = cut_dir / "contact-sheet.png";
   check(cairo_surface_write_to_png(contact, path.c_str()), path.string());
   cairo_surface_destroy(contact);

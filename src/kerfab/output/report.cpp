@@ -29,9 +29,22 @@ std::string report_json(const RunResult& run, const OutputOptions& output) {
     r["layout"] = report::layout_section(*run.layout, run.options.layout, output.formats,
                                          run.flat->oversize_splits);
   if (run.quality) r["quality"] = report::quality_section(*run.quality, diagonal);
+  // A run that dropped geometry does not call itself ok: pieces of parts that fell apart, parts
+  // that fit no sheet.
+  json incomplete = json::array();
+  if (run.joints && run.joints->repaired_parts > 0)
+    incomplete.push_back(std::to_string(run.joints->repaired_parts) +
+                         " parts fell apart when cut; only their largest piece is kept");
+  if (run.layout && !run.layout->unplaced.empty())
+    incomplete.push_back(std::to_string(run.layout->unplaced.size()) +
+                         " parts fit no sheet and are missing from cut/");
+  if (!incomplete.empty()) {
+    r["status"] = "incomplete";
+    r["incomplete"] = incomplete;
+  }
   r["timings_s"] = report::timings_section(run.timings, run.total_seconds);
   r["warnings"] = run.warnings;
-  return r.dump(2) + "\n";
+  return r.dump(2, ' ', false, json::error_handler_t::replace) + "\n";  // paths need not be UTF-8
 }
 
 std::string failure_report_json(int exit_code, const std::string& kind,
@@ -39,7 +52,7 @@ std::string failure_report_json(int exit_code, const std::string& kind,
   const json r = {{"version", 1},
                   {"status", "failed"},
                   {"error", {{"exit_code", exit_code}, {"kind", kind}, {"message", message}}}};
-  return r.dump(2) + "\n";
+  return r.dump(2, ' ', false, json::error_handler_t::replace) + "\n";  // paths need not be UTF-8
 }
 
 std::string bending_dump_json(const PolyMesh& quads, const BendingResult& b) {

@@ -84,7 +84,9 @@ std::set<std::string> manifest(const fs::path& dir) {
 }
 
 void write_marker(const fs::path& dir, const std::vector<std::string>& files) {
-  write_json(nlohmann::json{{"kerfab_output", 1}, {"files", files}}.dump(1) + "\n",
+  write_json(nlohmann::json{{"kerfab_output", 1}, {"files", files}}.dump(
+                 1, ' ', false, nlohmann::json::error_handler_t::replace) +
+                 "\n",
              dir / kRunMarker);
 }
 

@@ -1,0 +1,176 @@
+// Hostile inputs: broken files of every format, special files, huge header counts, non-finite
+// numbers, bad guidance, sheets nothing fits. Each ends in one line "kerfab: error: ...", the
+// documented exit code, quickly, and writes no cut files.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cstdint>
+#include <cstring>
+
+#include "cli_util.h"
+#include "kerfab/io/mesh_io.h"
+#include "shapes.h"
+#include "test_util.h"
+
+namespace kerfab {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Case {
+  std::string name, content;  // file name (its extension picks the reader) and bytes
+  int exit_code;
+  std::string says;  // a piece of the error line
+};
+
+void write_bytes(const fs::path& p, const std::string& bytes) {
+  std::ofstream out(p, std::ios::binary);
+  out << bytes;
+}
+
+std::string binary_stl(std::uint32_t count, int triangles_written) {
+  std::string s(80, ' ');
+  s.append(reinterpret_cast<const char*>(&count), 4);
+  for (int t = 0; t < triangles_written; ++t) s.append(50, '\0');
+  return s;
+}
+
+void expect_one_line_failure(const test::CliRun& r, int code, const std::string& says,
+                             const fs::path& out, const std::string& what) {
+  EXPECT_EQ(r.exit_code, code) << what << "\n" << r.err;
+  const auto lines = test::message_lines(r.err);
+  ASSERT_EQ(lines.size(), 1u) << what << "\n" << r.err;
+  EXPECT_EQ(lines[0].rfind("kerfab: error: ", 0), 0u) << lines[0];
+  EXPECT_NE(lines[0].find(says), std::string::npos) << what << ": " << lines[0];
+  EXPECT_FALSE(fs::exists(out / "cut")) << what;
+}
+
+TEST(HostileInput, BrokenMeshFilesEndInOneClearLine) {
+  const fs::path scratch = test::fresh_dir();
+  const std::string quad = "v 0 0 0\nv 100 0 0\nv 100 100 0\nv 0 100 0\n";
+  const std::vector<Case> cases = {
+      {"nan.stl",
+       "solid x\nfacet normal 0 0 1\nouter loop\nvertex nan 0 0\nvertex 100 0 0\nvertex 0 100 "
+       "0\nendloop\nendfacet\nendsolid x\n",
+       1, "non-finite number 'nan'"},
+      {"inf.obj", "v 0 0 0\nv 100 0 0\nv 100 inf 0\nv 0 100 0\nf 1 2 3 4\n", 1,
+       "non-finite number 'inf'"},
+      {"nan.off", "OFF\n4 1 0\n0 0 0\n100 0 0\n100 -nan 0\n0 100 0\n4 0 1 2 3\n", 1,
+       "non-finite number '-nan'"},
+      {"nan.ply",
+       "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n100 "
+       "0 0\n100 100 NaN\n0 100 0\n4 0 1 2 3\n",
+       1, "non-finite number 'NaN'"},
+      {"huge.off", "OFF\n999999999999 1 0\n0 0 0\n", 1, "header promises 999999999999 vertices"},
+      {"huge.ply",
+       "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float "
+       "y\nproperty float z\nend_header\n0 0 0\n",
+       1, "header promises 4000000000 vertices"},
+      {"negative.off", "OFF\n-4 1 0\n0 0 0\n", 1, "negative count"},
+      {"huge.stl", binary_stl(1000000000u, 2), 1, "header promises 1000000000 triangles"},
+      {"truncated.stl", binary_stl(12u, 5), 1, "header promises 12 triangles"},
+      {"outside.obj", quad + "f 1 2 3 99\n", 1, "out-of-range vertex index"},
+      {"repeated.obj", quad + "f 1 2 2 4\n", 1, "a face repeats vertex 2"},
+      {"empty.obj", "", 1, "no faces"},
+      {"nonmanifold.obj",
+       quad + "v 0 0 100\nv 0 0 -100\nv 50 0 50\nf 1 2 3 4\nf 1 2 5\nf 2 1 6\nf 1 2 7\n", 1,
+       "not manifold"},
+  };
+  for (const Case& c : cases) {
+    const fs::path file = scratch / c.name, out = scratch / ("out-" + c.name);
+    write_bytes(file, c.content);
+    const auto r = test::run_cli(
+        "run --quiet --target " + file.string() + " --size 100 --out " + out.string(), scratch);
+    expect_one_line_failure(r, c.exit_code, c.says, out, c.name);
+  }
+}
+
+TEST(HostileInput, SpecialFilesAreRefusedByTypeBeforeReading) {
+  const fs::path scratch = test::fresh_dir();
+  ASSERT_EQ(mkfifo((scratch / "fifo.obj").c_str(), 0644), 0);
+  fs::create_symlink("/dev/zero", scratch / "zero.obj");
+  fs::create_directories(scratch / "folder.obj");
+  for (const std::string name : {"fifo.obj", "zero.obj", "folder.obj"}) {
+    const fs::path out = scratch / ("out-" + name);
+    const auto r = test::run_cli(
+        "run --quiet --target " + (scratch / name).string() + " --out " + out.string(), scratch);
+    expect_one_line_failure(r, 2, name == "folder.obj" ? "is a directory" : "not a regular file",
+                            out, name);
+  }
+  // The guidance file too.
+  const fs::path target = scratch / "plane.obj";
+  write_mesh(test::quad_plane(100, 4).quads, target);
+  for (const std::string name : {"fifo.obj", "folder.obj"}) {
+    const fs::path out = scratch / ("guided-" + name);
+    const auto r = test::run_cli("run --quiet --target " + target.string() + " --guidance " +
+                                     (scratch / name).string() + " --out " + out.string(),
+                                 scratch);
+    expect_one_line_failure(r, 2, "not a regular file", out, "guidance " + name);
+  }
+}
+
+TEST(HostileInput, GuidanceIndicesNeverWrapOntoRealVertices) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "plane.obj";
+  write_mesh(test::quad_plane(100, 4).quads, target);
+  for (const std::string pair : {"[4294967296, 4294967297]", "[-1, 0]", "[0, 1.5]", "[0, 99]"}) {
+    test::write_text(scratch / "g.json", "{\"stiff\": [" + pair + "]}");
+    const fs::path out = scratch / "out";
+    fs::remove_all(out);
+    const auto r = test::run_cli("run --quiet --target " + target.string() + " --guidance " +
+                                     (scratch / "g.json").string() + " --out " + out.string(),
+                                 scratch);
+    expect_one_line_failure(r, 1, "guidance", out, pair);
+  }
+}
+
+TEST(HostileInput, ASheetNothingFitsIsAnInputErrorAndManySheetsAreStillWritten) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "cube.obj";
+  write_mesh(test::sphere(50, 1).quads, target);  // a cube of six 100 mm plates
+  const fs::path out = scratch / "small";
+  auto r = test::run_cli(
+      "run --quiet --target " + target.string() + " --sheet 40x40 --out " + out.string(), scratch);
+  expect_one_line_failure(r, 1, "no part fits a 40 x 40 mm sheet", out, "40x40");
+  // Tiny sheets: every sheet written, one preview each, a contact sheet of all of them.
+  const fs::path sphere = scratch / "sphere.obj";
+  write_mesh(test::sphere(40, 4).quads, sphere);
+  const fs::path many = scratch / "many";
+  r = test::run_cli("run --quiet --target " + sphere.string() +
+                        " --size 120 --sheet 60x60 --margin 0 --spacing 0 --format svg --out " +
+                        many.string(),
+                    scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = test::read_report(many);
+  const int sheets = report["layout"]["sheets"].get<int>();
+  EXPECT_GT(sheets, 10);
+  int svg = 0, png = 0;
+  for (const auto& e : fs::directory_iterator(many / "cut")) {
+    svg += e.path().extension() == ".svg" ? 1 : 0;
+    png += e.path().extension() == ".png" ? 1 : 0;
+  }
+  EXPECT_EQ(svg, sheets);
+  EXPECT_EQ(png, sheets + 1);  // and the contact sheet
+  // Parts that fit no sheet make the run "incomplete", never "ok".
+  if (!report["layout"]["unplaced"].empty()) {
+    EXPECT_EQ(report["status"], "incomplete");
+  }
+}
+
+// Paths with spaces and bytes that are not UTF-8 work like any other.
+TEST(HostileInput, UnusualPathsWork) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path dir = scratch / "my shapes \xe9\xff";
+  fs::create_directories(dir);
+  const fs::path target = dir / "plane one.obj";
+  write_mesh(test::quad_plane(100, 4).quads, target);
+  const auto r = test::run_cli(
+      "run --quiet --target '" + target.string() + "' --out '" + (dir / "out put").string() + "'",
+      scratch);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(test::read_report(dir / "out put")["status"], "ok");
+}
+
+}  // namespace
+}  // namespace kerfab
