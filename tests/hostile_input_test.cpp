@@ -158,6 +158,25 @@ TEST(HostileInput, ASheetNothingFitsIsAnInputErrorAndManySheetsAreStillWritten) 
   }
 }
 
+// Options that would ask for runaway work are refused before the work, naming what it would be.
+TEST(HostileInput, RunawayWorkIsRefusedBeforeItStarts) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "plane.obj";
+  write_mesh(test::quad_plane(100, 4).quads, target);
+  const std::string run = "run --quiet --target " + target.string() + " --out ";
+  auto r = test::run_cli(run + (scratch / "a").string() + " --max-ruling-spacing 1e-6", scratch);
+  expect_one_line_failure(r, 1, "sub-quads (at most 250000)", scratch / "a", "ruling spacing");
+  r = test::run_cli(run + (scratch / "b").string() + " --tooth-width 1e-6", scratch);
+  expect_one_line_failure(r, 1, "--tooth-width must be >= 1 mm", scratch / "b", "tooth width");
+  const std::string spot = test::real_mesh("spot_triangulated.obj").string();
+  const std::string cage = test::real_mesh("spot_control_mesh.obj").string();
+  r = test::run_cli("run --quiet --target " + spot + " --quad " + cage +
+                        " --subdivide 3 --size 250 --rulings-per-quad 64 --out " +
+                        (scratch / "c").string(),
+                    scratch);
+  expect_one_line_failure(r, 1, "749568 sub-quads", scratch / "c", "rulings per quad");
+}
+
 // Paths with spaces and bytes that are not UTF-8 work like any other.
 TEST(HostileInput, UnusualPathsWork) {
   const fs::path scratch = test::fresh_dir();

@@ -181,7 +181,8 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "offsets +-h/2 [mm]")
       ->capture_default_str()
       ->check(kNonNegative);
-  cmd.add_option("--tooth-width", jo.tooth_width, "Width of box-joint teeth along the border [mm]")
+  cmd.add_option("--tooth-width", jo.tooth_width,
+                 "Width of box-joint teeth along the border, >= 1 [mm]")
       ->capture_default_str()
       ->check(kPositive);
   cmd.add_option("--min-tooth-depth", jo.min_depth,

@@ -635,7 +635,10 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
                    const Machine& machine, const JointOptions& options) {
   if (!(material.thickness >= 0)) throw InvalidInput("--thickness must be >= 0 mm");
   if (!(options.protrusion >= 0)) throw InvalidInput("--protrusion must be >= 0 mm");
-  if (!(options.tooth_width > 0)) throw InvalidInput("--tooth-width must be > 0 mm");
+  // A tooth narrower than 1 mm breaks off when glued (and a micrometre one asks for a billion
+  // intervals on an ordinary model).
+  if (!(options.tooth_width >= 1.0) || !std::isfinite(options.tooth_width))
+    throw InvalidInput("--tooth-width must be >= 1 mm, got " + std::to_string(options.tooth_width));
   if (!(options.min_depth >= 0)) throw InvalidInput("--min-tooth-depth must be >= 0 mm");
   if (!(machine.kerf_width >= 0)) throw InvalidInput("--kerf-width must be >= 0 mm");
   if (!(options.max_tip > 0)) throw InvalidInput("joints: max_tip must be > 0 mm");

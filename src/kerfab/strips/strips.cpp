@@ -240,14 +240,27 @@ class Builder {
             in_bending_pair(out_.quads[g], local_edge(face_edges_[g], face_edges_[f][k])))
           groups.unite(f, g);
       }
+      // In double first: a spacing of 1e-9 mm would overflow an int.
+      const double by_spacing = std::ceil(longest / opt_.max_ruling_spacing - 1e-9);
       need[f] = std::max(opt_.rulings_per_quad,
-                         static_cast<int>(std::ceil(longest / opt_.max_ruling_spacing - 1e-9)));
+                         static_cast<int>(std::min(by_spacing, double{kMaxSubQuads})));
     }
     std::vector<int> group_need(nf, 1);
     for (int f = 0; f < nf; ++f)
       group_need[groups.find(f)] = std::max(group_need[groups.find(f)], need[f]);
     out_.quad_segments.resize(nf);
-    for (int f = 0; f < nf; ++f) out_.quad_segments[f] = facet(f) ? 1 : group_need[groups.find(f)];
+    double total = 0;
+    for (int f = 0; f < nf; ++f) {
+      out_.quad_segments[f] = facet(f) ? 1 : group_need[groups.find(f)];
+      total += out_.quad_segments[f];
+    }
+    // The work and memory that follow grow with the sub-quads: refuse before, not after hours.
+    if (total > kMaxSubQuads)
+      throw InvalidInput(
+          "the strips would have " + std::to_string(std::llround(total)) + " sub-quads (at most " +
+          std::to_string(kMaxSubQuads) + "): raise --max-ruling-spacing (now " +
+          std::to_string(opt_.max_ruling_spacing) + " mm) or lower --rulings-per-quad (now " +
+          std::to_string(opt_.rulings_per_quad) + "), or use a coarser quad mesh");
   }
 
   /// Area-weighted vertex normals of the coarse quad mesh.
