@@ -86,6 +86,24 @@ TEST(HostileInput, BrokenMeshFilesEndInOneClearLine) {
   }
 }
 
+// Inputs the fuzzers found (scripts/fuzz.sh), kept: an OBJ face corner without a vertex index
+// aborted inside OpenMesh's reader (an assertion), an OFF face count that is not a whole number
+// made it loop for minutes.
+TEST(HostileInput, FuzzerFindingsStayFixed) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path dir = fs::path(KERFAB_TEST_DATA) / "fuzz";
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() == ".md") continue;
+    ++files;
+    const fs::path out = scratch / ("out-" + e.path().filename().string());
+    const auto r = test::run_cli(
+        "run --quiet --target " + e.path().string() + " --size 100 --out " + out.string(), scratch);
+    expect_one_line_failure(r, 1, "line", out, e.path().filename().string());
+  }
+  EXPECT_GE(files, 2);
+}
+
 TEST(HostileInput, SpecialFilesAreRefusedByTypeBeforeReading) {
   const fs::path scratch = test::fresh_dir();
   ASSERT_EQ(mkfifo((scratch / "fifo.obj").c_str(), 0644), 0);

@@ -262,11 +262,12 @@ std::vector<std::vector<int>> odd_cycle_groups(const PolyMesh& quads, const std:
     }
     return nb;
   };
-  std::vector<char> done(mark.size(), 0);
+  // mark: 1 on the layer, 2 once grouped (no per-call array over all edges: this runs for every
+  // ball of every odd vertex).
   for (int seed : layer) {
-    if (done[seed]) continue;
+    if (mark[seed] == 2) continue;
     std::vector<int> group{seed}, stack{seed};
-    done[seed] = 1;
+    mark[seed] = 2;
     bool simple = true;
     while (!stack.empty()) {
       const int e = stack.back();
@@ -275,8 +276,8 @@ std::vector<std::vector<int>> odd_cycle_groups(const PolyMesh& quads, const std:
       simple =
           simple && nb.size() == 2 && nb[0] != nb[1] && !quads.is_boundary(quads.edge_handle(e));
       for (int j : nb)
-        if (!done[j]) {
-          done[j] = 1;
+        if (mark[j] != 2) {
+          mark[j] = 2;
           group.push_back(j);
           stack.push_back(j);
         }
@@ -290,21 +291,6 @@ std::vector<std::vector<int>> odd_cycle_groups(const PolyMesh& quads, const std:
   return out;
 }
 
-// Edges grouped by the smaller end distance r where the ends' distances are r and r + 1, for
-// r <= max_radius: the boundary of the ball (or union of balls) of radius r.
-std::vector<std::vector<int>> distance_layers(const PolyMesh& quads, const Tree& t,
-                                              int max_radius) {
-  std::vector<std::vector<int>> layer(max_radius + 1);
-  for (auto e : quads.edges()) {
-    const auto h = quads.halfedge_handle(e, 0);
-    const int a = t.dist[quads.from_vertex_handle(h).idx()];
-    const int b = t.dist[quads.to_vertex_handle(h).idx()];
-    if (std::abs(a - b) == 1 && std::min(a, b) <= max_radius)
-      layer[std::min(a, b)].push_back(e.idx());
-  }
-  return layer;
-}
-
 }  // namespace
 
 std::vector<std::vector<int>> odd_rings(const PolyMesh& quads, int ball_radius, int moat_steps) {
@@ -316,12 +302,38 @@ std::vector<std::vector<int>> odd_rings(const PolyMesh& quads, int ball_radius, 
       if (seen.insert(ring).second) rings.push_back(std::move(ring));
   };
   const std::vector<int> odd = odd_valence_vertices(quads);
-  // Balls around each odd vertex (distances in edges).
-  const std::vector<int> unit_cost(quads.n_edges(), 1);
-  for (int v : odd)
-    for (const auto& layer :
-         distance_layers(quads, shortest_paths(quads, {v}, unit_cost), ball_radius))
-      keep_odd_cycles(layer);
+  // Balls around each odd vertex (distances in edges): a breadth-first search that stops at
+  // the ball, and only its edges, so the work per odd vertex is the ball's size, not the mesh's
+  // (4000 odd vertices on a 12 000-quad prism took minutes with a search over the whole mesh).
+  {
+    constexpr std::size_t kMaxBall = 2000;  // vertices; a regular ball of radius 4 has 61
+    std::vector<int> dist(quads.n_vertices(), kFar);
+    for (int v : odd) {
+      std::vector<int> visited = {v};
+      dist[v] = 0;
+      for (std::size_t i = 0; i < visited.size() && visited.size() <= kMaxBall; ++i) {
+        const int u = visited[i];
+        if (dist[u] > ball_radius) continue;
+        for (auto w : quads.vv_range(quads.vertex_handle(u)))
+          if (dist[w.idx()] == kFar) dist[w.idx()] = dist[u] + 1, visited.push_back(w.idx());
+      }
+      if (visited.size() > kMaxBall) {  // a ball over a high-valence vertex: its rings are long
+        for (int u : visited) dist[u] = kFar;  // and optional (cuts), so it is left out
+        continue;
+      }
+      std::vector<std::vector<int>> layer(ball_radius + 1);
+      for (int u : visited)
+        for (auto h : quads.voh_range(quads.vertex_handle(u))) {
+          const int a = dist[u], b = dist[quads.to_vertex_handle(h).idx()];
+          if (b == a + 1 && a <= ball_radius) layer[a].push_back(quads.edge_handle(h).idx());
+        }
+      for (auto& l : layer) {
+        std::sort(l.begin(), l.end());
+        keep_odd_cycles(l);
+      }
+      for (int u : visited) dist[u] = kFar;
+    }
+  }
   // Moats (the primal-dual growth for T-joins): every group of vertices holding an odd number
   // of odd vertices grows by one edge layer per step; groups that touch merge; a group with an
   // even count, or one that reached the boundary, stops. The boundary of each growing group
