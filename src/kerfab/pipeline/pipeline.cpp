@@ -54,6 +54,31 @@ LoadedInputs load_inputs(const RunInputs& in) {
 
 }  // namespace
 
+/// The resolve stage: the parts built so far go in, the rebuilt ones come back into \p r. Its
+/// notes carry the warnings that hold for the rebuilt parts and replace the earlier stages'.
+static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double diagonal) {
+  const PipelineOptions& o = r.options;
+  PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
+                   std::move(*r.joints), std::move(*r.kerf)};
+  r.resolve = resolve_critical_regions(build, *r.input, parts, o.resolve);
+  r.bending = std::move(build.bending);
+  r.strips = std::move(build.strips);
+  r.flat = std::move(build.flat);
+  r.joints = std::move(build.joints);
+  r.kerf = std::move(build.kerf);
+  StageNotes n = notes(*r.resolve, o.kerf);
+  if (r.resolve->rounds > 0) {
+    n.supersedes = {Stage::kStrips, Stage::kFlatten, Stage::kJoints, Stage::kKerf};
+    std::vector<std::string> held;
+    for (const StageNotes& rebuilt :
+         {notes(*r.strips, r.baseline, o.strips), notes(*r.flat, diagonal),
+          notes(*r.joints, o.joints), notes(*r.kerf, o.kerf)})
+      held.insert(held.end(), rebuilt.warnings.begin(), rebuilt.warnings.end());
+    n.warnings.insert(n.warnings.begin(), held.begin(), held.end());
+  }
+  return n;
+}
+
 RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
                        const Progress& progress) {
   const auto t_start = Clock::now();
@@ -119,28 +144,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
                                   o.machine, o.kerf);
          return notes(*r.kerf, o.kerf);
        }},
-      {Stage::kResolve,
-       [&] {
-         PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
-                          std::move(*r.joints), std::move(*r.kerf)};
-         r.resolve = resolve_critical_regions(build, *r.input, parts_options(), o.resolve);
-         r.bending = std::move(build.bending);
-         r.strips = std::move(build.strips);
-         r.flat = std::move(build.flat);
-         r.joints = std::move(build.joints);
-         r.kerf = std::move(build.kerf);
-         StageNotes n = notes(*r.resolve, o.kerf);
-         if (r.resolve->rounds > 0) {  // what holds for the rebuilt parts
-           n.supersedes = {Stage::kStrips, Stage::kFlatten, Stage::kJoints, Stage::kKerf};
-           std::vector<std::string> held;
-           for (const StageNotes& rebuilt :
-                {notes(*r.strips, r.baseline, o.strips), notes(*r.flat, diag()),
-                 notes(*r.joints, o.joints), notes(*r.kerf, o.kerf)})
-             held.insert(held.end(), rebuilt.warnings.begin(), rebuilt.warnings.end());
-           n.warnings.insert(n.warnings.begin(), held.begin(), held.end());
-         }
-         return n;
-       }},
+      {Stage::kResolve, [&] { return resolve_stage(r, parts_options(), diag()); }},
       {Stage::kLayout,
        [&] {
          r.layout = lay_out_parts(r.flat->strips, r.flat->flattening, *r.joints, *r.kerf, o.layout);
