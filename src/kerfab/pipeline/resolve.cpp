@@ -770,7 +770,32 @@ class Resolver {
           }
           if (pick != kNone) break;
         }
-        if (pick == kNone) break;
+        if (pick == kNone) {
+          // No single neighbour keeps it a plate (it closes a concave notch only with the
+          // next one): two at once, the flattest pair.
+          int second = kNone;
+          for (int q : neighbours(groups[a], true)) {
+            const auto one = with(static_cast<int>(a), q);
+            Group g1{one, 0};
+            for (int q2 : neighbours(g1, true)) {
+              auto both = one;
+              if (group_of.count(q2)) {
+                const auto& other = groups[group_of.at(q2)].quads;
+                both.insert(other.begin(), other.end());
+              } else {
+                const auto quads = facet_of(q2);
+                both.insert(quads.begin(), quads.end());
+              }
+              if (!plate(both, 0.49 * M_PI)) continue;
+              const double e = flatness(both);
+              if (e < best) best = e, pick = q, second = q2;
+            }
+          }
+          if (pick == kNone) break;
+          take(static_cast<int>(a), pick);
+          if (!groups[a].quads.count(second)) take(static_cast<int>(a), second);
+          continue;
+        }
         take(static_cast<int>(a), pick);
       }
     bool changed = false;
