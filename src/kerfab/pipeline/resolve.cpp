@@ -24,7 +24,6 @@ struct Region {
   Vec3 centre = Vec3::Zero();
   double spacing = 0, stress_ratio = 0;
   CriticalCause cause = CriticalCause::kTooDense;
-  double width = 0;         // narrowest strip width in the region [mm]
   bool small_part = false;  // a whole part too small or too narrow to handle, not a bend
 };
 
@@ -68,8 +67,7 @@ Region region_of(const Strips& s, const Flattening& f, const CriticalRegion& c) 
   r.stress_ratio = c.stress_ratio;
   r.cause = c.cause;
   const Patch& p = s.patches[c.patch];
-  const auto& x = f.patches[c.patch].points;
-  const StripFrame frame(x, static_cast<int>(p.faces.size()));
+  const StripFrame frame(f.patches[c.patch].points, static_cast<int>(p.faces.size()));
   const int i0 = frame.face_at(c.start), i1 = frame.face_at(c.end);
   const auto starts = column_starts(s, p);
   r.c0 = column_of(starts, i0);
@@ -78,14 +76,27 @@ Region region_of(const Strips& s, const Flattening& f, const CriticalRegion& c) 
     r.quads.push_back(p.quads[col]);
     for (const PatchRow& row : p.more_rows) r.quads.push_back(row.quads[col]);
   }
-  r.width = 1e300;
   int n = 0;
   for (int i = i0; i <= i1 + 1; ++i) {
     r.centre += s.vertices[p.rulings[i][0]] + s.vertices[p.rulings[i][1]];
     n += 2;
-    r.width = std::min(r.width, (x[2 * i + 1] - x[2 * i]).norm());
   }
   r.centre /= n;
+  return r;
+}
+
+/// A whole part as a region (one too small or too narrow to handle): all its quads, its middle.
+Region part_region(const Strips& s, int p) {
+  const Patch& patch = s.patches[p];
+  Region r;
+  r.patch = p;
+  r.c0 = 0;
+  r.c1 = static_cast<int>(patch.quads.size()) - 1;
+  r.quads = patch.all_quads();
+  r.small_part = true;
+  const auto vertices = patch.local_vertices();
+  for (int v : vertices) r.centre += s.vertices[v];
+  r.centre /= std::max<std::size_t>(1, vertices.size());
   return r;
 }
 
@@ -118,12 +129,11 @@ int edge_between(const PolyMesh& m, const std::array<int, 2>& v) {
 /// length times strip width). Only bends too dense to cut count: a strip narrowing to a point,
 /// converging cuts or a part too small are matters of layout that no scale cures, so they
 /// give 1.
-double size_factor(const Region& r, const Material& used, const Material& m, const KerfOptions& k) {
-  const double g_used = used.shear_modulus / (used.yield_strength / used.safety);
+double size_factor(const Region& r, const Material& m, const KerfOptions& k) {
   const double g = m.shear_modulus / (m.yield_strength / m.safety);
   // Geometry constant 2 l / kappa of the region's tightest beam, from the spacing it needed.
-  const double w = r.spacing, h = used.thickness;
-  const double geometry = g_used * w * std::sqrt(h * h + w * w);
+  const double w = r.spacing, h = m.thickness;
+  const double geometry = g * w * std::sqrt(h * h + w * w);
   double s = 1.0;
   if (geometry > 0 && r.cause == CriticalCause::kTooDense && !r.small_part) {
     const double d = k.min_cut_spacing;
@@ -273,14 +283,7 @@ class Resolver {
       out_.changes.back().reason = "the bend overstresses the beams even at the minimum spacing";
     }
     for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width)) {
-      Region r;
-      r.patch = p;
-      r.quads = build_.flat.strips.patches[p].all_quads();
-      r.small_part = true;
-      for (int v : build_.flat.strips.patches[p].local_vertices())
-        r.centre += build_.flat.strips.vertices[v];
-      r.centre /= std::max<std::size_t>(1, build_.flat.strips.patches[p].local_vertices().size());
-      record(r, "unresolved");
+      record(part_region(build_.flat.strips, p), "unresolved");
       const Polygon2& outline = build_.joints.parts[p].designed;
       const double area = outline.size() < 3 ? 0.0 : std::abs(polygon_area(outline));
       RegionChange& c = out_.changes.back();
@@ -347,16 +350,7 @@ class Resolver {
       const Patch& patch = build_.flat.strips.patches[p];
       bool tried = patch.flat;
       for (int q : patch.all_quads()) tried = tried && stuck_.count(q);
-      if (tried) continue;
-      Region r;
-      r.patch = p;
-      r.c0 = 0;
-      r.c1 = static_cast<int>(patch.quads.size()) - 1;
-      r.quads = patch.all_quads();
-      r.small_part = true;
-      for (int v : patch.local_vertices()) r.centre += build_.flat.strips.vertices[v];
-      r.centre /= std::max<std::size_t>(1, patch.local_vertices().size());
-      out.push_back(std::move(r));
+      if (!tried) out.push_back(part_region(build_.flat.strips, p));
     }
     return out;
   }
@@ -389,7 +383,7 @@ class Resolver {
     c.action = action;
     c.spacing = r.spacing;
     c.stress_ratio = r.stress_ratio;
-    c.size_factor = size_factor(r, o_.material, o_.material, o_.kerf);
+    c.size_factor = size_factor(r, o_.material, o_.kerf);
     out_.changes.push_back(std::move(c));
   }
 
@@ -551,28 +545,9 @@ class Resolver {
   /// A group of quads on its way to a facet.
   struct Group {
     std::set<int> quads;
-    double area = 0;
   };
 
   Vec3 corner(int v) const { return strips().vertices[v]; }
-
-  double quad_area(int q) const {
-    const auto v = quad_vertices(m_, m_.face_handle(q));
-    return 0.5 * ((corner(v[2]) - corner(v[0])).cross(corner(v[3]) - corner(v[1]))).norm();
-  }
-
-  /// Length of the boundary of a group of quads [mm].
-  double perimeter(const std::set<int>& quads) const {
-    std::set<std::pair<int, int>> directed;
-    for (int q : quads) {
-      const auto v = quad_vertices(m_, m_.face_handle(q));
-      for (int k = 0; k < 4; ++k) directed.insert({v[k], v[(k + 1) % 4]});
-    }
-    double length = 0;
-    for (const auto& [a, b] : directed)
-      if (!directed.count({b, a})) length += (corner(b) - corner(a)).norm();
-    return length;
-  }
 
   /// Largest distance of the quads' corners (on the target) to their best-fit plane [mm].
   double flatness(const std::set<int>& quads) const {
@@ -622,21 +597,30 @@ class Resolver {
     return is_simple_polygon(poly, ring);
   }
 
+  /// The boundary of a group of quads, in the quads' own order: each boundary vertex -> the next.
+  /// \p touches: two boundary edges leave one vertex (the later one is kept).
+  std::map<int, int> boundary_next(const std::set<int>& quads, bool& touches) const {
+    std::set<std::pair<int, int>> directed;
+    for (int q : quads) {
+      const auto v = quad_vertices(m_, m_.face_handle(q));
+      for (int k = 0; k < 4; ++k) directed.insert({v[k], v[(k + 1) % 4]});
+    }
+    std::map<int, int> next;
+    touches = false;
+    for (const auto& [a, b] : directed)
+      if (!directed.count({b, a})) {
+        touches = touches || next.count(a);
+        next[a] = b;
+      }
+    return next;
+  }
+
   /// True when the quads form one disk: connected across edges, and a boundary that is one loop
   /// never touching itself.
   bool disk(const std::set<int>& quads) const {
-    std::map<std::pair<int, int>, int> directed;
-    for (int q : quads) {
-      const auto v = quad_vertices(m_, m_.face_handle(q));
-      for (int k = 0; k < 4; ++k) ++directed[{v[k], v[(k + 1) % 4]}];
-    }
-    std::map<int, int> next;
-    for (const auto& [e, count] : directed) {
-      if (directed.count({e.second, e.first})) continue;
-      if (next.count(e.first)) return false;  // the boundary touches itself
-      next[e.first] = e.second;
-    }
-    if (next.empty()) return false;
+    bool touches = false;
+    std::map<int, int> next = boundary_next(quads, touches);
+    if (touches || next.empty()) return false;
     int at = next.begin()->first, steps = 0;
     do {
       at = next[at];
@@ -677,14 +661,14 @@ class Resolver {
     };
     if (strips().patches[r.patch].flat) {
       Group g;
-      for (int q : release(r.quads.front())) g.quads.insert(q), g.area += quad_area(q);
+      for (int q : release(r.quads.front())) g.quads.insert(q);
       for (int q : g.quads) group_of[q] = 0;
       groups.push_back(std::move(g));
     }
     for (int q : r.quads)
       if (!state.facet_quads.count(q) && !group_of.count(q)) {
         group_of[q] = static_cast<int>(groups.size());
-        groups.push_back({{q}, quad_area(q)});
+        groups.push_back({{q}});
       }
     if (groups.empty()) return false;
     // Quads around a group; with \p facets also those of other facets (taken whole).
@@ -710,14 +694,12 @@ class Resolver {
       if (it != group_of.end()) {
         const int b = it->second;
         for (int x : groups[b].quads) group_of[x] = a, groups[a].quads.insert(x);
-        groups[a].area += groups[b].area;
         groups[b] = {};
         return;
       }
       for (int x : state.facet_quads.count(q) ? release(q) : std::vector<int>{q}) {
         group_of[x] = a;
         groups[a].quads.insert(x);
-        groups[a].area += quad_area(x);
       }
     };
     auto with = [&](int a, int q) {
@@ -776,7 +758,7 @@ class Resolver {
           int second = kNone;
           for (int q : neighbours(groups[a], true)) {
             const auto one = with(static_cast<int>(a), q);
-            Group g1{one, 0};
+            Group g1{one};
             for (int q2 : neighbours(g1, true)) {
               auto both = one;
               if (group_of.count(q2)) {
@@ -852,14 +834,8 @@ class Resolver {
 
   /// The boundary loop of a disk of quads, as vertex ids in the quads' own order.
   std::vector<int> boundary_loop(const std::set<int>& quads) const {
-    std::map<int, int> next;
-    std::set<std::pair<int, int>> directed;
-    for (int q : quads) {
-      const auto v = quad_vertices(m_, m_.face_handle(q));
-      for (int k = 0; k < 4; ++k) directed.insert({v[k], v[(k + 1) % 4]});
-    }
-    for (const auto& [a, b] : directed)
-      if (!directed.count({b, a})) next[a] = b;
+    bool touches = false;
+    std::map<int, int> next = boundary_next(quads, touches);
     std::vector<int> loop;
     for (int at = next.begin()->first; loop.size() <= next.size();) {
       loop.push_back(at);
@@ -941,12 +917,10 @@ class Resolver {
   }
 
   /// Adjacent facets join while the joined one stays flat enough (fewer, larger parts).
-  bool consolidate_facets() {
+  void consolidate_facets() {
     auto& groups = accepted_.guidance.facets;
     const double tolerance = r_.facet_flatness * in_.target_diagonal;
-    bool any = false;
-    for (bool joined = true; joined;) {
-      joined = false;
+    for (;;) {
       std::map<int, int> group_of;
       for (std::size_t g = 0; g < groups.size(); ++g)
         for (int q : groups[g]) group_of[q] = static_cast<int>(g);
@@ -966,9 +940,7 @@ class Resolver {
       if (ba == kNone) break;
       groups[ba].insert(groups[ba].end(), groups[bb].begin(), groups[bb].end());
       groups.erase(groups.begin() + bb);
-      joined = any = true;
     }
-    return any;
   }
 
   /// Local distances, sizes per material, counts after.
