@@ -14,6 +14,10 @@ double polygon_area(const Polygon2& p) {
   return 0.5 * a;
 }
 
+void make_counter_clockwise(Polygon2& polygon) {
+  if (polygon_area(polygon) < 0) std::reverse(polygon.begin(), polygon.end());
+}
+
 StripFrame::StripFrame(const std::vector<Vec2>& points, int faces)
     : x(points), n(faces), s(faces + 1, 0.0) {
   for (int i = 0; i < n; ++i) s[i + 1] = s[i] + (mid(i + 1) - mid(i)).norm();

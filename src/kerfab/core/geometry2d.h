@@ -16,6 +16,10 @@ inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y(
 /// Signed area (counter-clockwise positive) [mm^2].
 double polygon_area(const Polygon2& polygon);
 
+/// Reverses \p polygon if it runs clockwise (Clipper's non-zero filling wants every polygon
+/// counter-clockwise, or overlaps cancel out).
+void make_counter_clockwise(Polygon2& polygon);
+
 /// A flattened patch seen along its length: the strip coordinate is the arc length through the
 /// rulings' midpoints (shared by the kerf cuts and the labels placed between them).
 struct StripFrame {

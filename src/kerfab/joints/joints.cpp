@@ -90,12 +90,7 @@ class Builder {
       if (!out_.parts[p].repaired) continue;
       for (BorderJoint& b : out_.borders) {
         if (b.patches[0] != static_cast<int>(p) && b.patches[1] != static_cast<int>(p)) continue;
-        for (JointInterval& in : b.intervals)
-          if (in.owner >= 0) {
-            in.owner = -1;
-            --b.teeth, --out_.teeth, ++b.blocked;
-            out_.toothed_length -= in.s1 - in.s0;
-          }
+        for (JointInterval& in : b.intervals) make_plain(b, in);
         redo.insert(b.patches[0]);
         redo.insert(b.patches[1]);
       }
@@ -339,29 +334,25 @@ class Builder {
   /// the flat mate is not trimmed), so it is not made at all (teeth keep alternating).
   int untrimmed_owner(int i, const JointInterval& in, int preferred) const {
     const Piece& piece = pieces_[i];
-    for (int side_index : {preferred}) {
-      const Side& side = piece.sides[side_index];
-      const Ring& ring = rings_[side.patch];
-      bool trimmed = false;
-      for (int k : side.ring_edges) {
-        const auto [sa, sb] = s_range(side, k);
-        const double lo = std::max(in.s0, sa), hi = std::min(in.s1, sb);
-        if (hi - lo <= 1e-12) continue;
-        double t0 = (lo - sa) / (sb - sa), t1 = (hi - sa) / (sb - sa);
-        if (side.reversed) t0 = 1 - t0, t1 = 1 - t1, std::swap(t0, t1);
-        const Vec2 a = ring.start[k], b = ring.end[k], n = ring.normal[k];
-        const double e = in.offsets.tip;
-        const Polygon2 tooth = {a + t0 * (b - a), a + t1 * (b - a), a + t1 * (b - a) + e * n,
-                                a + t0 * (b - a) + e * n};
-        const Polygon2 kept = trim_at_concave_corners(side.patch, k, t0, t1, tooth);
-        // Trimmed by more than the fit tolerance (0.05 mm of the tooth's width along the edge).
-        if (kept.size() < 3 ||
-            std::abs(polygon_area(tooth)) - std::abs(polygon_area(kept)) > 0.05 * std::abs(e))
-          trimmed = true;
-      }
-      if (!trimmed) return side_index;
+    const Side& side = piece.sides[preferred];
+    const Ring& ring = rings_[side.patch];
+    for (int k : side.ring_edges) {
+      const auto [sa, sb] = s_range(side, k);
+      const double lo = std::max(in.s0, sa), hi = std::min(in.s1, sb);
+      if (hi - lo <= 1e-12) continue;
+      double t0 = (lo - sa) / (sb - sa), t1 = (hi - sa) / (sb - sa);
+      if (side.reversed) t0 = 1 - t0, t1 = 1 - t1, std::swap(t0, t1);
+      const Vec2 a = ring.start[k], b = ring.end[k], n = ring.normal[k];
+      const double e = in.offsets.tip;
+      const Polygon2 tooth = {a + t0 * (b - a), a + t1 * (b - a), a + t1 * (b - a) + e * n,
+                              a + t0 * (b - a) + e * n};
+      const Polygon2 kept = trim_at_concave_corners(side.patch, k, t0, t1, tooth);
+      // Trimmed by more than the fit tolerance (0.05 mm of the tooth's width along the edge).
+      if (kept.size() < 3 ||
+          std::abs(polygon_area(tooth)) - std::abs(polygon_area(kept)) > 0.05 * std::abs(e))
+        return -1;
     }
-    return -1;
+    return preferred;
   }
 
   /// A tooth that reaches a concave corner of the outline ends on the corner's bisector, so it
@@ -480,15 +471,14 @@ class Builder {
       const Polygon2 wedge = {corner, corner + e * ring.normal[j], corner + e * ring.normal[k]};
       add.push_back(wedge);
       Polygon2 region = before.region;
-      if (polygon_area(region) < 0) std::reverse(region.begin(), region.end());
+      make_counter_clockwise(region);
       Polygon2 ccw = wedge;
-      if (polygon_area(ccw) < 0) std::reverse(ccw.begin(), ccw.end());
+      make_counter_clockwise(ccw);
       before.region = largest(polygon_union({region, ccw}));
     }
     // Non-zero filling: every polygon counter-clockwise, or overlaps would cancel out.
     for (auto* list : {&add, &cut})
-      for (auto& poly : *list)
-        if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+      for (auto& poly : *list) make_counter_clockwise(poly);
     part.add = std::move(add);
     part.cut = std::move(cut);
     return part;
@@ -516,16 +506,18 @@ class Builder {
       }
       if (bitten.empty()) break;
       changed = true;
-      for (const auto& [border, interval] : bitten) {
-        BorderJoint& b = out_.borders[border];
-        JointInterval& in = b.intervals[interval];
-        if (in.owner < 0) continue;
-        in.owner = -1;
-        --b.teeth, --out_.teeth, ++b.blocked;
-        out_.toothed_length -= in.s1 - in.s0;
-      }
+      for (const auto& [border, interval] : bitten)
+        make_plain(out_.borders[border], out_.borders[border].intervals[interval]);
     }
     return changed;
+  }
+
+  /// Interval \p in of border \p b without its tooth (counted as blocked), if it had one.
+  void make_plain(BorderJoint& b, JointInterval& in) {
+    if (in.owner < 0) return;
+    in.owner = -1;
+    --b.teeth, --out_.teeth, ++b.blocked;
+    out_.toothed_length -= in.s1 - in.s0;
   }
 
   static Polygon2 largest(const std::vector<Polygon2>& polys) {
@@ -587,7 +579,7 @@ class Builder {
     for (const JointSpan& sp : spans)
       if (sp.tooth && sp.region.size() >= 3) {
         teeth.push_back(sp.region);
-        if (polygon_area(teeth.back()) < 0) std::reverse(teeth.back().begin(), teeth.back().end());
+        make_counter_clockwise(teeth.back());
       }
     std::vector<Polygon2> remove;
     // Tails: what the opening takes away, except tooth material.
@@ -609,14 +601,12 @@ class Builder {
         perimeter += (gap[(i + 1) % gap.size()] - gap[i]).norm();
       const double w = 2 * std::abs(polygon_area(gap)) / std::max(perimeter, 1e-9);
       auto wide = polygon_offset({gap}, std::clamp(r - 0.5 * w, 0.1 * r, r));
-      for (auto& poly : wide)
-        if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+      for (auto& poly : wide) make_counter_clockwise(poly);
       if (!teeth.empty()) wide = polygon_difference(wide, teeth);
       remove.insert(remove.end(), wide.begin(), wide.end());
     }
     if (remove.empty()) return {outline};
-    for (auto& poly : remove)
-      if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+    for (auto& poly : remove) make_counter_clockwise(poly);
     std::vector<Polygon2> left;
     for (auto& c : polygon_difference({outline}, remove))
       if (polygon_area(c) > 0) left.push_back(std::move(c));

@@ -869,10 +869,10 @@ class Resolver {
       if (!(e.norm() > 0)) continue;
       const Vec2 in = Vec2(-e.y(), e.x()).normalized() * depth;
       Polygon2 rect = {pa - 1e-3 * in, pb - 1e-3 * in, pb + in, pa + in};
-      if (polygon_area(rect) < 0) std::reverse(rect.begin(), rect.end());
+      make_counter_clockwise(rect);
       cut.push_back(std::move(rect));
     }
-    if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+    make_counter_clockwise(poly);
     return cut.empty() ? std::vector<Polygon2>{poly} : polygon_difference({poly}, cut);
   }
 
@@ -912,7 +912,7 @@ class Resolver {
     Polygon2 poly;
     for (int v : boundary_loop(quads))
       poly.emplace_back((corner(v) - pl.mean).dot(pl.u), (corner(v) - pl.mean).dot(pl.w));
-    if (polygon_area(poly) < 0) std::reverse(poly.begin(), poly.end());
+    make_counter_clockwise(poly);
     return poly;
   }
 
