@@ -23,11 +23,6 @@ struct Case {
   std::string says;  // a piece of the error line
 };
 
-void write_bytes(const fs::path& p, const std::string& bytes) {
-  std::ofstream out(p, std::ios::binary);
-  out << bytes;
-}
-
 std::string binary_stl(std::uint32_t count, int triangles_written) {
   std::string s(80, ' ');
   s.append(reinterpret_cast<const char*>(&count), 4);
@@ -79,7 +74,7 @@ TEST(HostileInput, BrokenMeshFilesEndInOneClearLine) {
   };
   for (const Case& c : cases) {
     const fs::path file = scratch / c.name, out = scratch / ("out-" + c.name);
-    write_bytes(file, c.content);
+    test::write_text(file, c.content);  // bytes as they are (NULs too)
     const auto r = test::run_cli(
         "run --quiet --target " + file.string() + " --size 100 --out " + out.string(), scratch);
     expect_one_line_failure(r, c.exit_code, c.says, out, c.name);

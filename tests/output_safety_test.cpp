@@ -107,14 +107,12 @@ TEST(OutputSafety, ARerunKeepsTheUsersOwnFilesInsideAnEarlierRun) {
   EXPECT_FALSE(fs::exists(out / "cut" / "sheet-001.dxf"));  // the earlier run's, not asked now
   EXPECT_EQ(read_report(out)["layout"]["sheet_mm"][0], 500.0);
   // A user's file where the new run writes one of its own: refused, nothing changed.
-  const auto before = snapshot(out);
   test::write_text(out / "cut" / "sheet-002.svg", "mine too");
   const auto with_mine = snapshot(out);
   const auto clash = run_cli(run_args(target, out, "--format svg --sheet 100x100"), scratch);
   EXPECT_EQ(clash.exit_code, 2) << clash.err;
   EXPECT_NE(clash.err.find("sheet-002.svg is not kerfab's"), std::string::npos) << clash.err;
   EXPECT_EQ(snapshot(out), with_mine);
-  (void)before;
 }
 
 TEST(OutputSafety, TwoRunsIntoOneFolderAtOnceOneWinsTheOtherSaysWhy) {
