@@ -380,8 +380,10 @@ int main(int argc, char** argv) {
       ->required();
   run_cmd->add_option("--quad", run_flags.quad, quad_help);
   run_cmd->add_option("--guidance", run_flags.guidance,
-                      "JSON file {\"bendable\": [[v0,v1],...], \"stiff\": [[v0,v1],...]} forcing "
-                      "quad-mesh edges (vertex indices of the quad mesh as used)");
+                      "JSON file {\"bendable\": [[v0,v1],...], \"stiff\": [...], \"split\": [...], "
+                      "\"merge\": [...]}: quad-mesh edges (vertex indices of the quad mesh as "
+                      "used) forced bendable or stiff, strip borders inserted, strips merged "
+                      "sideways");
   run_cmd->add_option("--out", run_flags.out, "Output directory")->required();
   add_pipeline_options(*run_cmd, run_flags);
 
