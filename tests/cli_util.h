@@ -25,10 +25,13 @@ inline std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-inline CliRun run_cli(const std::string& args, const fs::path& scratch) {
+// `limits`: shell commands run before kerfab in the same shell, e.g. "ulimit -v 60000".
+inline CliRun run_cli(const std::string& args, const fs::path& scratch,
+                      const std::string& limits = "") {
   const fs::path out = scratch / "stdout.txt", err = scratch / "stderr.txt";
-  const std::string cmd = std::string(KERFAB_CLI) + " " + args + " >" + out.string() + " 2>" +
-                          err.string() + " </dev/null";
+  std::string cmd = limits.empty() ? std::string() : limits + "; ";
+  cmd += std::string(KERFAB_CLI) + " " + args + " >" + out.string() + " 2>" + err.string() +
+         " </dev/null";
   const int status = std::system(cmd.c_str());
   CliRun r;
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

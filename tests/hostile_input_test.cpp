@@ -178,7 +178,7 @@ TEST(HostileInput, RunawayWorkIsRefusedBeforeItStarts) {
   write_mesh(test::quad_plane(100, 4).quads, target);
   const std::string run = "run --quiet --target " + target.string() + " --out ";
   auto r = test::run_cli(run + (scratch / "a").string() + " --max-ruling-spacing 1e-6", scratch);
-  expect_one_line_failure(r, 1, "sub-quads (at most 250000)", scratch / "a", "ruling spacing");
+  expect_one_line_failure(r, 1, "(at most 250000)", scratch / "a", "ruling spacing");
   r = test::run_cli(run + (scratch / "b").string() + " --tooth-width 1e-6", scratch);
   expect_one_line_failure(r, 1, "--tooth-width must be >= 1 mm", scratch / "b", "tooth width");
   const std::string spot = test::real_mesh("spot_triangulated.obj").string();
@@ -188,6 +188,45 @@ TEST(HostileInput, RunawayWorkIsRefusedBeforeItStarts) {
                         (scratch / "c").string(),
                     scratch);
   expect_one_line_failure(r, 1, "749568 sub-quads", scratch / "c", "rulings per quad");
+}
+
+// Memory: --max-memory refuses work that would not fit before it starts, naming the budget; a
+// limit reached during the run (here the address space, set outside kerfab, at sizes where the
+// solver once crashed starting a thread and the flattening ended in an internal error) ends in
+// one line and exit 1, never a signal, and writes nothing.
+TEST(HostileInput, MemoryLimitsEndInOneLineNeverACrash) {
+  const fs::path scratch = test::fresh_dir();
+  const std::string spot = test::real_mesh("spot_triangulated.obj").string();
+  const std::string cage = test::real_mesh("spot_control_mesh.obj").string();
+  const std::string run = "run --quiet --no-resolve --target " + spot + " --quad " + cage +
+                          " --subdivide 1 --size 250 --out ";
+  // 3238 sub-quads need about 64 MB + 3238 * 4 KB = 77 MB by kerfab's own estimate.
+  auto r = test::run_cli(run + (scratch / "a").string() + " --max-memory 70", scratch);
+  expect_one_line_failure(r, 1, "3238 sub-quads, needing about 77 MB (over --max-memory 70 MB)",
+                          scratch / "a", "budget");
+  // A new --out gets the failure report only.
+  auto failed_alone = [](const fs::path& out) {
+    return fs::exists(out / "report.json") &&
+           test::read_report(out)["status"] == "failed" &&
+           std::distance(fs::directory_iterator(out), fs::directory_iterator()) == 2;  // + marker
+  };
+  EXPECT_TRUE(failed_alone(scratch / "a"));
+  r = test::run_cli(run + (scratch / "b").string() + " --max-memory 63", scratch);
+  expect_one_line_failure(r, 1, "--max-memory", scratch / "b", "budget under 64 MB");
+  for (const std::string kb : {"50000", "58000", "62000", "66000"}) {
+    const fs::path out = scratch / kb;
+    const std::string what = "ulimit -v " + kb;
+    r = test::run_cli(run + out.string(), scratch, what);
+    if (r.exit_code == 0) {  // it fitted after all: then it is a whole run
+      EXPECT_EQ(test::read_report(out)["status"], "ok") << what;
+      continue;
+    }
+    expect_one_line_failure(r, 1, "out of memory", out, what);
+    EXPECT_NE(r.err.find("MB (--max-memory, or a lower limit set outside kerfab"),
+              std::string::npos)
+        << what << ": " << r.err;
+    EXPECT_TRUE(failed_alone(out)) << what;
+  }
 }
 
 // Paths with spaces and bytes that are not UTF-8 work like any other.

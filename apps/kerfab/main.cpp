@@ -1,5 +1,6 @@
 // kerfab command line: flags -> options, run the pipeline, write outputs, map errors to exit
 // codes (docs/outputs.md). No geometry here.
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -58,6 +59,32 @@ std::optional<std::string> non_finite_option(const CLI::App& cmd) {
   return std::nullopt;
 }
 
+double machine_memory_mb() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? static_cast<double>(pages) * page / (1024.0 * 1024.0) : 0;
+}
+
+// Half of the machine's memory, not less than 512 MB (and 4096 MB where it cannot be read).
+double default_memory_budget_mb() {
+  const double machine = machine_memory_mb();
+  return machine > 0 ? std::max(512.0, std::floor(machine / 2)) : 4096.0;
+}
+
+// The budget becomes the process's data limit (heap and private mappings; RLIMIT_DATA), never
+// raising one set outside; returns the limit now in force [MB].
+double limit_memory(double budget_mb) {
+  struct rlimit limit {};
+  if (::getrlimit(RLIMIT_DATA, &limit) != 0) return budget_mb;
+  const double bytes = budget_mb * 1024.0 * 1024.0;
+  if (limit.rlim_cur == RLIM_INFINITY || bytes < static_cast<double>(limit.rlim_cur)) {
+    limit.rlim_cur = static_cast<rlim_t>(bytes);
+    if (limit.rlim_max != RLIM_INFINITY && limit.rlim_cur > limit.rlim_max)
+      limit.rlim_cur = limit.rlim_max;
+    ::setrlimit(RLIMIT_DATA, &limit);
+  }
+  return static_cast<double>(limit.rlim_cur) / (1024.0 * 1024.0);
+}
+
 struct RunFlags {
   std::string target, quad, guidance, out;
   std::optional<double> size;
@@ -71,6 +98,7 @@ struct RunFlags {
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
   std::optional<int> constant_density;
   bool quiet = false;
+  double max_memory_mb = default_memory_budget_mb();
   kerfab::PipelineOptions options;
   kerfab::OutputOptions output;
 };
@@ -261,6 +289,12 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "the target's bbox diagonal [ratio]")
       ->capture_default_str()
       ->check(CLI::Range(1e-5, 0.1));
+  cmd.add_option("--max-memory", f.max_memory_mb,
+                 "Memory the run may use [MB]; work that would need more is refused before it "
+                 "starts, and a run that reaches it stops with an error (default: half of this "
+                 "machine's memory, at least 512)")
+      ->capture_default_str()
+      ->check(CLI::Range(64.0, 1e9));
   cmd.add_flag(
       "--no-resolve", [&f](std::int64_t) { f.options.resolve.enabled = false; },
       "Keep critical kerf regions as they are and only report them (the paper's "
@@ -328,6 +362,8 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   options.strips.projection =
       f.projection == "closest" ? kerfab::Projection::kClosest : kerfab::Projection::kNormal;
   if (!f.stop_after.empty()) options.stop_after = f.stop_after;
+  options.max_memory_mb = f.max_memory_mb;
+  const double memory_limit_mb = limit_memory(f.max_memory_mb);
   std::optional<kerfab::OutputFolder> folder;
   auto fail = [&](int code, const char* kind, const std::string& message) {
     std::cerr << "kerfab: error: " << kerfab::one_line(message);
@@ -343,11 +379,15 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     const kerfab::RunResult result = kerfab::run_pipeline(inputs, options, progress);
     kerfab::write_run(result, output, folder->staging());
     folder->commit();
-    for (const auto& w : result.warnings) std::cerr << "kerfab: warning: " << w << "\n";
-    if (!f.quiet)
-      std::cerr << "done in " << result.total_seconds
-                << " s; report: " << kerfab::one_line((folder->dir() / "report.json").string())
-                << "\n";
+    // The run is in place: nothing after this may turn it into a failure.
+    try {
+      for (const auto& w : result.warnings) std::cerr << "kerfab: warning: " << w << "\n";
+      if (!f.quiet)
+        std::cerr << "done in " << result.total_seconds
+                  << " s; report: " << kerfab::one_line((folder->dir() / "report.json").string())
+                  << "\n";
+    } catch (...) {
+    }
     return kOk;
   } catch (const kerfab::InvalidInput& e) {
     return fail(kInvalid, "invalid_input", e.what());
@@ -357,7 +397,11 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     return fail(kSolver, "solver", e.what());
   } catch (const std::bad_alloc&) {
     return fail(kInvalid, "invalid_input",
-                "out of memory: the input or the options ask for more than this machine has");
+                "out of memory: the run needed more than its limit of " +
+                    std::to_string(std::llround(memory_limit_mb)) +
+                    " MB (--max-memory, or a lower limit set outside kerfab; this machine has " +
+                    std::to_string(std::llround(machine_memory_mb())) +
+                    " MB): raise it, or ask for less work (a coarser quad mesh, fewer rulings)");
   } catch (const std::exception& e) {
     return fail(kInternal, "internal", std::string("internal error: ") + e.what());
   }

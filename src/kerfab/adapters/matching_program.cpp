@@ -48,7 +48,7 @@ MatchingResult min_cost_perfect_matching(int nodes, const std::vector<MatchingPa
   Cbc_setObjSense(model.get(), 1.0);
   Cbc_setLogLevel(model.get(), 0);
   Cbc_setMaximumSeconds(model.get(), time_limit_s);
-  Cbc_setParameter(model.get(), "threads", "1");  // deterministic
+  Cbc_setParameter(model.get(), "threads", "0");  // no worker threads: deterministic, and nothing to fail to start
   Cbc_solve(model.get());
   const double* y = Cbc_bestSolution(model.get());
   if (y == nullptr) return result;

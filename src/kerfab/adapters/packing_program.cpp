@@ -247,7 +247,7 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
   Cbc_setLogLevel(model.get(), options.log ? 1 : 0);
   Cbc_setMaximumSeconds(model.get(), options.time_limit_s);
   Cbc_setAllowableFractionGap(model.get(), options.relative_gap);
-  Cbc_setParameter(model.get(), "threads", "1");  // deterministic
+  Cbc_setParameter(model.get(), "threads", "0");  // no worker threads: deterministic, and nothing to fail to start
   Cbc_setParameter(model.get(), "preprocess", "off");
   {
     std::vector<int> idx(n);

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 
 #include "kerfab/adapters/target_surface.h"
 #include "kerfab/core/errors.h"
+#include "kerfab/core/parallel.h"
 
 namespace kerfab {
 namespace {
@@ -66,10 +66,7 @@ OneSided one_sided(const TriangleMesh& from, const TargetSurface& to, double spa
         }
     }
   };
-  std::vector<std::thread> pool;
-  for (int id = 1; id < threads; ++id) pool.emplace_back(work, id);
-  work(0);
-  for (auto& th : pool) th.join();
+  run_parallel(threads, work);
   OneSided total;
   for (const auto& p : parts) {
     total.max = std::max(total.max, p.max);

@@ -8,9 +8,9 @@
 #include <atomic>
 #include <cmath>
 #include <map>
-#include <thread>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/core/parallel.h"
 
 namespace kerfab {
 namespace {
@@ -515,10 +515,7 @@ Flattening flatten_patches(const Strips& strips, const FlattenOptions& options) 
       errors[id] = std::current_exception();
     }
   };
-  std::vector<std::thread> pool;
-  for (int id = 1; id < threads; ++id) pool.emplace_back(work, id);
-  work(0);
-  for (auto& t : pool) t.join();
+  run_parallel(threads, work);
   for (const auto& e : errors)
     if (e) std::rethrow_exception(e);
   for (const auto& p : flat.patches) {

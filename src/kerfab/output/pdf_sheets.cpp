@@ -51,6 +51,7 @@ void draw_sheet(cairo_t* cr, const std::vector<PlacedPart>& parts, const SheetSt
 }
 
 void check(cairo_status_t status, const std::string& what) {
+  if (status == CAIRO_STATUS_NO_MEMORY) throw std::bad_alloc();  // the machine's limit, not I/O
   if (status != CAIRO_STATUS_SUCCESS)
     throw IoError("cannot write " + what + ": " + cairo_status_to_string(status));
 }

@@ -98,6 +98,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
     p.bending.guidance.insert(p.bending.guidance.end(), g.edges.begin(), g.edges.end());
     p.strips.split_edges.insert(p.strips.split_edges.end(), g.split.begin(), g.split.end());
     p.strips.merge_edges.insert(p.strips.merge_edges.end(), g.merge.begin(), g.merge.end());
+    p.strips.max_memory_mb = o.max_memory_mb;
     return p;
   };
 

@@ -42,6 +42,8 @@ struct PipelineOptions {
   Machine machine;    ///< the laser: kerf width (joints) and speed (cutting time)
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
                                           ///< fraction of the target's bbox diagonal [-], > 0
+  double max_memory_mb = 0;  ///< memory budget [MB]; > 0: work that would need more is refused
+                             ///< before it starts (the sub-quads, kMemoryPerSubQuadKb each)
   bool row_baseline = false;  ///< also build the naive one-strip-per-row layout (for comparison)
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
 };

@@ -255,10 +255,16 @@ class Builder {
       total += out_.quad_segments[f];
     }
     // The work and memory that follow grow with the sub-quads: refuse before, not after hours.
-    if (total > kMaxSubQuads)
+    const auto mb = [](double x) { return std::to_string(std::llround(x)) + " MB"; };
+    const bool over_memory = total <= kMaxSubQuads && opt_.max_memory_mb > 0 &&
+                             total > sub_quads_within(opt_.max_memory_mb);
+    if (over_memory || total > kMaxSubQuads)
       throw InvalidInput(
-          "the strips would have " + std::to_string(std::llround(total)) + " sub-quads (at most " +
-          std::to_string(kMaxSubQuads) + "): raise --max-ruling-spacing (now " +
+          "the strips would have " + std::to_string(std::llround(total)) +
+          " sub-quads, needing about " + mb(sub_quads_memory_mb(total)) +
+          (over_memory ? " (over --max-memory " + mb(opt_.max_memory_mb) + ")"
+                       : " (at most " + std::to_string(kMaxSubQuads) + ")") +
+          (over_memory ? ": raise --max-memory or" : ":") + " raise --max-ruling-spacing (now " +
           std::to_string(opt_.max_ruling_spacing) + " mm) or lower --rulings-per-quad (now " +
           std::to_string(opt_.rulings_per_quad) + "), or use a coarser quad mesh");
   }

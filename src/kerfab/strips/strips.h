@@ -23,8 +23,24 @@ enum class Projection {
 /// The most sub-quads a run may make (every later stage's work and memory grow with them; the
 /// demo has about 3000, a 20 000-quad mesh at 4 rulings 80 000; 750 000 ran past 120 s and 8 GB).
 inline constexpr int kMaxSubQuads = 250'000;
+/// Memory a run needs per sub-quad, all stages together, and besides them [KB], [MB]: twice
+/// what was measured (Spot 500 mm, 1 and 3 Catmull-Clark steps: 13 896 sub-quads 92 MB peak,
+/// 46 848 161 MB, so 2.1 KB each and about 60 MB besides).
+inline constexpr double kMemoryPerSubQuadKb = 4.0;
+inline constexpr double kMemoryBesidesSubQuadsMb = 64.0;
+/// The memory a run with this many sub-quads needs [MB].
+inline double sub_quads_memory_mb(double sub_quads) {
+  return kMemoryBesidesSubQuadsMb + sub_quads * kMemoryPerSubQuadKb / 1024;
+}
+/// The most sub-quads that fit a memory budget [MB] (0 if none do), never above kMaxSubQuads.
+inline int sub_quads_within(double memory_mb) {
+  const double n = (memory_mb - kMemoryBesidesSubQuadsMb) * 1024 / kMemoryPerSubQuadKb;
+  return n <= 0 ? 0 : n >= kMaxSubQuads ? kMaxSubQuads : static_cast<int>(n);
+}
 
 struct StripsOptions {
+  double max_memory_mb = 0;  ///< > 0: more sub-quads than sub_quads_within() this are refused
+                             ///< [MB] (the run's memory budget); kMaxSubQuads holds always
   int rulings_per_quad = 4;       ///< segments each bending edge is split into [-], >= 1
   double max_ruling_spacing = 5;  ///< a quad gets at least ceil(bending edge length / this)
                                   ///< segments [mm], > 0; the larger count wins
