@@ -66,7 +66,7 @@ TEST(Prepare, NanCoordinatesAndZeroAreaFacesAreRejected) {
   EXPECT_THROW(prepare_input(target, squashed, {}), InvalidInput);
 }
 
-TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetNeedsQuadMesh) {
+TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetWaitsForTheQuadsStage) {
   const PolyMesh cage = read_mesh(test::real_mesh("spot_control_mesh.obj"));
   const PolyMesh target = read_mesh(test::real_mesh("spot_triangulated.obj"));
   InputOptions opt;
@@ -77,7 +77,10 @@ TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetNeedsQuadMesh) {
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("--subdivide"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(prepare_input(target, std::nullopt, opt), InvalidInput);
+  // A triangle target alone: prepared, its quad mesh left to the quads stage.
+  const PreparedInput alone = prepare_input(target, std::nullopt, opt);
+  EXPECT_TRUE(alone.needs_quads);
+  EXPECT_EQ(alone.quads.n_faces(), 0u);
   opt.subdivide = 1;
   const PreparedInput in = prepare_input(target, cage, opt);
   // One Catmull-Clark step: every n-gon becomes n quads: 160*4 + 16*5 + 4*3 = 732.

@@ -91,6 +91,7 @@ struct RunFlags {
   std::string stop_after;
   double split_angle_deg = 60.0;
   std::optional<double> features_deg;
+  double quad_feature_angle_deg = 60.0;
   std::string projection = "normal";
   std::string material = "mdf";
   std::string sheet = "600x450";
@@ -129,6 +130,19 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "quads after one [count, 0..4]")
       ->capture_default_str()
       ->check(CLI::Range(0, 4));
+  cmd.add_option("--quads", f.options.quads.quads,
+                 "With a triangle target and no --quad: make about this many quads instead of "
+                 "the size the model and material call for [count, 20..100000]")
+      ->check(CLI::Range(20, 100000));
+  cmd.add_option("--quad-size", f.options.quads.quad_size,
+                 "With a triangle target and no --quad: quad edge length (wins over --quads) "
+                 "[mm, > 0]")
+      ->check(kPositive);
+  cmd.add_option("--quad-feature-angle", f.quad_feature_angle_deg,
+                 "With a triangle target and no --quad: target edges folding more than this are "
+                 "sharp features the quad edges follow [deg, (0, 180)]")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 179.999));
   cmd.add_option("--max-quad-distance", in.max_quad_distance,
                  "Refuse a quad mesh with a vertex farther from the target than this fraction of "
                  "the target's bbox diagonal [ratio]")
@@ -316,6 +330,7 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   kerfab::OutputOptions output = f.output;
   options.input.size = f.size;
   options.strips.split_angle = f.split_angle_deg * M_PI / 180.0;
+  options.quads.feature_angle = f.quad_feature_angle_deg * M_PI / 180.0;
   try {
     options.material = kerfab::material_preset(f.material);
   } catch (const kerfab::InvalidInput& e) {
@@ -418,7 +433,8 @@ int main(int argc, char** argv) {
   RunFlags run_flags;
   std::string quad_help =
       "Quad (or any polygon, with --subdivide) mesh on the target, same frame and units; "
-      "without it the target itself is used and must not be triangles only";
+      "without it kerfab makes one from a triangle target (see --quads, --quad-size; written "
+      "to model/quads.obj), or uses the target itself when it is a polygon mesh";
   CLI::App* run_cmd = app.add_subcommand("run", "Run the pipeline on a target and a quad mesh");
   run_cmd->add_option("--target", run_flags.target, "Target mesh (.obj .off .ply .stl)")
       ->required();

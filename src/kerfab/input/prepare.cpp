@@ -134,20 +134,19 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
   // The quad mesh: given, or the target itself.
   const bool from_target = !quad_in.has_value();
   const PolyMesh& quad_source = from_target ? target_in : *quad_in;
-  if (from_target && is_all_triangles(target_in) && options.subdivide == 0)
-    throw InvalidInput(
-        "target is a triangle mesh and no quad mesh was given: pass --quad QUAD_MESH "
-        "(kerfab cannot generate quad meshes yet)");
-  if (options.subdivide == 0 && !is_all_quads(quad_source))
+  // A triangle target without a quad mesh: the quads stage makes one (make_quad_mesh).
+  const bool needs_quads = from_target && is_all_triangles(target_in) && options.subdivide == 0;
+  if (!needs_quads && options.subdivide == 0 && !is_all_quads(quad_source))
     throw InvalidInput(std::string(from_target ? "target" : "quad mesh") + " has " +
                        face_size_text(quad_source) +
                        "; kerfab needs all quads: pass --subdivide 1 (Catmull-Clark)");
 
   PolyMesh target = target_in;
-  PolyMesh quads = catmull_clark(quad_source, options.subdivide);
+  PolyMesh quads = needs_quads ? PolyMesh() : catmull_clark(quad_source, options.subdivide);
   scale_mesh(target, scale);
   scale_mesh(quads, scale);
-  if (!is_all_quads(quads)) throw InvalidInput("quad mesh is not all quads after subdivision");
+  if (!needs_quads && !is_all_quads(quads))
+    throw InvalidInput("quad mesh is not all quads after subdivision");
 
   std::vector<std::string> warnings;
   TriangleMesh tri = triangulate(target);
@@ -160,10 +159,17 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
                     .quads = std::move(quads),
                     .surface = TargetSurface(tri),
                     .scale = scale,
-                    .quads_from_target = from_target,
+                    .quads_from_target = from_target && !needs_quads,
+                    .needs_quads = needs_quads,
                     .warnings = std::move(warnings)};
   out.target_summary = summarize(out.target);
   out.target_diagonal = bounding_box(out.surface.mesh()).diagonal();
+  if (!needs_quads) attach_quads(out, std::move(out.quads), options);
+  return out;
+}
+
+void attach_quads(PreparedInput& out, PolyMesh quads, const InputOptions& options) {
+  out.quads = std::move(quads);
   out.quad_summary = summarize(out.quads);
 
   // The quad mesh must lie on (near) the target.
@@ -184,7 +190,6 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
                        " mm away (" + fmt(100.0 * max_d / diag) + "% of the target's " + fmt(diag) +
                        " mm diagonal, limit " + fmt(100.0 * options.max_quad_distance) +
                        "%); are both meshes in the same frame and units?");
-  return out;
 }
 
 }  // namespace kerfab

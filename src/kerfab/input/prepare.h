@@ -37,6 +37,8 @@ struct PreparedInput {
   TargetSurface surface;           ///< queries on the triangulated target
   double scale = 1.0;              ///< factor applied to both input meshes [-]
   bool quads_from_target = false;  ///< the target itself served as the quad mesh
+  bool needs_quads = false;        ///< a triangle target and no quad mesh: `quads` is empty
+                                   ///< until the quads stage makes one (attach_quads)
   MeshSummary target_summary;
   double target_diagonal = 0;  ///< the scaled target's bbox diagonal [mm]
   MeshSummary quad_summary;
@@ -46,12 +48,17 @@ struct PreparedInput {
 };
 
 /// Validates and prepares the inputs. Without \p quad, the target must itself be a polygon mesh
-/// that is all quads (or becomes so with subdivide >= 1).
+/// that is all quads (or becomes so with subdivide >= 1), or all triangles (needs_quads: the
+/// quads stage makes the quad mesh).
 /// \throw InvalidInput empty mesh, NaN/inf coordinates, zero-area faces, non-quad faces without
-///        subdivision, a triangle-only target without a quad mesh, a model outside the accepted
+///        subdivision, a model outside the accepted
 ///        size range without `size`, or a quad mesh far from the target (distance named).
 PreparedInput prepare_input(const PolyMesh& target, const std::optional<PolyMesh>& quad,
                             const InputOptions& options);
+
+/// Takes \p quads (scaled, on the target) as the quad mesh of \p in: its summary and its
+/// distance to the target. \throw InvalidInput a vertex farther than the allowed distance.
+void attach_quads(PreparedInput& in, PolyMesh quads, const InputOptions& options);
 
 /// Catmull-Clark subdivision, \p steps times (OpenMesh's subdivider).
 PolyMesh catmull_clark(const PolyMesh& mesh, int steps);

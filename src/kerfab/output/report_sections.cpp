@@ -44,6 +44,32 @@ json input_section(const RunInputs& inputs, const std::optional<PreparedInput>& 
   return j;
 }
 
+json quads_section(const QuadMeshResult& q) {
+  json valences = json::object();
+  for (auto [v, c] : q.valences) valences[std::to_string(v)] = c;
+  return {{"quads", q.quads.n_faces()},
+          {"method", q.method},
+          {"size_mm", q.size.size},
+          {"size_rule",
+           {{"reason", q.size.reason},
+            {"area_mm2", q.size.area},
+            {"bend_curvature_per_mm", q.size.bend_curvature},
+            {"ruling_curvature_per_mm", q.size.ruling_curvature},
+            {"kerf_size_mm", q.size.kerf_size},
+            {"fidelity_size_mm", std::isfinite(q.size.fidelity_size) ? json(q.size.fidelity_size)
+                                                                      : json(nullptr)}}},
+          {"remeshed_vertices", q.remeshed_vertices},
+          {"lattice_quads", q.lattice_quads},
+          {"lattice_triangles", q.lattice_triangles},
+          {"irregular_vertices", q.irregular_vertices},
+          {"interior_valences", valences},
+          {"feature_edges", q.feature_edges},
+          {"feature_length_mm", q.feature_length},
+          {"feature_length_on_quad_edges_mm", q.feature_length_on_quads},
+          {"max_distance_mm", q.max_distance},
+          {"corner_angle_deg", {q.min_corner_angle * 180 / M_PI, q.max_corner_angle * 180 / M_PI}}};
+}
+
 json options_section(const RunResult& run, const OutputOptions& output) {
   const PipelineOptions& o = run.options;
   const Material& m = o.material;
@@ -57,6 +83,9 @@ json options_section(const RunResult& run, const OutputOptions& output) {
   json j;
   j["size_mm"] = optional_json(o.input.size);
   j["subdivide"] = o.input.subdivide;
+  j["quads"] = optional_json(o.quads.quads);
+  j["quad_size_mm"] = optional_json(o.quads.quad_size);
+  j["quad_feature_angle_deg"] = o.quads.feature_angle * 180 / M_PI;
   j["max_quad_distance_rel"] = o.input.max_quad_distance;
   j["alignment"] = o.bending.alignment;
   j["edge_samples"] = o.bending.edge_samples;

@@ -39,6 +39,22 @@ StageNotes notes(const PreparedInput& in) {
   return n;
 }
 
+StageNotes notes(const QuadMeshResult& q) {
+  StageNotes n;
+  Line os;
+  os << q.quads.n_faces() << " quads of " << q.size.size << " mm (" << q.size.reason << "; kerf "
+     << q.size.kerf_size << " mm, fidelity " << q.size.fidelity_size << " mm), "
+     << q.irregular_vertices << " irregular vertices, method: " << q.method;
+  n.lines.push_back(os.str());
+  if (q.method.rfind("lattice", 0) != 0) {
+    Line w;
+    w << "quad mesh made without a lattice (" << q.method << "): " << q.irregular_vertices
+      << " irregular vertices, so more strips; a quad mesh of your own (--quad) may do better";
+    n.warnings.push_back(w.str());
+  }
+  return n;
+}
+
 StageNotes notes(const BendingResult& b) {
   StageNotes n;
   Line os;

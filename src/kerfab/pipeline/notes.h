@@ -17,6 +17,7 @@ struct StageNotes {
 };
 
 StageNotes notes(const PreparedInput& input);
+StageNotes notes(const QuadMeshResult& quads);
 StageNotes notes(const BendingResult& bending);
 StageNotes notes(const Strips& strips, const std::optional<RowBaseline>& baseline,
                  const StripsOptions& options);

@@ -114,6 +114,15 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
          r.input = prepare_input(r.loaded->target, r.loaded->quad, o.input);
          return notes(*r.input);
        }},
+      {Stage::kQuads,
+       [&] {
+         if (!r.input->needs_quads) return StageNotes{};
+         QuadMeshOptions qo = o.quads;
+         qo.min_cut_spacing = o.kerf.min_cut_spacing;
+         r.quads = make_quad_mesh(r.input->surface, o.material, qo);
+         attach_quads(*r.input, r.quads->quads, o.input);
+         return notes(*r.quads);
+       }},
       {Stage::kBending,
        [&] {
          r.bending =

@@ -18,6 +18,7 @@
 #include "kerfab/pipeline/cuttable_patches.h"
 #include "kerfab/pipeline/resolve.h"
 #include "kerfab/pipeline/stages.h"
+#include "kerfab/quads/quads.h"
 #include "kerfab/strips/strips.h"
 
 namespace kerfab {
@@ -31,6 +32,7 @@ struct RunInputs {
 
 struct PipelineOptions {
   InputOptions input;
+  QuadMeshOptions quads;  ///< the quad mesh made for a triangle target without --quad
   BendingOptions bending;  ///< its guidance is added to that of RunInputs::guidance
   StripsOptions strips;    ///< its split and merge edges are added to those of the guidance
   FlattenOptions flatten;
@@ -66,6 +68,7 @@ struct RunResult {
   PipelineOptions options;  ///< as given
   std::optional<LoadedInputs> loaded;
   std::optional<PreparedInput> input;
+  std::optional<QuadMeshResult> quads;  ///< when kerfab made the quad mesh (then also in input)
   std::optional<BendingResult> bending;
   std::optional<Strips> strips;         ///< as built, before any split
   std::optional<RowBaseline> baseline;  ///< with options.row_baseline

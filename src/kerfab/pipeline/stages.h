@@ -11,6 +11,7 @@ namespace kerfab {
 enum class Stage {
   kLoad,
   kPrepare,
+  kQuads,
   kBending,
   kStrips,
   kFlatten,
@@ -21,9 +22,9 @@ enum class Stage {
   kQuality
 };
 
-inline constexpr std::array<std::string_view, 10> kStageNames = {
-    "load",   "prepare", "bending", "strips", "flatten",
-    "joints", "kerf",    "resolve", "layout", "quality"};
+inline constexpr std::array<std::string_view, 11> kStageNames = {
+    "load",    "prepare", "quads",   "bending", "strips", "flatten",
+    "joints",  "kerf",    "resolve", "layout",  "quality"};
 
 inline std::string_view stage_name(Stage stage) { return kStageNames[static_cast<int>(stage)]; }
 

@@ -1,0 +1,540 @@
+#include "kerfab/quads/lattice.h"
+
+#include "kerfab/adapters/matching_program.h"
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <map>
+#include <numeric>
+#include <optional>
+
+namespace kerfab::quads {
+namespace {
+
+struct WorkTraits : public OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+  VertexAttributes(OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Status);
+  EdgeAttributes(OpenMesh::Attributes::Status);
+  HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
+};
+using WorkMesh = OpenMesh::TriMesh_ArrayKernelT<WorkTraits>;
+using VH = OpenMesh::VertexHandle;
+using HH = OpenMesh::HalfedgeHandle;
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Vertex roles: free vertices move to their lattice point, feature vertices slide along
+/// their feature line, corners (where feature lines meet or end) stay.
+enum Rank : int { kFree = 0, kFeature = 1, kCorner = 2 };
+
+Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a); }
+
+Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return a + t * d;
+}
+
+double corner_angle(const Vec3& at, const Vec3& prev, const Vec3& next) {
+  return angle_between(prev - at, next - at);
+}
+
+class Extractor {
+ public:
+  explicit Extractor(const LatticeInput& in)
+      : in_(in), s_(*in.surface), pos_(in.positions), cross_(in.cross), normal_(s_.normals) {
+    const auto& m = *s_.mesh;
+    mesh_.reserve(m.vertices.size(), 3 * m.vertices.size(), m.triangles.size());
+    for (const Vec3& p : m.vertices) mesh_.add_vertex(to_openmesh(p));
+    for (const auto& t : m.triangles)
+      mesh_.add_face(VH(t[0]), VH(t[1]), VH(t[2]));
+    const std::size_t n = m.vertices.size();
+    feature_nb_.assign(n, {});
+    for (const auto& [a, b] : in.features) {
+      feature_nb_[a].push_back(b);
+      feature_nb_[b].push_back(a);
+    }
+    rank_.assign(n, kFree);
+    for (std::size_t v = 0; v < n; ++v) {
+      auto& nb = feature_nb_[v];
+      std::sort(nb.begin(), nb.end());
+      nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
+      rank_[v] = nb.empty() ? kFree : nb.size() == 2 ? kFeature : kCorner;
+    }
+  }
+
+  LatticeResult run() {
+    using Mode = LatticeInput::Mode;
+    if (in_.mode != Mode::kTriangles) {
+      collapse_same_lattice_points();
+      move_to_lattice_points();
+    }
+    if (in_.mode == Mode::kPure) make_triangle_count_even();
+    pair_triangles(in_.mode == Mode::kPure ? 0.0 : in_.mode == Mode::kSplit ? 0.25 : 2.0);
+    if (in_.mode == Mode::kPure && triangles_.empty()) return quads_only();
+    return split();
+  }
+
+ private:
+  Vec3 point(VH v) const { return to_eigen(mesh_.point(v)); }
+
+  bool is_feature(int a, int b) const {
+    const auto& nb = feature_nb_[a];
+    return std::binary_search(nb.begin(), nb.end(), b);
+  }
+
+  LatticeOffset offset(int a, int b) const {
+    return lattice_offset(point(VH(a)), normal_[a], cross_[a], pos_[a],
+                          point(VH(b)), normal_[b], cross_[b], pos_[b],
+                          in_.spacing);
+  }
+
+  /// Faces around \p v keep their orientation (and some area) when \p v moves to \p to, or,
+  /// with \p removed set, when \p removed is merged into \p v placed at \p to.
+  bool keeps_faces(VH v, const Vec3& to, std::optional<VH> other = std::nullopt) const {
+    const double min_area2 = std::pow(1e-3 * in_.spacing * in_.spacing, 2);
+    for (auto f : mesh_.vf_range(v)) {
+      std::array<Vec3, 3> before, after;
+      int k = 0;
+      bool has_other = false;
+      for (auto w : mesh_.fv_range(f)) {
+        before[k] = point(w);
+        after[k] = w == v ? to : point(w);
+        if (other && w == *other) has_other = true;
+        ++k;
+      }
+      if (has_other) continue;  // this face goes away with the collapse
+      const Vec3 nb = triangle_normal(before[0], before[1], before[2]);
+      const Vec3 na = triangle_normal(after[0], after[1], after[2]);
+      if (na.squaredNorm() < min_area2) return false;
+      if (na.normalized().dot(nb.normalized()) < 0.3) return false;
+    }
+    return true;
+  }
+
+  bool may_collapse(HH h) {
+    const VH from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
+    const int rf = rank_[from.idx()], rt = rank_[to.idx()];
+    if (rf == kCorner) return false;
+    if (rf == kFeature && (rt == kFree || !is_feature(from.idx(), to.idx()))) return false;
+    if (!mesh_.is_collapse_ok(h)) return false;
+    return keeps_faces(from, point(to), to);
+  }
+
+  void collapse(HH h) {
+    const int from = mesh_.from_vertex_handle(h).idx(), to = mesh_.to_vertex_handle(h).idx();
+    for (int y : feature_nb_[from]) {
+      if (y == to) continue;
+      auto& ny = feature_nb_[y];
+      std::replace(ny.begin(), ny.end(), from, to);
+      std::sort(ny.begin(), ny.end());
+      ny.erase(std::unique(ny.begin(), ny.end()), ny.end());
+      feature_nb_[to].push_back(y);
+    }
+    auto& nt = feature_nb_[to];
+    nt.erase(std::remove(nt.begin(), nt.end(), from), nt.end());
+    std::sort(nt.begin(), nt.end());
+    nt.erase(std::unique(nt.begin(), nt.end()), nt.end());
+    feature_nb_[from].clear();
+    mesh_.collapse(h);
+  }
+
+  /// Vertices at the same lattice point become one.
+  void collapse_same_lattice_points() {
+    for (int pass = 0; pass < 20; ++pass) {
+      int collapsed = 0;
+      for (auto e : mesh_.edges()) {
+        if (mesh_.status(e).deleted()) continue;
+        const HH h0 = mesh_.halfedge_handle(e, 0), h1 = mesh_.halfedge_handle(e, 1);
+        const int a = mesh_.to_vertex_handle(h0).idx(), b = mesh_.to_vertex_handle(h1).idx();
+        const LatticeOffset off = offset(a, b);
+        if (off.offset != Eigen::Vector2i::Zero() || off.gap > 0.35) continue;
+        // Keep the vertex of higher rank, then the one nearer its lattice point.
+        auto score = [&](int v) {
+          return rank_[v] * 1e9 - (point(VH(v)) - pos_[v]).norm();
+        };
+        // h0 runs from b to a: collapsing it keeps a; h1 keeps b.
+        const bool keep_a = score(a) >= score(b);
+        const HH order[2] = {keep_a ? h0 : h1, keep_a ? h1 : h0};
+        for (HH h : order)
+          if (may_collapse(h)) {
+            collapse(h);
+            ++collapsed;
+            break;
+          }
+      }
+      if (collapsed == 0) break;
+    }
+  }
+
+  Vec3 lattice_target(VH v) const {
+    const int i = v.idx();
+    if (rank_[i] == kCorner) return point(v);
+    if (rank_[i] == kFeature) {
+      Vec3 best = point(v);
+      double best_d = std::numeric_limits<double>::infinity();
+      for (int y : feature_nb_[i]) {
+        const Vec3 c = closest_on_segment(pos_[i], point(v), point(VH(y)));
+        const double d = (c - pos_[i]).norm();
+        if (d < best_d) {
+          best_d = d;
+          best = c;
+        }
+      }
+      return best;
+    }
+    return in_.project(pos_[i]);
+  }
+
+  void move_to_lattice_points() {
+    for (int pass = 0; pass < 2; ++pass)
+      for (auto v : mesh_.vertices()) {
+        if (mesh_.status(v).deleted() || mesh_.is_isolated(v)) continue;
+        const Vec3 p = point(v), target = lattice_target(v);
+        for (double t : {1.0, 0.5, 0.25}) {
+          const Vec3 q = p + t * (target - p);
+          if (keeps_faces(v, q)) {
+            mesh_.set_point(v, to_openmesh(q));
+            break;
+          }
+        }
+      }
+  }
+
+  /// Pairs triangles into quads: best-shaped pairs across lattice diagonals first, then
+  /// augmenting paths so that as few triangles as possible are left.
+  void pair_triangles(double min_quality) {
+    std::vector<int> face_id(mesh_.n_faces(), -1);
+    for (auto f : mesh_.faces()) {
+      face_id[f.idx()] = static_cast<int>(faces_.size());
+      std::array<int, 3> c{};
+      int k = 0;
+      for (auto v : mesh_.fv_range(f)) c[k++] = v.idx();
+      faces_.push_back(c);
+    }
+    const int nf = static_cast<int>(faces_.size());
+    struct Candidate {
+      double weight;
+      int a, b;  // faces
+      std::array<int, 4> quad;
+    };
+    std::vector<Candidate> candidates;
+    for (auto e : mesh_.edges()) {
+      if (mesh_.status(e).deleted() || mesh_.is_boundary(e)) continue;
+      const HH h = mesh_.halfedge_handle(e, 0), o = mesh_.opposite_halfedge_handle(h);
+      const int a = mesh_.from_vertex_handle(h).idx(), b = mesh_.to_vertex_handle(h).idx();
+      if (is_feature(a, b)) continue;
+      const int ca = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h)).idx();
+      const int cb = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(o)).idx();
+      const Vec3 pa = point(VH(a)), pb = point(VH(b)), pca = point(VH(ca)), pcb = point(VH(cb));
+      const Vec3 na = triangle_normal(pa, pb, pca), nb = triangle_normal(pb, pa, pcb);
+      if (angle_between(na, nb) > kPi / 2) continue;
+      const double angles[4] = {
+          corner_angle(pa, pca, pb) + corner_angle(pa, pb, pcb), corner_angle(pcb, pa, pb),
+          corner_angle(pb, pcb, pa) + corner_angle(pb, pa, pca), corner_angle(pca, pb, pa)};
+      double quality = 1.0;
+      for (double t : angles) quality = std::min(quality, 1.0 - std::abs(t - kPi / 2) / (kPi / 2));
+      if (quality <= min_quality) continue;
+      double bonus = 0;
+      const Eigen::Vector2i d = offset(a, b).offset.cwiseAbs();
+      if (d == Eigen::Vector2i(1, 1)) bonus += 1.0;
+      for (auto [x, y] : {std::pair{a, cb}, {cb, b}, {b, ca}, {ca, a}})
+        if (offset(x, y).offset.cwiseAbs().sum() == 1) bonus += 0.25;
+      candidates.push_back({quality + bonus, face_id[mesh_.face_handle(h).idx()],
+                            face_id[mesh_.face_handle(o).idx()], {a, cb, b, ca}});
+    }
+    std::stable_sort(candidates.begin(), candidates.end(),
+                     [](const Candidate& x, const Candidate& y) { return x.weight > y.weight; });
+    std::vector<int> mate(nf, -1);
+    {
+      // The best perfect pairing where one exists: least cost, cost = best weight - weight.
+      std::vector<MatchingPair> pairs;
+      const double top = candidates.empty() ? 0.0 : candidates.front().weight;
+      for (const Candidate& c : candidates) pairs.push_back({c.a, c.b, top - c.weight + 0.01});
+      if (nf % 2 == 0 && !pairs.empty()) {
+        const MatchingResult m = min_cost_perfect_matching(nf, pairs, 10.0);
+        if (!m.mate.empty()) mate = m.mate;
+      }
+    }
+    std::vector<std::vector<int>> adjacent(nf);  // candidate indices per face
+    for (int c = 0; c < static_cast<int>(candidates.size()); ++c) {
+      adjacent[candidates[c].a].push_back(c);
+      adjacent[candidates[c].b].push_back(c);
+      if (mate[candidates[c].a] < 0 && mate[candidates[c].b] < 0 && mate[candidates[c].a] != -2) {
+        mate[candidates[c].a] = candidates[c].b;
+        mate[candidates[c].b] = candidates[c].a;
+      }
+    }
+    // Augmenting paths (alternating, any length) from each unpaired triangle.
+    auto other = [&](int c, int f) { return candidates[c].a == f ? candidates[c].b : candidates[c].a; };
+    std::vector<int> parent(nf, -1), seen(nf, -1);
+    for (int round = 0; round < 3; ++round)
+      for (int u = 0; u < nf; ++u) {
+        if (mate[u] >= 0) continue;
+        std::deque<std::pair<int, int>> queue{{u, 0}};
+        seen[u] = u + round * nf;
+        parent[u] = -1;
+        int end = -1, end_from = -1;
+        while (!queue.empty() && end < 0) {
+          const auto [x, depth] = queue.front();
+          queue.pop_front();
+          for (int c : adjacent[x]) {
+            const int y = other(c, x);
+            if (y == u || y == mate[x]) continue;
+            if (mate[y] < 0) {
+              end = y;
+              end_from = x;
+              break;
+            }
+            const int z = mate[y];
+            if (seen[z] == u + round * nf) continue;
+            seen[z] = u + round * nf;
+            parent[z] = x;  // z reached from x over the free edge x-y and the pair y-z
+            queue.push_back({z, depth + 1});
+          }
+        }
+        if (end < 0) continue;
+        // Flip the path: end - end_from, then end_from's old mate with its parent, and so on.
+        int y = end, x = end_from;
+        while (true) {
+          const int old_mate = mate[x];  // x was reached through it (none for u)
+          const int from = parent[x];
+          mate[x] = y;
+          mate[y] = x;
+          if (x == u) break;
+          y = old_mate;
+          x = from;
+        }
+      }
+    std::vector<char> used(nf, 0);
+    for (const Candidate& c : candidates)
+      if (mate[c.a] == c.b && !used[c.a] && !used[c.b]) {
+        used[c.a] = used[c.b] = 1;
+        quads_.push_back(c.quad);
+      }
+    for (int f = 0; f < nf; ++f)
+      if (!used[f]) triangles_.push_back(faces_[f]);
+  }
+
+  /// The paired quads as they are (every triangle found a partner).
+  LatticeResult quads_only() {
+    LatticeResult r;
+    r.lattice_quads = static_cast<int>(quads_.size());
+    PolyMesh& out = r.quads;
+    std::map<int, OpenMesh::SmartVertexHandle> corner;
+    std::vector<char> pinned;
+    for (const auto& q : quads_) {
+      std::vector<OpenMesh::VertexHandle> vs;
+      for (int v : q) {
+        auto it = corner.find(v);
+        if (it == corner.end()) {
+          it = corner.emplace(v, out.add_vertex(mesh_.point(VH(v)))).first;
+          pinned.push_back(rank_[v] != kFree);
+        }
+        vs.push_back(it->second);
+      }
+      out.add_face(vs);
+    }
+    relax(out, pinned);
+    return r;
+  }
+
+  /// Pieces of the surface between borders and features, each face's piece; per piece its
+  /// face count, a border halfedge (if any) and the feature halfedges on its rim.
+  struct Pieces {
+    std::vector<int> of;
+    std::vector<int> count;
+    std::vector<HH> border;
+    std::vector<std::vector<HH>> rim;
+  };
+
+  Pieces pieces() const {
+    Pieces p;
+    p.of.assign(mesh_.n_faces(), -1);
+    for (auto f : mesh_.faces()) {
+      if (p.of[f.idx()] >= 0) continue;
+      const int id = static_cast<int>(p.count.size());
+      p.count.push_back(0);
+      p.border.push_back(HH());
+      p.rim.emplace_back();
+      std::vector<OpenMesh::FaceHandle> stack{f};
+      p.of[f.idx()] = id;
+      while (!stack.empty()) {
+        const auto g = stack.back();
+        stack.pop_back();
+        ++p.count[id];
+        for (auto h : mesh_.fh_range(g)) {
+          const auto o = mesh_.opposite_halfedge_handle(h);
+          if (mesh_.is_boundary(o)) {
+            if (!p.border[id].is_valid()) p.border[id] = h;
+            continue;
+          }
+          const int a = mesh_.from_vertex_handle(h).idx(), b = mesh_.to_vertex_handle(h).idx();
+          if (is_feature(a, b)) {
+            p.rim[id].push_back(h);
+            continue;
+          }
+          const auto nf = mesh_.face_handle(o);
+          if (p.of[nf.idx()] < 0) {
+            p.of[nf.idx()] = id;
+            stack.push_back(nf);
+          }
+        }
+      }
+    }
+    return p;
+  }
+
+  /// A piece with an odd number of triangles has no perfect pairing. One of its border edges
+  /// is split at its middle (its triangle becomes two); a piece without a border splits a
+  /// feature edge on its rim, which changes the count of the piece across it too: another odd
+  /// one where there is one, else the parity moves on and is mended there.
+  void make_triangle_count_even() {
+    for (int round = 0; round < 200; ++round) {
+      const Pieces p = pieces();
+      bool changed = false;
+      std::vector<char> touched(p.count.size(), 0);
+      for (std::size_t id = 0; id < p.count.size(); ++id) {
+        if (p.count[id] % 2 == 0 || touched[id]) continue;
+        if (p.border[id].is_valid()) {
+          split_edge(p.border[id]);
+          touched[id] = 1;
+          changed = true;
+          continue;
+        }
+        HH pick;
+        for (HH h : p.rim[id]) {
+          const int other = p.of[mesh_.face_handle(mesh_.opposite_halfedge_handle(h)).idx()];
+          if (touched[other]) continue;
+          if (!pick.is_valid() || p.count[other] % 2 == 1) pick = h;
+          if (p.count[other] % 2 == 1) break;
+        }
+        if (!pick.is_valid()) continue;
+        touched[id] = 1;
+        touched[p.of[mesh_.face_handle(mesh_.opposite_halfedge_handle(pick)).idx()]] = 1;
+        split_edge(pick);
+        changed = true;
+      }
+      if (!changed) break;
+    }
+  }
+
+  /// Splits the (border or feature) edge of \p h at its middle, which stays on the feature.
+  void split_edge(OpenMesh::HalfedgeHandle h) {
+    const int a = mesh_.from_vertex_handle(h).idx(), b = mesh_.to_vertex_handle(h).idx();
+    const Vec3 m = 0.5 * (point(VH(a)) + point(VH(b)));
+    const VH v = mesh_.add_vertex(to_openmesh(m));
+    mesh_.split(mesh_.edge_handle(h), v);
+    feature_nb_.push_back({});
+    rank_.push_back(kFeature);
+    for (auto [x, y] : {std::pair{a, b}, {b, a}}) {
+      auto& nb = feature_nb_[x];
+      std::replace(nb.begin(), nb.end(), y, v.idx());
+      std::sort(nb.begin(), nb.end());
+    }
+    feature_nb_[v.idx()] = {std::min(a, b), std::max(a, b)};
+    pos_.push_back(m);
+    cross_.push_back(cross_[a]);
+    normal_.push_back(normal_[a]);
+  }
+
+  LatticeResult split() {
+    LatticeResult r;
+    r.lattice_quads = static_cast<int>(quads_.size());
+    r.lattice_triangles = static_cast<int>(triangles_.size());
+    r.split = true;
+    PolyMesh& out = r.quads;
+    std::map<int, OpenMesh::SmartVertexHandle> corner;
+    std::vector<char> pinned;  // feature vertices and feature-edge midpoints stay put
+    auto corner_of = [&](int v) {
+      auto it = corner.find(v);
+      if (it != corner.end()) return it->second;
+      const auto h = out.add_vertex(mesh_.point(VH(v)));
+      pinned.push_back(rank_[v] != kFree);
+      corner.emplace(v, h);
+      return h;
+    };
+    std::map<std::pair<int, int>, OpenMesh::SmartVertexHandle> middle;
+    auto middle_of = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = middle.find(key);
+      if (it != middle.end()) return it->second;
+      const Vec3 m = 0.5 * (point(VH(a)) + point(VH(b)));
+      const bool feature = is_feature(a, b);
+      const auto h = out.add_vertex(to_openmesh(feature || !in_.on_surface ? m : in_.project(m)));
+      pinned.push_back(feature);
+      middle.emplace(key, h);
+      return h;
+    };
+    auto add_split = [&](const auto& corners) {
+      const int k = static_cast<int>(corners.size());
+      Vec3 centre = Vec3::Zero();
+      for (int c : corners) centre += point(VH(c));
+      const auto hc = out.add_vertex(to_openmesh(in_.on_surface ? in_.project(centre / k) : Vec3(centre / k)));
+      pinned.push_back(0);
+      for (int i = 0; i < k; ++i) {
+        const int prev = corners[(i + k - 1) % k], cur = corners[i], next = corners[(i + 1) % k];
+        out.add_face(std::vector<OpenMesh::VertexHandle>{corner_of(cur), middle_of(cur, next), hc,
+                                                         middle_of(prev, cur)});
+      }
+    };
+    for (const auto& q : quads_) add_split(q);
+    for (const auto& t : triangles_) add_split(t);
+    relax(out, pinned);
+    return r;
+  }
+
+  /// A few rounds of tangential smoothing of the free vertices (each moves to the mean of its
+  /// neighbours, projected back onto the target), where no face folds by it.
+  void relax(PolyMesh& out, const std::vector<char>& pinned) const {
+    if (!in_.on_surface) return;
+    auto face_normal = [&](OpenMesh::FaceHandle f, OpenMesh::VertexHandle moved, const Vec3& at) {
+      std::array<Vec3, 4> c;
+      int k = 0;
+      for (auto w : out.fv_range(f)) c[k++ & 3] = w == moved ? at : to_eigen(out.point(w));
+      return Vec3((c[2] - c[0]).cross(c[3] - c[1]));
+    };
+    for (int it = 0; it < 3; ++it)
+      for (auto v : out.vertices()) {
+        if (pinned[v.idx()] || out.is_boundary(v)) continue;
+        Vec3 mean = Vec3::Zero();
+        int n = 0;
+        for (auto w : v.vertices()) {
+          mean += to_eigen(out.point(w));
+          ++n;
+        }
+        if (n == 0) continue;
+        const Vec3 target = in_.project(mean / n);
+        const Vec3 here = to_eigen(out.point(v));
+        bool ok = true;
+        for (auto f : v.faces()) {
+          const Vec3 before = face_normal(f, v, here), after = face_normal(f, v, target);
+          if (after.norm() < 1e-3 * in_.spacing * in_.spacing ||
+              after.normalized().dot(before.normalized()) < 0.5)
+            ok = false;
+        }
+        if (ok) out.set_point(v, to_openmesh(target));
+      }
+  }
+
+  const LatticeInput& in_;
+  const Surface& s_;
+  WorkMesh mesh_;
+  std::vector<Vec3> pos_, cross_, normal_;  // per vertex, growing with border splits
+  std::vector<std::vector<int>> feature_nb_;
+  std::vector<int> rank_;
+  std::vector<std::array<int, 3>> faces_;
+  std::vector<std::array<int, 4>> quads_;
+  std::vector<std::array<int, 3>> triangles_;
+};
+
+}  // namespace
+
+LatticeResult extract_quads(const LatticeInput& input) { return Extractor(input).run(); }
+
+}  // namespace kerfab::quads

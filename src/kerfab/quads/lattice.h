@@ -1,0 +1,41 @@
+#pragma once
+/// \file Extraction of the quad lattice from a triangle surface carrying a position field
+/// (internal to src/kerfab/quads): edges whose ends lie at the same lattice point are collapsed
+/// (only where the link condition keeps the surface a manifold of the same topology, and no
+/// triangle folds), the remaining triangles are paired into quads across lattice diagonals,
+/// and one split step turns quads into four quads and left-over triangles into three.
+#include <functional>
+#include <vector>
+
+#include "kerfab/core/mesh.h"
+#include "kerfab/quads/fields.h"
+
+namespace kerfab::quads {
+
+struct LatticeInput {
+  const Surface* surface = nullptr;
+  std::vector<Vec3> cross;      ///< per vertex
+  std::vector<Vec3> positions;  ///< per vertex: its lattice point
+  std::vector<std::array<int, 2>> features;  ///< feature (sharp or border) edges
+  double spacing = 0;  ///< lattice spacing [mm]
+  /// Pure: the paired quads as they are (if every triangle finds a partner, else as split);
+  /// split: every face split (quads into 4, triangles into 3), only well-shaped pairs made;
+  /// triangles: no collapse and no pairing, every triangle split into 3 quads (the safe net).
+  enum class Mode { kPure, kSplit, kTriangles } mode = Mode::kPure;
+  /// New points (split) land on the target and free vertices are smoothed along it; false:
+  /// new points at plain midpoints and centres, nothing smoothed (every face stays convex).
+  bool on_surface = true;
+  /// Closest point on the target [mm] (the split's new points land there).
+  std::function<Vec3(const Vec3&)> project;
+};
+
+struct LatticeResult {
+  PolyMesh quads;  ///< all quads after the split
+  int lattice_quads = 0;
+  int lattice_triangles = 0;
+  bool split = false;  ///< the faces were split (the quads are half the lattice spacing)
+};
+
+LatticeResult extract_quads(const LatticeInput& input);
+
+}  // namespace kerfab::quads

@@ -1,0 +1,328 @@
+#include "kerfab/quads/quads.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "kerfab/adapters/remesh.h"
+#include "kerfab/core/errors.h"
+#include "kerfab/quads/fields.h"
+#include "kerfab/quads/lattice.h"
+
+namespace kerfab {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(3);
+  os << v;
+  return os.str();
+}
+
+double smoothstep(double x, double lo, double hi) {
+  const double t = std::clamp((x - lo) / (hi - lo), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+/// Area-weighted quantile of \p values.
+double weighted_quantile(const std::vector<double>& values, const std::vector<double>& weights,
+                         double q) {
+  std::vector<std::size_t> order(values.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return values[a] < values[b]; });
+  double total = 0;
+  for (double w : weights) total += w;
+  double acc = 0;
+  for (auto i : order) {
+    acc += weights[i];
+    if (acc >= q * total) return values[i];
+  }
+  return values.empty() ? 0.0 : values[order.back()];
+}
+
+/// Edges of \p mesh whose faces fold by more than \p angle (borders are added by the remesher).
+std::vector<std::array<int, 2>> sharp_edges(const TriangleMesh& mesh, double angle) {
+  std::map<std::pair<int, int>, std::vector<int>> faces_of;
+  for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t)
+    for (int k = 0; k < 3; ++k)
+      faces_of[std::minmax(mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3])].push_back(t);
+  auto normal = [&](int t) {
+    const auto& tr = mesh.triangles[t];
+    return Vec3((mesh.vertices[tr[1]] - mesh.vertices[tr[0]])
+                    .cross(mesh.vertices[tr[2]] - mesh.vertices[tr[0]]));
+  };
+  std::vector<std::array<int, 2>> out;
+  for (const auto& [edge, faces] : faces_of)
+    if (faces.size() == 2 && angle_between(normal(faces[0]), normal(faces[1])) > angle)
+      out.push_back({edge.first, edge.second});
+  return out;
+}
+
+struct Topology {
+  int euler = 0;
+  int boundaries = 0;
+};
+
+Topology topology(const TriangleMesh& mesh) {
+  std::map<std::pair<int, int>, int> edges;
+  std::set<int> used;
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      ++edges[std::minmax(t[k], t[(k + 1) % 3])];
+      used.insert(t[k]);
+    }
+  Topology out;
+  out.euler = static_cast<int>(used.size()) - static_cast<int>(edges.size()) +
+              static_cast<int>(mesh.triangles.size());
+  // Border loops: border edges chained at their vertices (each border vertex of a manifold
+  // has one outgoing border edge per loop through it; count loops by union-find).
+  std::map<int, int> parent;
+  std::function<int(int)> find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  int border_edges = 0;
+  for (const auto& [e, n] : edges)
+    if (n == 1) {
+      ++border_edges;
+      for (int v : {e.first, e.second})
+        if (!parent.count(v)) parent[v] = v;
+      const int a = find(e.first), b = find(e.second);
+      if (a != b) parent[a] = b;
+    }
+  std::set<int> roots;
+  for (auto& [v, p] : parent) roots.insert(find(v));
+  out.boundaries = border_edges ? static_cast<int>(roots.size()) : 0;
+  return out;
+}
+
+QuadSizeRule choose_size(const TriangleMesh& target, double diagonal, const Material& material,
+                         const QuadMeshOptions& o) {
+  QuadSizeRule rule;
+  const quads::Surface surface = quads::make_surface(target);
+  for (double a : surface.areas) rule.area += a;
+  const quads::Curvatures k = quads::principal_curvatures(surface, diagonal / 60.0);
+  rule.bend_curvature = weighted_quantile(k.larger, surface.areas, 0.8);
+  rule.ruling_curvature = weighted_quantile(k.smaller, surface.areas, 0.8);
+  // Kerf: beams d wide, twisted by kappa d over a strip l wide, hold while
+  // g d sqrt(h^2 + d^2) <= 2 l / kappa (docs/kerf-cuts.md); with d = 1.5 x the minimum cut
+  // spacing (room to place them) the strip must be at least this wide.
+  const double g = material.shear_modulus * material.safety / material.yield_strength;
+  const double h = material.thickness, d = 1.5 * o.min_cut_spacing;
+  rule.kerf_size = (h > 0 && std::isfinite(g) && g > 0)
+                       ? 0.5 * g * d * std::sqrt(h * h + d * d) * rule.bend_curvature
+                       : 0.0;
+  // Fidelity: a straight ruling l long on a surface curving kappa that way misses it by
+  // kappa l^2 / 8.
+  const double tol = o.tolerance * diagonal;
+  rule.fidelity_size = rule.ruling_curvature > 0 ? std::sqrt(8 * tol / rule.ruling_curvature)
+                                                 : std::numeric_limits<double>::infinity();
+  const double s_min = std::sqrt(rule.area / o.max_quads), s_max = std::sqrt(rule.area / o.min_quads);
+  if (o.quad_size) {
+    rule.size = *o.quad_size;
+    rule.reason = "--quad-size";
+  } else if (o.quads) {
+    rule.size = std::sqrt(rule.area / *o.quads);
+    rule.reason = "--quads";
+  } else if (rule.kerf_size >= rule.fidelity_size) {
+    rule.size = std::clamp(rule.kerf_size, s_min, s_max);
+    rule.reason = rule.size == rule.kerf_size ? "kerf (strips wide enough to bend)" : "quad count";
+  } else {
+    // Between the two bounds: the widest strips that are still faithful (fewest parts).
+    rule.size = std::clamp(rule.fidelity_size, s_min, s_max);
+    rule.reason = rule.size == rule.fidelity_size ? "fidelity (rulings within tolerance)" : "quad count";
+  }
+  return rule;
+}
+
+std::array<double, 4> corner_angles(const PolyMesh& q, OpenMesh::FaceHandle f) {
+  const auto v = quad_vertices(q, f);
+  std::array<double, 4> out{};
+  for (int c = 0; c < 4; ++c) {
+    const Vec3 a = to_eigen(q.point(OpenMesh::VertexHandle(v[(c + 3) % 4])));
+    const Vec3 b = to_eigen(q.point(OpenMesh::VertexHandle(v[c])));
+    const Vec3 d = to_eigen(q.point(OpenMesh::VertexHandle(v[(c + 1) % 4])));
+    out[c] = angle_between(a - b, d - b);
+  }
+  return out;
+}
+
+/// What is wrong with \p q as a quad mesh of \p mesh (empty: nothing): not all quads, another
+/// topology, or a folded, reflex or flat corner.
+std::string check(const PolyMesh& q, const TriangleMesh& mesh, const TargetSurface& target,
+                  double size) {
+  const Topology want = topology(mesh);
+  const int euler = static_cast<int>(q.n_vertices()) - static_cast<int>(q.n_edges()) +
+                    static_cast<int>(q.n_faces());
+  if (!is_all_quads(q)) return "not all quads";
+  if (euler != want.euler)
+    return "Euler characteristic " + std::to_string(euler) + " instead of " +
+           std::to_string(want.euler);
+  if (boundary_loop_count(q) != want.boundaries)
+    return std::to_string(boundary_loop_count(q)) + " border loops instead of " +
+           std::to_string(want.boundaries);
+  int bad = 0;
+  for (auto f : q.faces()) {
+    const auto v = quad_vertices(q, f);
+    std::array<Vec3, 4> p;
+    for (int c = 0; c < 4; ++c) p[c] = to_eigen(q.point(OpenMesh::VertexHandle(v[c])));
+    const Vec3 n_surface = target.closest(0.25 * (p[0] + p[1] + p[2] + p[3])).normal;
+    std::array<Vec3, 4> corner_n;
+    Vec3 quad_n = Vec3::Zero();
+    for (int c = 0; c < 4; ++c) {
+      corner_n[c] = (p[(c + 1) % 4] - p[c]).cross(p[(c + 3) % 4] - p[c]);
+      quad_n += corner_n[c];
+    }
+    // Not inside out: the target's normal at one of the corners (they lie on the target)
+    // agrees (near thin parts the centre's nearest facet may be the other side's).
+    double agree = quad_n.normalized().dot(n_surface);
+    for (int c = 0; c < 4; ++c) agree = std::max(agree, quad_n.normalized().dot(target.closest(p[c]).normal));
+    bool ok = agree > 0;
+    for (int c = 0; c < 4; ++c)  // convex, no flat corner
+      ok = ok && corner_n[c].norm() >= 1e-6 * size * size && corner_n[c].dot(quad_n) > 0;
+    bad += ok ? 0 : 1;
+  }
+  if (bad > 0) return std::to_string(bad) + " folded, reflex or flat quads";
+  return {};
+}
+
+}  // namespace
+
+QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& material,
+                              const QuadMeshOptions& o) {
+  if (o.quads && (*o.quads < 20 || *o.quads > 100000))
+    throw InvalidInput("--quads must be between 20 and 100000, got " + std::to_string(*o.quads));
+  if (o.quad_size && !(*o.quad_size > 0 && std::isfinite(*o.quad_size)))
+    throw InvalidInput("--quad-size must be > 0 mm");
+  if (!(o.feature_angle > 0 && o.feature_angle < kPi))
+    throw InvalidInput("--quad-feature-angle must be between 0 and 180 degrees");
+  const TriangleMesh& mesh = target.mesh();
+  const double diagonal = bounding_box(mesh).diagonal();
+  QuadMeshResult r;
+  r.size = choose_size(mesh, diagonal, material, o);
+  const double count = r.size.area / (r.size.size * r.size.size);
+  if (count > 100000)
+    throw InvalidInput("a quad size of " + fmt(r.size.size) + " mm would make about " +
+                       fmt(count) + " quads on " + fmt(r.size.area) +
+                       " mm^2 (at most 100000): pass a larger --quad-size");
+  if (count < 4)
+    throw InvalidInput("a quad size of " + fmt(r.size.size) + " mm leaves fewer than 4 quads on " +
+                       "this model: pass a smaller --quad-size");
+
+  // First the lattice at the quad size, every triangle paired; where some triangle finds no
+  // partner, the lattice at twice the size with every face split (quads into 4, triangles
+  // into 3), which is all quads by construction.
+  const FeatureTriangleMesh input{mesh, sharp_edges(mesh, o.feature_angle)};
+  FeatureTriangleMesh remeshed;
+  using Mode = quads::LatticeInput::Mode;
+  // The safe net tries finer triangles until every face is sound (each edge becomes two quad
+  // edges, so 1.6 x the quad size gives quads of about the size wanted).
+  const std::pair<Mode, double> attempts[] = {{Mode::kPure, 1.0 / 3.5},    {Mode::kSplit, 2.0 / 3.5},
+                                              {Mode::kTriangles, 1.6},      {Mode::kTriangles, 0.8},
+                                              {Mode::kTriangles, 0.4}};
+  for (const auto& [mode, edge] : attempts) {
+    const double spacing = (mode == Mode::kPure ? 1 : 2) * r.size.size;
+    remeshed = isotropic_remesh(input, edge * r.size.size, 5);
+    const quads::Surface surface = quads::make_surface(remeshed.mesh);
+    const int n = static_cast<int>(remeshed.mesh.vertices.size());
+    r.remeshed_vertices = n;
+    r.feature_edges = static_cast<int>(remeshed.features.size());
+
+    // Alignment: features and borders firmly, curvature where clearly anisotropic.
+    const quads::Curvatures k = quads::principal_curvatures(surface, 0.5 * spacing);
+    std::vector<Vec3> direction(n, Vec3::Zero());
+    std::vector<double> weight(n, 0.0);
+    for (int i = 0; i < n; ++i) {
+      const double diff = k.larger[i] - k.smaller[i];
+      const double anisotropy = k.larger[i] > 0 ? diff / k.larger[i] : 0.0;
+      weight[i] = 0.3 * smoothstep(anisotropy, 0.3, 0.8) * smoothstep(diff * diagonal, 2.0, 6.0);
+      direction[i] = k.weak_direction[i];
+    }
+    std::vector<std::vector<int>> feature_nb(n);
+    r.feature_length = 0;
+    for (const auto& [a, b] : remeshed.features) {
+      feature_nb[a].push_back(b);
+      feature_nb[b].push_back(a);
+      r.feature_length += (remeshed.mesh.vertices[a] - remeshed.mesh.vertices[b]).norm();
+    }
+    for (int i = 0; i < n; ++i) {
+      if (feature_nb[i].size() != 2) continue;
+      const Vec3 t =
+          remeshed.mesh.vertices[feature_nb[i][1]] - remeshed.mesh.vertices[feature_nb[i][0]];
+      direction[i] = (t - surface.normals[i] * surface.normals[i].dot(t)).normalized();
+      weight[i] = 10.0;
+    }
+    const std::vector<Vec3> cross = quads::cross_field(surface, direction, weight);
+    const std::vector<Vec3> positions =
+        quads::position_field(surface, cross, spacing, o.smoothing_iterations);
+
+    for (const bool on_surface : {true, false}) {
+      quads::LatticeInput li{&surface,   cross, positions, remeshed.features, spacing, mode,
+                             on_surface, [&](const Vec3& p) { return target.closest(p).point; }};
+      quads::LatticeResult lattice = quads::extract_quads(li);
+      r.lattice_quads = lattice.lattice_quads;
+      r.lattice_triangles = lattice.lattice_triangles;
+      r.quads = std::move(lattice.quads);
+      r.method = mode == Mode::kTriangles ? "triangles split into quads (no lattice)"
+                 : lattice.split         ? "lattice, faces split"
+                                         : "lattice";
+      if (!on_surface) r.method += ", new points not projected";
+      r.problem = check(r.quads, mesh, target, r.size.size);
+      if (r.problem.empty()) break;
+    }
+    if (r.problem.empty()) break;
+  }
+  if (!r.problem.empty())
+    throw SolverError("quad meshing failed on this target (" + r.problem +
+                      "); pass a quad mesh with --quad or another --quad-size");
+
+  PolyMesh& q = r.quads;
+  r.min_corner_angle = kPi;
+  for (auto f : q.faces())
+    for (double angle : corner_angles(q, f)) {
+      r.min_corner_angle = std::min(r.min_corner_angle, angle);
+      r.max_corner_angle = std::max(r.max_corner_angle, angle);
+    }
+  std::map<int, int> valences;
+  for (auto v : q.vertices()) {
+    const int val = static_cast<int>(q.valence(v));
+    if (q.is_boundary(v)) {
+      r.irregular_vertices += val != 3 ? 1 : 0;
+      continue;
+    }
+    ++valences[val];
+    r.irregular_vertices += val != 4 ? 1 : 0;
+  }
+  r.valences.assign(valences.begin(), valences.end());
+  for (auto v : q.vertices())
+    r.max_distance = std::max(r.max_distance, target.closest(to_eigen(q.point(v))).distance);
+
+  // Feature length along quad edges: a feature segment counts where its middle lies on a quad
+  // edge (within 2 % of the quad size) running the same way (within 15 degrees).
+  for (const auto& [a, b] : remeshed.features) {
+    const Vec3 pa = remeshed.mesh.vertices[a], pb = remeshed.mesh.vertices[b];
+    const Vec3 mid = 0.5 * (pa + pb), dir = (pb - pa).normalized();
+    bool on = false;
+    for (auto e : q.edges()) {
+      const Vec3 e0 = to_eigen(q.point(q.from_vertex_handle(q.halfedge_handle(e, 0))));
+      const Vec3 e1 = to_eigen(q.point(q.to_vertex_handle(q.halfedge_handle(e, 0))));
+      const Vec3 d = e1 - e0;
+      if ((mid - e0).squaredNorm() > d.squaredNorm() + 1 && (mid - e1).squaredNorm() > d.squaredNorm() + 1)
+        continue;
+      const double t = std::clamp((mid - e0).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      if ((e0 + t * d - mid).norm() < 0.02 * r.size.size &&
+          std::abs(d.normalized().dot(dir)) > std::cos(15 * kPi / 180)) {
+        on = true;
+        break;
+      }
+    }
+    if (on) r.feature_length_on_quads += (pb - pa).norm();
+  }
+  return r;
+}
+
+}  // namespace kerfab

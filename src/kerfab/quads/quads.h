@@ -1,0 +1,71 @@
+#pragma once
+/// \file Quad meshing of a triangle target (before bending): a cross field that follows the
+/// principal curvature directions where the surface is clearly anisotropic and the sharp
+/// features and borders everywhere, a position field on it (lattice of quad corners), the
+/// lattice extracted from a remeshed triangle surface by edge collapses and triangle pairing,
+/// and one split step that makes every face a quad. Derivation and measurements:
+/// docs/quad-meshing.md.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kerfab/adapters/target_surface.h"
+#include "kerfab/core/material.h"
+#include "kerfab/core/mesh.h"
+
+namespace kerfab {
+
+struct QuadMeshOptions {
+  std::optional<int> quads;           ///< set: about this many quads [-], 20..100000
+  std::optional<double> quad_size;    ///< set: quad edge length [mm], > 0 (wins over quads)
+  double feature_angle = 1.05;        ///< edges folding more are sharp features [rad], (0, pi)
+  double min_cut_spacing = 0.9;       ///< the laser's closest cuts [mm] (the size rule), > 0
+  double tolerance = 0.002;           ///< wanted deviation of a straight ruling from the
+                                      ///< surface, fraction of the bbox diagonal [-], > 0
+  int min_quads = 400;                ///< the size rule never gives fewer quads [-]
+  int max_quads = 6000;               ///< nor more [-]
+  int smoothing_iterations = 200;     ///< Gauss-Seidel sweeps of the position field [-]
+};
+
+/// How the quad size was chosen (docs/quad-meshing.md, "Size").
+struct QuadSizeRule {
+  double area = 0;            ///< target surface area [mm^2]
+  double bend_curvature = 0;  ///< 90th percentile (by area) of the larger principal
+                              ///< curvature magnitude [1/mm]
+  double ruling_curvature = 0;  ///< 90th percentile of the smaller one [1/mm]
+  double kerf_size = 0;       ///< smallest strip width whose bend keeps beams twice the
+                              ///< minimum cut spacing wide [mm] (0: nothing bends or paper)
+  double fidelity_size = 0;   ///< largest strip width whose straight rulings stay within the
+                              ///< tolerance [mm] (infinite where nothing curves that way)
+  double size = 0;            ///< the quad edge length chosen [mm]
+  std::string reason;         ///< which bound decided it
+};
+
+struct QuadMeshResult {
+  PolyMesh quads;                      ///< all quads, vertices on the target [mm]
+  QuadSizeRule size;
+  int remeshed_vertices = 0;           ///< vertices of the remeshed triangle surface
+  int feature_edges = 0;               ///< sharp or border edges kept (remeshed surface)
+  double feature_length = 0;           ///< their length [mm]
+  double feature_length_on_quads = 0;  ///< of it, lying along quad edges [mm]
+  std::string method;                  ///< how it was made: "lattice" (the lattice paired into
+                                       ///< quads), "lattice, faces split", or "triangles split
+                                       ///< into quads (no lattice)" (the safe net)
+  std::string problem;                 ///< empty (else why the last try failed)
+  int lattice_quads = 0;               ///< quads of the extracted lattice (before the split)
+  int lattice_triangles = 0;           ///< triangles left over there (each becomes 3 quads)
+  int irregular_vertices = 0;          ///< interior vertices of valence != 4, border != 3
+  std::vector<std::pair<int, int>> valences;  ///< (valence, count) over interior vertices
+  double max_distance = 0;             ///< farthest quad vertex from the target [mm]
+  double min_corner_angle = 0;         ///< smallest quad corner angle [rad]
+  double max_corner_angle = 0;         ///< largest quad corner angle [rad]
+  std::vector<std::string> repairs;    ///< what was done to the input, one line each
+};
+
+/// Makes an all-quad mesh on \p surface (the prepared, scaled target) for the material given.
+/// \throw InvalidInput options out of range, or a target that is not a manifold surface.
+/// \throw SolverError when no valid quad mesh came out (the message says what to pass instead).
+QuadMeshResult make_quad_mesh(const TargetSurface& surface, const Material& material,
+                              const QuadMeshOptions& options);
+
+}  // namespace kerfab

@@ -1,0 +1,168 @@
+// Quad meshing of triangle targets (src/kerfab/quads): alignment, topology and soundness,
+// checked on generated shapes with exact answers and on real meshes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "kerfab/core/errors.h"
+#include "kerfab/io/mesh_io.h"
+#include "kerfab/quads/quads.h"
+#include "shapes.h"
+#include "test_util.h"
+
+namespace kerfab {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+QuadMeshResult mesh_of(const TriangleMesh& target, QuadMeshOptions o = {}) {
+  const TargetSurface surface(target);
+  return make_quad_mesh(surface, Material{}, o);
+}
+
+int euler(const PolyMesh& m) {
+  return static_cast<int>(m.n_vertices()) - static_cast<int>(m.n_edges()) +
+         static_cast<int>(m.n_faces());
+}
+
+/// Every face a convex quad whose corners turn the same way (measured here, not by the stage).
+void expect_sound_quads(const PolyMesh& q) {
+  ASSERT_TRUE(is_all_quads(q));
+  for (auto f : q.faces()) {
+    const auto v = quad_vertices(q, f);
+    Vec3 sum = Vec3::Zero();
+    std::array<Vec3, 4> n;
+    for (int c = 0; c < 4; ++c) {
+      const Vec3 p = to_eigen(q.point(OpenMesh::VertexHandle(v[c])));
+      const Vec3 a = to_eigen(q.point(OpenMesh::VertexHandle(v[(c + 1) % 4]))) - p;
+      const Vec3 b = to_eigen(q.point(OpenMesh::VertexHandle(v[(c + 3) % 4]))) - p;
+      n[c] = a.cross(b);
+      sum += n[c];
+    }
+    for (int c = 0; c < 4; ++c) ASSERT_GT(n[c].dot(sum), 0) << "face " << f.idx() << " corner " << c;
+  }
+  // Manifold: every edge has one or two faces, every vertex one fan.
+  for (auto v : q.vertices()) EXPECT_TRUE(q.is_manifold(v)) << "vertex " << v.idx();
+}
+
+TEST(Quads, CylinderEdgesRunAlongTheAxisAndAroundIt) {
+  const auto s = test::open_cylinder(50, 100, 24, 8);
+  const QuadMeshResult r = mesh_of(s.target, {.quad_size = 10});
+  expect_sound_quads(r.quads);
+  EXPECT_EQ(euler(r.quads), 0);
+  EXPECT_EQ(boundary_loop_count(r.quads), 2);
+  EXPECT_EQ(r.method, "lattice");
+  EXPECT_EQ(r.irregular_vertices, 0);
+  // Each edge runs along the axis (z) or around it (perpendicular to z and to the radius).
+  double worst = 0;
+  for (auto e : r.quads.edges()) {
+    const auto h = r.quads.halfedge_handle(e, 0);
+    const Vec3 a = to_eigen(r.quads.point(r.quads.from_vertex_handle(h)));
+    const Vec3 b = to_eigen(r.quads.point(r.quads.to_vertex_handle(h)));
+    const Vec3 d = (b - a).normalized();
+    const Vec3 mid = 0.5 * (a + b);
+    const Vec3 around = Vec3::UnitZ().cross(Vec3(mid.x(), mid.y(), 0)).normalized();
+    const double off_axis = std::acos(std::min(1.0, std::abs(d.z())));
+    const double off_around = std::acos(std::min(1.0, std::abs(d.dot(around))));
+    worst = std::max(worst, std::min(off_axis, off_around));
+  }
+  EXPECT_LT(worst, 5 * kPi / 180) << "worst edge direction off by " << worst * 180 / kPi << " deg";
+  // The 10 mm size: circumference 314 mm in about 31 quads, 100 mm height in about 10.
+  EXPECT_NEAR(static_cast<double>(r.quads.n_faces()), 31.4 * 10, 31.4 * 10 * 0.15);
+  // All vertices on the cylinder (the target is its 192-gon: chordal error 0.067 mm).
+  for (auto v : r.quads.vertices()) {
+    const Vec3 p = to_eigen(r.quads.point(v));
+    EXPECT_NEAR(std::hypot(p.x(), p.y()), 50.0, 0.5);
+  }
+}
+
+TEST(Quads, ClosedShapesKeepTheirTopology) {
+  const std::vector<std::pair<test::Shape, double>> shapes = {
+      {test::sphere(50, 6), 12.0}, {test::torus(60, 20, 32, 16), 2 * kPi * 20 / 12},
+      {test::closed_cylinder(40, 80, 4), 10.0}};
+  for (const auto& [shape, size] : shapes) {
+    SCOPED_TRACE(shape.name);
+    const QuadMeshResult r = mesh_of(shape.target, {.quad_size = size});
+    expect_sound_quads(r.quads);
+    EXPECT_EQ(euler(r.quads), shape.name == "torus" ? 0 : 2);
+    EXPECT_EQ(boundary_loop_count(r.quads), 0);
+    for (auto v : r.quads.vertices())
+      EXPECT_LT(std::abs(shape.signed_distance(to_eigen(r.quads.point(v)))), 0.05 * size);
+    // Sphere and capped cylinder come from the lattice, with far fewer irregular vertices than
+    // the triangle split (about half of all). The torus is not asked for that: a lattice of
+    // one spacing cannot fit its inner and outer circles (80 vs 40 mm radius) without
+    // dislocations, and today they push it to the safe net (docs/quad-meshing.md).
+    if (shape.name == "torus") continue;
+    EXPECT_EQ(r.method.rfind("lattice", 0), 0u) << r.method;
+    EXPECT_LT(r.irregular_vertices, 0.2 * r.quads.n_vertices()) << r.method;
+  }
+}
+
+TEST(Quads, SizeRuleFollowsMaterialAndCounts) {
+  const auto s = test::sphere(50, 6);
+  const QuadMeshResult by_count = mesh_of(s.target, {.quads = 300});
+  EXPECT_NEAR(by_count.size.size, std::sqrt(4 * kPi * 2500 / 300), 0.05 * by_count.size.size);
+  EXPECT_EQ(by_count.size.reason, "--quads");
+  // Kerf bound: beams 1.35 mm wide in 3 mm MDF (G / tau_eff = 100) on a 50 mm sphere need
+  // strips of 0.5 * 100 * 1.35 * sqrt(9 + 1.8225) / 50 = 4.44 mm.
+  EXPECT_NEAR(by_count.size.kerf_size, 0.5 * 100 * 1.35 * std::sqrt(9 + 1.8225) / 50, 0.3);
+  EXPECT_THROW(mesh_of(s.target, {.quads = 5}), InvalidInput);
+  EXPECT_THROW(mesh_of(s.target, {.quad_size = -1}), InvalidInput);
+  EXPECT_THROW(mesh_of(s.target, {.quad_size = 0.01}), InvalidInput);  // 100000+ quads
+}
+
+TEST(Quads, Deterministic) {
+  const auto s = test::sphere(50, 6);
+  const QuadMeshResult a = mesh_of(s.target, {.quad_size = 12});
+  const QuadMeshResult b = mesh_of(s.target, {.quad_size = 12});
+  ASSERT_EQ(a.quads.n_vertices(), b.quads.n_vertices());
+  for (auto v : a.quads.vertices())
+    EXPECT_EQ(to_eigen(a.quads.point(v)), to_eigen(b.quads.point(v)));
+}
+
+TEST(Quads, RealMeshesBecomeSoundQuadMeshesOfTheSameTopology) {
+  KERFAB_SKIP_WITHOUT_SHARED_MESHES();
+  for (const std::string name : {"fandisk.obj", "spot_triangulated.obj", "bob_tri.obj"}) {
+    SCOPED_TRACE(name);
+    TriangleMesh t = triangulate(read_mesh(test::shared_meshes() / name));
+    const double side = bounding_box(t).largest_side();
+    for (auto& v : t.vertices) v *= 250.0 / side;
+    const QuadMeshResult r = mesh_of(t);
+    expect_sound_quads(r.quads);
+    PolyMesh target;
+    for (const auto& p : t.vertices) target.add_vertex(to_openmesh(p));
+    for (const auto& f : t.triangles)
+      target.add_face(OpenMesh::VertexHandle(f[0]), OpenMesh::VertexHandle(f[1]),
+                      OpenMesh::VertexHandle(f[2]));
+    EXPECT_EQ(euler(r.quads), euler(target));
+    EXPECT_EQ(boundary_loop_count(r.quads), boundary_loop_count(target));
+    EXPECT_LT(r.max_distance, 0.03 * bounding_box(t).diagonal());
+  }
+}
+
+}  // namespace
+}  // namespace kerfab
+
+namespace kerfab {
+namespace {
+
+// From the command line: a triangle mesh alone gives a quad mesh that reads back as all quads
+// of the target's topology.
+TEST(Quads, TriangleTargetAloneRunsAndWritesItsQuadMesh) {
+  const auto dir = test::fresh_dir();
+  const auto out = dir / "out";
+  const std::string cmd = std::string(KERFAB_CLI) + " run --quiet --target " +
+                          test::real_mesh("spot_triangulated.obj").string() +
+                          " --size 250 --quads 600 --stop-after quads --out " + out.string() +
+                          " 2>" + (dir / "err").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const PolyMesh q = read_mesh(out / "model" / "quads.obj");
+  EXPECT_TRUE(is_all_quads(q));
+  EXPECT_EQ(static_cast<int>(q.n_vertices()) - static_cast<int>(q.n_edges()) +
+                static_cast<int>(q.n_faces()),
+            2);
+  EXPECT_TRUE(std::filesystem::exists(out / "report.json"));
+}
+
+}  // namespace
+}  // namespace kerfab
