@@ -13,15 +13,9 @@
 namespace kerfab::quads {
 namespace {
 
-struct WorkTraits : public OpenMesh::DefaultTraits {
-  using Point = OpenMesh::Vec3d;
-  using Normal = OpenMesh::Vec3d;
-  VertexAttributes(OpenMesh::Attributes::Status);
-  FaceAttributes(OpenMesh::Attributes::Status);
-  EdgeAttributes(OpenMesh::Attributes::Status);
-  HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
-};
-using WorkMesh = OpenMesh::TriMesh_ArrayKernelT<WorkTraits>;
+/// The same traits as the project's polygon mesh (core/mesh.h), as a triangle mesh: collapses
+/// and edge splits need the triangle kernel.
+using WorkMesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
 using VH = OpenMesh::VertexHandle;
 using HH = OpenMesh::HalfedgeHandle;
 
