@@ -64,14 +64,19 @@ class Extractor {
 
   LatticeResult run() {
     using Mode = LatticeInput::Mode;
+    collapse_short_edges();
     if (in_.mode != Mode::kTriangles) {
       collapse_same_lattice_points();
       move_to_lattice_points();
     }
     if (in_.mode == Mode::kPure) make_triangle_count_even();
     pair_triangles(in_.mode == Mode::kPure ? 0.0 : in_.mode == Mode::kSplit ? 0.25 : 2.0);
-    if (in_.mode == Mode::kPure && triangles_.empty()) return quads_only();
-    return split();
+    if (in_.mode != Mode::kPure) return split();
+    if (triangles_.empty()) return quads_only();
+    LatticeResult unpaired;
+    unpaired.lattice_quads = static_cast<int>(quads_.size());
+    unpaired.lattice_triangles = static_cast<int>(triangles_.size());
+    return unpaired;
   }
 
  private:
@@ -90,7 +95,10 @@ class Extractor {
 
   /// Faces around \p v keep their orientation (and some area) when \p v moves to \p to, or,
   /// with \p removed set, when \p removed is merged into \p v placed at \p to.
-  bool keeps_faces(VH v, const Vec3& to, std::optional<VH> other = std::nullopt) const {
+  /// \p lenient: only no face turned inside out or to nothing (for moves far shorter than
+  /// the faces, where slivers' normals say nothing).
+  bool keeps_faces(VH v, const Vec3& to, std::optional<VH> other = std::nullopt,
+                   bool lenient = false) const {
     const double min_area2 = std::pow(1e-3 * in_.spacing * in_.spacing, 2);
     for (auto f : mesh_.vf_range(v)) {
       std::array<Vec3, 3> before, after;
@@ -105,19 +113,26 @@ class Extractor {
       if (has_other) continue;  // this face goes away with the collapse
       const Vec3 nb = triangle_normal(before[0], before[1], before[2]);
       const Vec3 na = triangle_normal(after[0], after[1], after[2]);
-      if (na.squaredNorm() < min_area2) return false;
-      if (na.normalized().dot(nb.normalized()) < 0.3) return false;
+      if (!lenient && na.squaredNorm() < min_area2) return false;
+      if (!lenient && na.normalized().dot(nb.normalized()) < 0.3) return false;
+      // Small turns add up: the face must also face the way the surface does at its corners.
+      Vec3 surface_n = Vec3::Zero();
+      for (auto w : mesh_.fv_range(f)) surface_n += normal_[w.idx()];
+      if (!(na.dot(surface_n) > 0)) return false;
     }
     return true;
   }
 
-  bool may_collapse(HH h) {
+  /// \p tiny: the edge is far shorter than the faces; its ends may be on two feature lines
+  /// (which then meet there) and only inside-out faces stop it.
+  bool may_collapse(HH h, bool tiny = false) {
     const VH from = mesh_.from_vertex_handle(h), to = mesh_.to_vertex_handle(h);
     const int rf = rank_[from.idx()], rt = rank_[to.idx()];
     if (rf == kCorner) return false;
-    if (rf == kFeature && (rt == kFree || !is_feature(from.idx(), to.idx()))) return false;
+    if (rf == kFeature && rt == kFree) return false;
+    if (rf == kFeature && !tiny && !is_feature(from.idx(), to.idx())) return false;
     if (!mesh_.is_collapse_ok(h)) return false;
-    return keeps_faces(from, point(to), to);
+    return keeps_faces(from, point(to), to, tiny);
   }
 
   void collapse(HH h) {
@@ -135,7 +150,35 @@ class Extractor {
     std::sort(nt.begin(), nt.end());
     nt.erase(std::unique(nt.begin(), nt.end()), nt.end());
     feature_nb_[from].clear();
+    // Two feature lines that met here make a corner.
+    const int rank = nt.empty() ? kFree : nt.size() == 2 ? kFeature : kCorner;
+    rank_[to] = std::max(rank_[to], rank);
     mesh_.collapse(h);
+  }
+
+  /// Edges far shorter than the lattice spacing (the remesher leaves a few where it may not
+  /// collapse) become points, so no face is a speck.
+  void collapse_short_edges() {
+    const double min_length = 0.05 * in_.spacing;
+    for (int pass = 0; pass < 5; ++pass) {
+      int collapsed = 0;
+      for (auto e : mesh_.edges()) {
+        if (mesh_.status(e).deleted()) continue;
+        const HH h0 = mesh_.halfedge_handle(e, 0), h1 = mesh_.halfedge_handle(e, 1);
+        const VH a = mesh_.to_vertex_handle(h0), b = mesh_.to_vertex_handle(h1);
+        if ((point(a) - point(b)).norm() >= min_length) continue;
+        // h0 keeps a: prefer keeping the vertex of higher rank.
+        const HH order[2] = {rank_[a.idx()] >= rank_[b.idx()] ? h0 : h1,
+                             rank_[a.idx()] >= rank_[b.idx()] ? h1 : h0};
+        for (HH h : order)
+          if (may_collapse(h, true)) {
+            collapse(h);
+            ++collapsed;
+            break;
+          }
+      }
+      if (collapsed == 0) break;
+    }
   }
 
   /// Vertices at the same lattice point become one.
@@ -227,13 +270,13 @@ class Extractor {
       const int cb = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(o)).idx();
       const Vec3 pa = point(VH(a)), pb = point(VH(b)), pca = point(VH(ca)), pcb = point(VH(cb));
       const Vec3 na = triangle_normal(pa, pb, pca), nb = triangle_normal(pb, pa, pcb);
-      if (angle_between(na, nb) > kPi / 2) continue;
+      const bool folded = angle_between(na, nb) > kPi / 2;
       const double angles[4] = {
           corner_angle(pa, pca, pb) + corner_angle(pa, pb, pcb), corner_angle(pcb, pa, pb),
           corner_angle(pb, pcb, pa) + corner_angle(pb, pa, pca), corner_angle(pca, pb, pa)};
       double quality = 1.0;
       for (double t : angles) quality = std::min(quality, 1.0 - std::abs(t - kPi / 2) / (kPi / 2));
-      if (quality <= min_quality) continue;
+      if (folded || quality <= min_quality) continue;
       double bonus = 0;
       const Eigen::Vector2i d = offset(a, b).offset.cwiseAbs();
       if (d == Eigen::Vector2i(1, 1)) bonus += 1.0;
@@ -335,6 +378,7 @@ class Extractor {
       out.add_face(vs);
     }
     relax(out, pinned);
+    untangle(out, pinned);
     return r;
   }
 
@@ -480,6 +524,7 @@ class Extractor {
     for (const auto& q : quads_) add_split(q);
     for (const auto& t : triangles_) add_split(t);
     relax(out, pinned);
+    untangle(out, pinned);
     return r;
   }
 
@@ -514,6 +559,118 @@ class Extractor {
         }
         if (ok) out.set_point(v, to_openmesh(target));
       }
+  }
+
+  /// How well the quad \p f is shaped with \p moved at \p at: the smallest sine of its corner
+  /// angles, signed against the target's normal (negative: reflex or inside out).
+  double quality(const PolyMesh& out, OpenMesh::FaceHandle f, OpenMesh::VertexHandle moved,
+                 const Vec3& at) const {
+    std::array<Vec3, 4> c;
+    int k = 0;
+    for (auto w : out.fv_range(f)) c[k++ & 3] = w == moved ? at : to_eigen(out.point(w));
+    if (k != 4) return -1;
+    std::array<Vec3, 4> corner_n;
+    Vec3 n = Vec3::Zero();
+    for (int i = 0; i < 4; ++i) {
+      corner_n[i] = (c[(i + 1) % 4] - c[i]).cross(c[(i + 3) % 4] - c[i]);
+      n += corner_n[i];
+    }
+    if (!(n.norm() > 0)) return -1;
+    n.normalize();
+    double q = 1;
+    for (int i = 0; i < 4; ++i) {
+      const double d = (c[(i + 1) % 4] - c[i]).norm() * (c[(i + 3) % 4] - c[i]).norm();
+      if (!(d > 0)) return -1;
+      q = std::min(q, corner_n[i].dot(n) / d);
+    }
+    // Facing the way the target does at one of its corners at least (near a thin part the
+    // nearest facet of some corner may be the other side's).
+    double agree = -1;
+    for (const Vec3& p : c) agree = std::max(agree, n.dot(in_.normal_at(p)));
+    return std::min(q, agree);
+  }
+
+  /// Free vertices of badly shaped quads (a corner under about 3 degrees, reflex, or inside
+  /// out) move to where the worst quad around them is best: the mean of their neighbours, the
+  /// mean of the faces' centres, halfway to either, then a pattern search around the best of
+  /// those, at most a mean edge away (all on the target, unless on_surface is false).
+  void untangle(PolyMesh& out, const std::vector<char>& pinned) const {
+    constexpr double kGood = 0.05;
+    const OpenMesh::VertexHandle none;
+    for (int round = 0; round < 30; ++round) {
+      std::vector<char> involved(out.n_vertices(), 0);
+      bool any = false;
+      for (auto f : out.faces())
+        if (quality(out, f, none, Vec3::Zero()) < kGood) {
+          any = true;
+          for (auto v : out.fv_range(f)) involved[v.idx()] = 1;
+        }
+      if (!any) return;
+      bool moved = false;
+      for (auto v : out.vertices()) {
+        if (!involved[v.idx()] || pinned[v.idx()] || out.is_boundary(v)) continue;
+        auto worst = [&](const Vec3& at) {
+          double q = 1;
+          for (auto f : v.faces()) q = std::min(q, quality(out, f, v, at));
+          return q;
+        };
+        const Vec3 here = to_eigen(out.point(v));
+        Vec3 mean = Vec3::Zero(), centres = Vec3::Zero();
+        int n = 0, m = 0;
+        for (auto w : v.vertices()) {
+          mean += to_eigen(out.point(w));
+          ++n;
+        }
+        for (auto f : v.faces())
+          for (auto w : f.vertices())
+            if (w != v) {
+              centres += to_eigen(out.point(w));
+              ++m;
+            }
+        if (n == 0 || m == 0) continue;
+        mean /= n;
+        centres /= m;
+        std::vector<Vec3> options{mean, centres, 0.5 * (here + mean), 0.5 * (here + centres)};
+        if (in_.on_surface)
+          for (Vec3& p : options) p = in_.project(p);
+        double best = worst(here);
+        Vec3 at = here;
+        for (const Vec3& p : options) {
+          const double q = worst(p);
+          if (q > best + 1e-9) {
+            best = q;
+            at = p;
+          }
+        }
+        // Then a pattern search in the tangent plane, steps from half the mean edge down.
+        const Vec3 normal = in_.normal_at(at);
+        const Vec3 t1 = normal.unitOrthogonal(), t2 = normal.cross(t1);
+        double edge = 0;
+        for (auto w : v.vertices()) edge += (to_eigen(out.point(w)) - here).norm();
+        edge /= n;
+        for (double step = 0.5 * edge; step > 0.01 * edge && best < kGood;) {
+          bool better = false;
+          for (int d = 0; d < 8; ++d) {
+            const double a = d * kPi / 4;
+            Vec3 p = at + step * (std::cos(a) * t1 + std::sin(a) * t2);
+            if (in_.on_surface) p = in_.project(p);
+            if ((p - here).norm() > edge) continue;
+            const double q = worst(p);
+            if (q > best + 1e-9) {
+              best = q;
+              at = p;
+              better = true;
+            }
+          }
+          if (!better) step *= 0.5;
+        }
+        if (at != here) {
+          out.set_point(v, to_openmesh(at));
+          moved = true;
+        }
+      }
+      if (!moved) return;
+    }
   }
 
   const LatticeInput& in_;

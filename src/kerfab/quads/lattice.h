@@ -18,7 +18,7 @@ struct LatticeInput {
   std::vector<Vec3> positions;  ///< per vertex: its lattice point
   std::vector<std::array<int, 2>> features;  ///< feature (sharp or border) edges
   double spacing = 0;  ///< lattice spacing [mm]
-  /// Pure: the paired quads as they are (if every triangle finds a partner, else as split);
+  /// Pure: the paired quads as they are (none if some triangle finds no partner);
   /// split: every face split (quads into 4, triangles into 3), only well-shaped pairs made;
   /// triangles: no collapse and no pairing, every triangle split into 3 quads (the safe net).
   enum class Mode { kPure, kSplit, kTriangles } mode = Mode::kPure;
@@ -27,10 +27,12 @@ struct LatticeInput {
   bool on_surface = true;
   /// Closest point on the target [mm] (the split's new points land there).
   std::function<Vec3(const Vec3&)> project;
+  /// The target's unit normal at the closest point to a point (faces are untangled against it).
+  std::function<Vec3(const Vec3&)> normal_at;
 };
 
 struct LatticeResult {
-  PolyMesh quads;  ///< all quads after the split
+  PolyMesh quads;  ///< all quads (after the split); empty when pure pairing left triangles
   int lattice_quads = 0;
   int lattice_triangles = 0;
   bool split = false;  ///< the faces were split (the quads are half the lattice spacing)

@@ -62,6 +62,50 @@ std::vector<std::array<int, 2>> sharp_edges(const TriangleMesh& mesh, double ang
   return out;
 }
 
+/// \p edges without the feature lines that are noise at the quad size: lines (chains through
+/// vertices where exactly two sharp edges meet) shorter than \p min_length [mm]. Scans and
+/// decimated meshes have many; each pins its ends and leaves slivers no quad edge can follow.
+std::vector<std::array<int, 2>> drop_short_features(const TriangleMesh& mesh,
+                                                    std::vector<std::array<int, 2>> edges,
+                                                    double min_length) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::map<int, std::vector<int>> at;  // vertex -> its sharp edges
+    for (int e = 0; e < static_cast<int>(edges.size()); ++e)
+      for (int v : edges[e]) at[v].push_back(e);
+    std::vector<char> seen(edges.size(), 0), drop(edges.size(), 0);
+    for (int start = 0; start < static_cast<int>(edges.size()); ++start) {
+      if (seen[start]) continue;
+      std::vector<int> chain{start};
+      seen[start] = 1;
+      double length = (mesh.vertices[edges[start][0]] - mesh.vertices[edges[start][1]]).norm();
+      for (int side = 0; side < 2; ++side) {
+        int e = start, v = edges[start][side];
+        while (true) {
+          const auto& around = at[v];
+          if (around.size() != 2) break;
+          const int next = around[0] == e ? around[1] : around[0];
+          if (seen[next]) break;  // back at the start: a closed line
+          seen[next] = 1;
+          chain.push_back(next);
+          length += (mesh.vertices[edges[next][0]] - mesh.vertices[edges[next][1]]).norm();
+          v = edges[next][0] == v ? edges[next][1] : edges[next][0];
+          e = next;
+        }
+      }
+      if (length < min_length) {
+        for (int e : chain) drop[e] = 1;
+        changed = true;
+      }
+    }
+    std::vector<std::array<int, 2>> kept;
+    for (std::size_t e = 0; e < edges.size(); ++e)
+      if (!drop[e]) kept.push_back(edges[e]);
+    edges = std::move(kept);
+  }
+  return edges;
+}
+
 struct Topology {
   int euler = 0;
   int boundaries = 0;
@@ -151,6 +195,27 @@ std::array<double, 4> corner_angles(const PolyMesh& q, OpenMesh::FaceHandle f) {
   return out;
 }
 
+/// How far the target strays from the quad mesh: the largest distance from a vertex or
+/// triangle centre of the target to the quads (each cut along a diagonal) [mm]. The quads'
+/// corners lie on the target, but a lattice coarser than a thin part (an ear, a horn) can
+/// bridge it; this sees that.
+double target_gap(const PolyMesh& q, const TriangleMesh& mesh) {
+  TriangleMesh cut;
+  for (auto v : q.vertices()) cut.vertices.push_back(to_eigen(q.point(v)));
+  for (auto f : q.faces()) {
+    const auto v = quad_vertices(q, f);
+    cut.triangles.push_back({v[0], v[1], v[2]});
+    cut.triangles.push_back({v[0], v[2], v[3]});
+  }
+  const TargetSurface quads(cut);
+  double gap = 0;
+  for (const Vec3& p : mesh.vertices) gap = std::max(gap, quads.closest(p).distance);
+  for (const auto& t : mesh.triangles)
+    gap = std::max(gap, quads.closest((mesh.vertices[t[0]] + mesh.vertices[t[1]] +
+                                       mesh.vertices[t[2]]) / 3.0).distance);
+  return gap;
+}
+
 /// What is wrong with \p q as a quad mesh of \p mesh (empty: nothing): not all quads, another
 /// topology, or a folded, reflex or flat corner.
 std::string check(const PolyMesh& q, const TriangleMesh& mesh, const TargetSurface& target,
@@ -187,6 +252,10 @@ std::string check(const PolyMesh& q, const TriangleMesh& mesh, const TargetSurfa
     bad += ok ? 0 : 1;
   }
   if (bad > 0) return std::to_string(bad) + " folded, reflex or flat quads";
+  const double gap = target_gap(q, mesh), max_gap = size;
+  if (gap > max_gap)
+    return "the target strays " + fmt(gap) + " mm from the quads (at most " + fmt(max_gap) +
+           "): a thin part bridged";
   return {};
 }
 
@@ -216,16 +285,24 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
   // First the lattice at the quad size, every triangle paired; where some triangle finds no
   // partner, the lattice at twice the size with every face split (quads into 4, triangles
   // into 3), which is all quads by construction.
-  const FeatureTriangleMesh input{mesh, sharp_edges(mesh, o.feature_angle)};
+  const FeatureTriangleMesh input{
+      mesh, drop_short_features(mesh, sharp_edges(mesh, o.feature_angle), 0.5 * r.size.size)};
   FeatureTriangleMesh remeshed;
   using Mode = quads::LatticeInput::Mode;
   // The safe net tries finer triangles until every face is sound (each edge becomes two quad
   // edges, so 1.6 x the quad size gives quads of about the size wanted).
-  const std::pair<Mode, double> attempts[] = {{Mode::kPure, 1.0 / 3.5},    {Mode::kSplit, 2.0 / 3.5},
-                                              {Mode::kTriangles, 1.6},      {Mode::kTriangles, 0.8},
-                                              {Mode::kTriangles, 0.4}};
-  for (const auto& [mode, edge] : attempts) {
-    const double spacing = (mode == Mode::kPure ? 1 : 2) * r.size.size;
+  // A split lattice is tried once more at 1.4 x the size (quads of 0.7 x) where the first
+  // bridged a thin part.
+  struct Attempt {
+    Mode mode;
+    double spacing, edge;  // lattice spacing and remeshing edge, per quad size
+  };
+  const Attempt attempts[] = {{Mode::kPure, 1.0, 1.0 / 3.5},      {Mode::kSplit, 2.0, 2.0 / 3.5},
+                              {Mode::kSplit, 1.4, 1.4 / 3.5},      {Mode::kTriangles, 2.0, 1.6},
+                              {Mode::kTriangles, 2.0, 1.1},        {Mode::kTriangles, 2.0, 0.8},
+                              {Mode::kTriangles, 2.0, 0.4}};
+  for (const auto& [mode, spacing_factor, edge] : attempts) {
+    const double spacing = spacing_factor * r.size.size;
     remeshed = isotropic_remesh(input, edge * r.size.size, 5);
     const quads::Surface surface = quads::make_surface(remeshed.mesh);
     const int n = static_cast<int>(remeshed.mesh.vertices.size());
@@ -262,7 +339,8 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
 
     for (const bool on_surface : {true, false}) {
       quads::LatticeInput li{&surface,   cross, positions, remeshed.features, spacing, mode,
-                             on_surface, [&](const Vec3& p) { return target.closest(p).point; }};
+                             on_surface, [&](const Vec3& p) { return target.closest(p).point; },
+                             [&](const Vec3& p) { return target.closest(p).normal; }};
       quads::LatticeResult lattice = quads::extract_quads(li);
       r.lattice_quads = lattice.lattice_quads;
       r.lattice_triangles = lattice.lattice_triangles;
@@ -271,7 +349,10 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
                  : lattice.split         ? "lattice, faces split"
                                          : "lattice";
       if (!on_surface) r.method += ", new points not projected";
-      r.problem = check(r.quads, mesh, target, r.size.size);
+      r.problem = r.quads.n_faces() == 0
+                      ? std::to_string(r.lattice_triangles) + " triangles found no partner"
+                      : check(r.quads, mesh, target, r.size.size);
+      if (r.quads.n_faces() == 0) break;  // the pairing does not depend on on_surface
       if (r.problem.empty()) break;
     }
     if (r.problem.empty()) break;
