@@ -136,10 +136,13 @@ Raster rasterise(const Polygon2& grown, double angle, double cell) {
           {std::min({x0, x1, std::abs(v.y() - u.y()) < 1e-12 ? std::min(u.x(), v.x()) : x0}),
            std::max({x0, x1, std::abs(v.y() - u.y()) < 1e-12 ? std::max(u.x(), v.x()) : x1})});
     }
+    // Rounding may put an end a hair outside the box: cells stay within [0, width] (a span
+    // from cell -1 read before the sheet grid's rows; found by AddressSanitizer).
     std::vector<std::array<int, 2>> cells;
     for (const auto& sp : spans)
-      cells.push_back({static_cast<int>(std::floor((sp[0] - b.x0) / cell)),
-                       static_cast<int>(std::floor((sp[1] - b.x0) / cell)) + 1});
+      cells.push_back(
+          {std::clamp(static_cast<int>(std::floor((sp[0] - b.x0) / cell)), 0, r.width),
+           std::clamp(static_cast<int>(std::floor((sp[1] - b.x0) / cell)) + 1, 0, r.width)});
     std::sort(cells.begin(), cells.end());
     for (const auto& c : cells) {
       if (!r.rows[j].empty() && c[0] <= r.rows[j].back()[1])
