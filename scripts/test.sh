@@ -17,7 +17,7 @@ if [ "${KERFAB_NO_SANITIZE:-0}" != 1 ]; then
   cmake --build "$root/build-sanitize"
   slow='^(Cli\.|OutputSafety\.|HostileInput\.MemoryLimits|Layout\.(EveryTestShape|Oversized)'
   slow+='|Bending\.Spot|Flatten\.RealMeshes|Strips\.(CylinderRings|RealMeshes)|Joints\.RealMeshes'
-  slow+='|Kerf\.Spot|Quads\.(RealMeshes|ClosedShapes|Deterministic|SizeRule))'
+  slow+='|Kerf\.Spot|Quads\.(RealMeshes|ClosedShapes|Deterministic|SizeRule|TriangleTarget))'
   ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$(nproc)" --timeout 900 \
     -E "$slow" "$@"
 fi
