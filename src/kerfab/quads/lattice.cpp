@@ -156,22 +156,23 @@ class Extractor {
     mesh_.collapse(h);
   }
 
-  /// Edges far shorter than the lattice spacing (the remesher leaves a few where it may not
-  /// collapse) become points, so no face is a speck.
-  void collapse_short_edges() {
-    const double min_length = 0.05 * in_.spacing;
-    for (int pass = 0; pass < 5; ++pass) {
+  /// Rounds of edge collapses, until one collapses nothing or \p rounds are done: an edge
+  /// goes where \p keep(a, b) says which end stays (true: a, false: b, nullopt: not this
+  /// edge); the other end is tried where the first may not collapse. \p tiny as in
+  /// may_collapse.
+  template <typename Keep>
+  void collapse_edges(int rounds, bool tiny, Keep keep) {
+    for (int round = 0; round < rounds; ++round) {
       int collapsed = 0;
       for (auto e : mesh_.edges()) {
         if (mesh_.status(e).deleted()) continue;
         const HH h0 = mesh_.halfedge_handle(e, 0), h1 = mesh_.halfedge_handle(e, 1);
-        const VH a = mesh_.to_vertex_handle(h0), b = mesh_.to_vertex_handle(h1);
-        if ((point(a) - point(b)).norm() >= min_length) continue;
-        // h0 keeps a: prefer keeping the vertex of higher rank.
-        const HH order[2] = {rank_[a.idx()] >= rank_[b.idx()] ? h0 : h1,
-                             rank_[a.idx()] >= rank_[b.idx()] ? h1 : h0};
-        for (HH h : order)
-          if (may_collapse(h, true)) {
+        const int a = mesh_.to_vertex_handle(h0).idx(), b = mesh_.to_vertex_handle(h1).idx();
+        const std::optional<bool> keep_a = keep(a, b);
+        if (!keep_a) continue;
+        // h0 runs from b to a: collapsing it keeps a; h1 keeps b.
+        for (HH h : {*keep_a ? h0 : h1, *keep_a ? h1 : h0})
+          if (may_collapse(h, tiny)) {
             collapse(h);
             ++collapsed;
             break;
@@ -181,32 +182,25 @@ class Extractor {
     }
   }
 
-  /// Vertices at the same lattice point become one.
+  /// Edges far shorter than the lattice spacing (the remesher leaves a few where it may not
+  /// collapse) become points, so no face is a speck; the end of higher rank stays.
+  void collapse_short_edges() {
+    const double min_length = 0.05 * in_.spacing;
+    collapse_edges(5, true, [&](int a, int b) -> std::optional<bool> {
+      if ((point(VH(a)) - point(VH(b))).norm() >= min_length) return std::nullopt;
+      return rank_[a] >= rank_[b];
+    });
+  }
+
+  /// Vertices at the same lattice point become one; the end of higher rank stays, then the
+  /// one nearer its lattice point.
   void collapse_same_lattice_points() {
-    for (int pass = 0; pass < 20; ++pass) {
-      int collapsed = 0;
-      for (auto e : mesh_.edges()) {
-        if (mesh_.status(e).deleted()) continue;
-        const HH h0 = mesh_.halfedge_handle(e, 0), h1 = mesh_.halfedge_handle(e, 1);
-        const int a = mesh_.to_vertex_handle(h0).idx(), b = mesh_.to_vertex_handle(h1).idx();
-        const LatticeOffset off = offset(a, b);
-        if (off.offset != Eigen::Vector2i::Zero() || off.gap > 0.35) continue;
-        // Keep the vertex of higher rank, then the one nearer its lattice point.
-        auto score = [&](int v) {
-          return rank_[v] * 1e9 - (point(VH(v)) - pos_[v]).norm();
-        };
-        // h0 runs from b to a: collapsing it keeps a; h1 keeps b.
-        const bool keep_a = score(a) >= score(b);
-        const HH order[2] = {keep_a ? h0 : h1, keep_a ? h1 : h0};
-        for (HH h : order)
-          if (may_collapse(h)) {
-            collapse(h);
-            ++collapsed;
-            break;
-          }
-      }
-      if (collapsed == 0) break;
-    }
+    auto score = [&](int v) { return rank_[v] * 1e9 - (point(VH(v)) - pos_[v]).norm(); };
+    collapse_edges(20, false, [&](int a, int b) -> std::optional<bool> {
+      const LatticeOffset off = offset(a, b);
+      if (off.offset != Eigen::Vector2i::Zero() || off.gap > 0.35) return std::nullopt;
+      return score(a) >= score(b);
+    });
   }
 
   Vec3 lattice_target(VH v) const {

@@ -200,14 +200,7 @@ std::array<double, 4> corner_angles(const PolyMesh& q, OpenMesh::FaceHandle f) {
 /// corners lie on the target, but a lattice coarser than a thin part (an ear, a horn) can
 /// bridge it; this sees that.
 double target_gap(const PolyMesh& q, const TriangleMesh& mesh) {
-  TriangleMesh cut;
-  for (auto v : q.vertices()) cut.vertices.push_back(to_eigen(q.point(v)));
-  for (auto f : q.faces()) {
-    const auto v = quad_vertices(q, f);
-    cut.triangles.push_back({v[0], v[1], v[2]});
-    cut.triangles.push_back({v[0], v[2], v[3]});
-  }
-  const TargetSurface quads(cut);
+  const TargetSurface quads(triangulate(q));
   double gap = 0;
   for (const Vec3& p : mesh.vertices) gap = std::max(gap, quads.closest(p).distance);
   for (const auto& t : mesh.triangles)
