@@ -6,8 +6,10 @@ packages=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev libopenmesh-dev coinor-libcbc-dev libcgal-dev libpolyclipping-dev libcairo2-dev
   libcli11-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
-  librsvg2-bin python3
+  libjs-three librsvg2-bin
 )
+# --browser: also Debian's chromium (the tests open the assembly guide in it, headless).
+if [[ "${1:-}" == "--browser" ]]; then packages+=(chromium); fi
 missing=()
 for p in "${packages[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)

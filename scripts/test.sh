@@ -4,9 +4,11 @@
 # UndefinedBehaviorSanitizer (build-sanitize/, any finding fails its test). The sanitized pass
 # leaves out the end-to-end runs of real meshes and the longer quad-meshing tests (minutes each
 # when sanitized; the fuzzers in scripts/fuzz.sh cover the readers). KERFAB_NO_SANITIZE=1
-# skips it.
+# skips it. The assembly guide's page is opened in headless Chromium (Debian's chromium).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
+# Debian's chromium too: the assembly guide's page is tested in it (headless).
+"$root/scripts/deps.sh" --browser
 "$root/scripts/build.sh"
 ctest --test-dir "$root/build" --output-on-failure -j "$(nproc)" "$@"
 
@@ -17,7 +19,8 @@ if [ "${KERFAB_NO_SANITIZE:-0}" != 1 ]; then
   cmake --build "$root/build-sanitize"
   slow='^(Cli\.|OutputSafety\.|HostileInput\.MemoryLimits|Layout\.(EveryTestShape|Oversized)'
   slow+='|Bending\.Spot|Flatten\.RealMeshes|Strips\.(CylinderRings|RealMeshes)|Joints\.RealMeshes'
-  slow+='|Kerf\.Spot|Quads\.(RealMeshes|ClosedShapes|Deterministic|SizeRule|TriangleTarget))'
+  slow+='|Kerf\.Spot|Quads\.(RealMeshes|ClosedShapes|Deterministic|SizeRule|TriangleTarget)'
+  slow+='|Assembly\.EveryStep|Guide\.)'
   ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$(nproc)" --timeout 900 \
     -E "$slow" "$@"
 fi

@@ -1,7 +1,7 @@
 # Structure check: every folder of src/kerfab includes only folders at or below its own floor.
 # The floors, lowest first, read as the pipeline (docs/architecture.md). Run by CTest:
 #   cmake -DSRC=<repo>/src -P tests/check_layers.cmake
-set(floors core adapters io eval input quads bending strips flatten joints kerf layout pipeline
+set(floors core adapters io eval input quads bending strips flatten joints kerf layout assembly pipeline
     output)
 file(GLOB_RECURSE sources "${SRC}/kerfab/*.h" "${SRC}/kerfab/*.cpp")
 set(violations 0)

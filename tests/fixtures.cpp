@@ -17,6 +17,29 @@ BendingOptions force_bendable(const PolyMesh& quads,
   return options;
 }
 
+std::vector<Shape> end_to_end_shapes() {
+  std::vector<Shape> shapes;
+  shapes.push_back(quad_plane(150, 6));
+  shapes.push_back(open_cylinder(40, 80, 12, 3));
+  shapes.push_back(closed_cylinder(40, 80, 3));
+  shapes.push_back(sphere(60, 3));
+  shapes.push_back(torus(70, 25, 16, 8));
+  return shapes;
+}
+
+RunResult run_shape(const Shape& shape, const PipelineOptions& options,
+                    const std::filesystem::path& dir) {
+  PolyMesh target;
+  for (const auto& v : shape.target.vertices) target.add_vertex(to_openmesh(v));
+  for (const auto& t : shape.target.triangles)
+    target.add_face(
+        {target.vertex_handle(t[0]), target.vertex_handle(t[1]), target.vertex_handle(t[2])});
+  std::filesystem::create_directories(dir);
+  write_mesh(target, dir / "target.obj");
+  write_mesh(shape.quads, dir / "quads.obj");
+  return run_pipeline({.target = dir / "target.obj", .quad = dir / "quads.obj"}, options, {});
+}
+
 RealModel spot() { return {"spot_triangulated.obj", "spot_control_mesh.obj", 1, 250}; }
 RealModel fandisk() { return {"fandisk_quads.off", "", 0, 200}; }
 

@@ -5,7 +5,9 @@
 
 #include "kerfab/bending/bending.h"
 #include "kerfab/input/prepare.h"
+#include "kerfab/pipeline/pipeline.h"
 #include "kerfab/strips/strips.h"
+#include "shapes.h"
 
 namespace kerfab::test {
 
@@ -31,5 +33,15 @@ PreparedInput load(const RealModel& model);
 /// The strips of a loaded model at default options, the bending program limited to 10 s so a
 /// slow proof cannot stall a test (it proves optimal well within that on spot and fandisk).
 Strips real_strips(const PreparedInput& model);
+
+/// The five generated shapes the end-to-end tests run: plane (150 mm, 6 x 6), open cylinder
+/// (r 40, 80 high, 12 x 3), closed cylinder (r 40, 80, n 3), sphere (r 60, n 3), torus (70, 25,
+/// 16 x 8).
+std::vector<Shape> end_to_end_shapes();
+
+/// Writes \p shape's target (triangles) and quad mesh into \p dir (target.obj, quads.obj) and
+/// runs the whole pipeline on them.
+RunResult run_shape(const Shape& shape, const PipelineOptions& options,
+                    const std::filesystem::path& dir);
 
 }  // namespace kerfab::test

@@ -217,8 +217,11 @@ TEST(HostileInput, MemoryLimitsEndInOneLineNeverACrash) {
     const fs::path out = scratch / kb;
     const std::string what = "ulimit -v " + kb;
     r = test::run_cli(run + out.string(), scratch, what);
-    if (r.exit_code == 0) {  // it fitted after all: then it is a whole run
-      EXPECT_EQ(test::read_report(out)["status"], "ok") << what;
+    if (r.exit_code == 0) {  // it fitted after all: then it is a whole run (without --resolve
+                             // Spot has parts that fell apart: "incomplete", as without a limit)
+      const auto report = test::read_report(out);
+      EXPECT_NE(report["status"], "failed") << what;
+      EXPECT_TRUE(report.contains("quality")) << what;
       continue;
     }
     expect_one_line_failure(r, 1, "out of memory", out, what);

@@ -14,7 +14,7 @@
 #include "kerfab/output/dxf_sheets.h"
 #include "kerfab/output/svg_sheets.h"
 #include "kerfab/pipeline/pipeline.h"
-#include "shapes.h"
+#include "fixtures.h"
 #include "test_util.h"
 
 namespace kerfab {
@@ -232,26 +232,11 @@ void expect_same_geometry(const std::filesystem::path& svg_path,
 }
 
 RunResult run_shape(const test::Shape& shape, const PipelineOptions& options) {
-  const auto dir = test::fresh_dir(shape.name);
-  PolyMesh target;
-  for (const auto& v : shape.target.vertices) target.add_vertex(to_openmesh(v));
-  for (const auto& t : shape.target.triangles)
-    target.add_face(
-        {target.vertex_handle(t[0]), target.vertex_handle(t[1]), target.vertex_handle(t[2])});
-  write_mesh(target, dir / "target.obj");
-  write_mesh(shape.quads, dir / "quads.obj");
-  RunInputs inputs{.target = dir / "target.obj", .quad = dir / "quads.obj"};
-  return run_pipeline(inputs, options, {});
+  return test::run_shape(shape, options, test::fresh_dir(shape.name));
 }
 
 TEST(Layout, EveryTestShapeGivesSoundSheets) {
-  std::vector<test::Shape> shapes;
-  shapes.push_back(test::quad_plane(150, 6));
-  shapes.push_back(test::open_cylinder(40, 80, 12, 3));
-  shapes.push_back(test::closed_cylinder(40, 80, 3));
-  shapes.push_back(test::sphere(60, 3));
-  shapes.push_back(test::torus(70, 25, 16, 8));
-  for (const auto& shape : shapes) {
+  for (const auto& shape : test::end_to_end_shapes()) {
     SCOPED_TRACE(shape.name);
     PipelineOptions o;
     o.layout.sheet_width = 300;

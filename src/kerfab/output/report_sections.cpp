@@ -367,6 +367,34 @@ json layout_section(const LayoutResult& l, const LayoutOptions& options,
       {"border_labels", {{"placed", l.border_labels_placed}, {"wanted", l.border_labels_wanted}}}};
 }
 
+json assembly_section(const AssemblyPlan& a, const LayoutResult& l) {
+  json order = json::array(), steps = json::array();
+  for (std::size_t k = 0; k < a.steps.size(); ++k) {
+    const AssemblyStep& s = a.steps[k];
+    order.push_back(s.part);
+    json joins = json::array();
+    for (const PartContact& c : s.joins)
+      joins.push_back({{"part", c.part}, {"length_mm", c.length}, {"toothed_mm", c.toothed}});
+    const int sheet = s.part < static_cast<int>(l.placements.size())
+                          ? l.placements[s.part].sheet + 1
+                          : 0;
+    steps.push_back({{"step", k + 1},
+                     {"part", s.part},
+                     {"sheet", sheet},
+                     {"joins", joins},
+                     {"held_mm", s.held},
+                     {"new_piece", s.new_piece},
+                     {"closing", s.closing}});
+  }
+  return {{"rule",
+           "largest part first; then the part with the longest border to the parts placed "
+           "(toothed border fully, plain border half); parts that would fill a hole last"},
+          {"pieces", a.pieces},
+          {"order", order},
+          {"steps", steps},
+          {"guide", "assembly/index.html"}};
+}
+
 json quality_section(const SurfaceDistance& q, double diagonal) {
   const double d = diagonal > 0 ? diagonal : 1.0;
   return {{"hausdorff_rel", q.hausdorff / d},

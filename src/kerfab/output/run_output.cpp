@@ -18,9 +18,11 @@
 
 #include "kerfab/core/errors.h"
 #include "kerfab/io/mesh_io.h"
+#include "kerfab/output/assembly_guide.h"
 #include "kerfab/output/assembly_page.h"
 #include "kerfab/output/dxf_sheets.h"
 #include "kerfab/output/pdf_sheets.h"
+#include "kerfab/output/pictures.h"
 #include "kerfab/output/report.h"
 #include "kerfab/output/strip_files.h"
 #include "kerfab/output/svg_sheets.h"
@@ -307,7 +309,9 @@ void write_run(const RunResult& run, const OutputOptions& output, const fs::path
     if (output.formats.pdf) write_pdf_sheets(run, output.style, dir / "cut");
     write_sheet_previews(run, output.style, dir / "cut");
     write_assembly_page(run, dir / "cut");
+    if (run.assembly) write_assembly_guide(run, dir / "assembly");
   }
+  write_pictures(run, {}, dir / "pictures");
   write_json(report_json(run, output), dir / "report.json");
 }
 

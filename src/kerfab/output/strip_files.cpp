@@ -101,18 +101,18 @@ std::array<int, 3> viridis(double t) {
 }
 }  // namespace
 
-void write_kerf_density_ply(const Strips& strips, const KerfResult& kerf,
-                            const std::filesystem::path& path) {
-  std::vector<double> density(strips.faces.size(), 0.0);
-  std::vector<char> critical(strips.faces.size(), 0);
+FaceDensity kerf_density(const Strips& strips, const KerfResult& kerf) {
+  FaceDensity d;
+  d.density.assign(strips.faces.size(), 0.0);
+  d.critical.assign(strips.faces.size(), 0);
   std::vector<double> nonzero;
   for (std::size_t p = 0; p < strips.patches.size() && p < kerf.patches.size(); ++p)
     for (int row = 0; row < strips.patches[p].rows(); ++row)
       for (std::size_t i = 0; i < strips.patches[p].faces.size(); ++i) {
         const int f = strips.patches[p].face(static_cast<int>(i), row);
-        density[f] = kerf.patches[p].face_density[i];
-        critical[f] = kerf.patches[p].face_critical[i];
-        if (density[f] > 0) nonzero.push_back(density[f]);
+        d.density[f] = kerf.patches[p].face_density[i];
+        d.critical[f] = kerf.patches[p].face_critical[i];
+        if (d.density[f] > 0) nonzero.push_back(d.density[f]);
       }
   // Colour scale up to the 95th percentile, so a few dense spots do not darken the rest.
   double top = 0;
@@ -121,15 +121,23 @@ void write_kerf_density_ply(const Strips& strips, const KerfResult& kerf,
     std::nth_element(nonzero.begin(), nonzero.begin() + k, nonzero.end());
     top = nonzero[k];
   }
+  for (std::size_t f = 0; f < strips.faces.size(); ++f)
+    d.colour.push_back(d.critical[f] ? std::array<int, 3>{230, 20, 20}
+                                     : viridis(top > 0 ? d.density[f] / top : 0.0));
+  return d;
+}
+
+void write_kerf_density_ply(const Strips& strips, const KerfResult& kerf,
+                            const std::filesystem::path& path) {
+  const FaceDensity d = kerf_density(strips, kerf);
   write_strip_mesh_ply(
       strips, path, "kerfab kerf cut density (cuts/mm), millimetres",
       "property float density\nproperty uchar critical\nproperty uchar red\nproperty uchar "
       "green\nproperty uchar blue\n",
       [&](std::ostream& out, std::size_t f) {
-        const auto c = critical[f] ? std::array<int, 3>{230, 20, 20}
-                                   : viridis(top > 0 ? density[f] / top : 0.0);
-        out << " " << density[f] << " " << int(critical[f]) << " " << c[0] << " " << c[1] << " "
-            << c[2];
+        const auto& c = d.colour[f];
+        out << " " << d.density[f] << " " << int(d.critical[f]) << " " << c[0] << " " << c[1]
+            << " " << c[2];
       });
 }
 

@@ -16,6 +16,15 @@ std::array<int, 3> strip_colour(int id);
 /// \throw IoError the file cannot be written.
 void write_strips_ply(const Strips& strips, const std::filesystem::path& path);
 
+/// Per sub-quad: kerf cut density [cuts/mm], critical, and its colour (viridis from 0 to the
+/// 95th percentile of the non-zero densities, critical faces red), RGB 0..255.
+struct FaceDensity {
+  std::vector<double> density;
+  std::vector<char> critical;
+  std::vector<std::array<int, 3>> colour;
+};
+FaceDensity kerf_density(const Strips& strips, const KerfResult& kerf);
+
 /// ASCII PLY of the strip mesh coloured by kerf cut density (viridis, 0 to the 95th percentile;
 /// per-face `float density` in cuts/mm) with critical faces red (`uchar critical`).
 /// \throw IoError the file cannot be written.

@@ -210,6 +210,20 @@ StageNotes notes(const LayoutResult& l, const LayoutOptions& options) {
   return n;
 }
 
+StageNotes notes(const AssemblyPlan& a) {
+  StageNotes n;
+  int closing = 0;
+  for (const AssemblyStep& s : a.steps) closing += s.closing ? 1 : 0;
+  Line os;
+  os << a.steps.size() << " steps, one piece grown part by part";
+  if (closing > 0) os << ", the last " << closing << " filling holes";
+  n.lines.push_back(os.str());
+  if (a.pieces > 1)
+    n.warnings.push_back("the parts make " + std::to_string(a.pieces) +
+                         " separate pieces: no shared border joins them (assembly.pieces)");
+  return n;
+}
+
 StageNotes notes(const SurfaceDistance& q, double diagonal) {
   StageNotes n;
   Line os;

@@ -26,6 +26,7 @@ StageNotes notes(const Joints& joints, const JointOptions& options);
 StageNotes notes(const KerfResult& kerf, const KerfOptions& options);
 StageNotes notes(const ResolveResult& resolve, const KerfOptions& kerf);
 StageNotes notes(const LayoutResult& layout, const LayoutOptions& options);
+StageNotes notes(const AssemblyPlan& assembly);
 StageNotes notes(const SurfaceDistance& quality, double target_diagonal);
 
 }  // namespace kerfab

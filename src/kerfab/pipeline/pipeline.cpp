@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <map>
 
 #include "kerfab/core/errors.h"
@@ -159,6 +160,16 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        [&] {
          r.layout = lay_out_parts(r.flat->strips, r.flat->flattening, *r.joints, *r.kerf, o.layout);
          return notes(*r.layout, o.layout);
+       }},
+      {Stage::kAssembly,
+       [&] {
+         const std::vector<double> perimeter = part_perimeters(r.flat->strips);
+         std::vector<PartShape> shapes;
+         for (std::size_t p = 0; p < r.joints->parts.size(); ++p)
+           shapes.push_back({std::abs(polygon_area(r.joints->parts[p].designed)),
+                             p < perimeter.size() ? perimeter[p] : 0.0});
+         r.assembly = plan_assembly(*r.joints, shapes, o.assembly);
+         return notes(*r.assembly);
        }},
       {Stage::kQuality,
        [&] {

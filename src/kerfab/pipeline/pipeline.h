@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "kerfab/assembly/assembly.h"
 #include "kerfab/bending/bending.h"
 #include "kerfab/core/material.h"
 #include "kerfab/eval/surface_distance.h"
@@ -40,6 +41,7 @@ struct PipelineOptions {
   KerfOptions kerf;
   ResolveOptions resolve;
   LayoutOptions layout;
+  AssemblyOptions assembly;
   Material material;  ///< the sheet: thickness and strength (joints, kerf cuts)
   Machine machine;    ///< the laser: kerf width (joints) and speed (cutting time)
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
@@ -77,6 +79,7 @@ struct RunResult {
   std::optional<KerfResult> kerf;
   std::optional<ResolveResult> resolve;  ///< after it, bending .. kerf hold the final build
   std::optional<LayoutResult> layout;
+  std::optional<AssemblyPlan> assembly;
   std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
   std::vector<StageTiming> timings;
   double total_seconds = 0;

@@ -19,12 +19,13 @@ enum class Stage {
   kKerf,
   kResolve,
   kLayout,
+  kAssembly,
   kQuality
 };
 
-inline constexpr std::array<std::string_view, 11> kStageNames = {
-    "load",    "prepare", "quads",   "bending", "strips", "flatten",
-    "joints",  "kerf",    "resolve", "layout",  "quality"};
+inline constexpr std::array<std::string_view, 12> kStageNames = {
+    "load",   "prepare", "quads",  "bending",  "strips",  "flatten",
+    "joints", "kerf",    "resolve", "layout", "assembly", "quality"};
 
 inline std::string_view stage_name(Stage stage) { return kStageNames[static_cast<int>(stage)]; }
 

@@ -1,0 +1,64 @@
+#pragma once
+/// \file Pictures of 3D faces drawn with cairo (shared by pictures/ and the assembly steps): an
+/// orthographic view of the model, its up axis vertical, turned and tilted, faces flat-shaded
+/// (Lambert) and drawn far to near, each followed by its edge strokes.
+#include <array>
+#include <vector>
+
+#include "kerfab/core/mesh.h"
+
+struct _cairo;  // cairo_t, from <cairo.h>
+
+namespace kerfab {
+
+using Rgb = std::array<double, 3>;  ///< 0..1
+
+/// A line along a face's side k (corner k to corner k + 1), drawn after the face.
+struct SideStroke {
+  int side = 0;
+  Rgb colour{0, 0, 0};
+  double width = 1;      ///< [px]
+  double opacity = 1;    ///< [-]
+};
+
+struct Face3 {
+  std::vector<Vec3> corners;  ///< [mm]
+  Rgb fill{0.8, 0.8, 0.8};
+  std::vector<SideStroke> sides;
+  int tag = -1;  ///< the caller's (e.g. the part it belongs to)
+};
+
+struct ViewOptions {
+  int up = 1;               ///< the model's up axis: 0 x, 1 y, 2 z
+  double azimuth = 0.61;    ///< turn about the up axis [rad] (35 degrees)
+  double elevation = 0.17;  ///< tilt towards the viewer [rad] (10 degrees)
+};
+
+/// The view of a set of points, fitted into a box of the picture.
+class View3 {
+ public:
+  /// Fits \p points (at least one) into the box at (x, y) of w x h picture units, leaving 5 %.
+  View3(const std::vector<Vec3>& points, const ViewOptions& options, double x, double y, double w,
+        double h);
+  /// Picture position of a model point (y down).
+  std::array<double, 2> screen(const Vec3& p) const;
+  /// Depth of a model point (larger: farther).
+  double depth(const Vec3& p) const;
+  /// The model direction turned into view coordinates (x right, y depth, z up).
+  Vec3 turn(const Vec3& p) const;
+  /// Height over width of the points' view (for sizing a picture).
+  static double aspect(const std::vector<Vec3>& points, const ViewOptions& options);
+
+ private:
+  ViewOptions options_;
+  double scale_ = 1, cx_ = 0, cz_ = 0, ox_ = 0, oy_ = 0;
+};
+
+/// Draws \p faces into \p cr in \p view: far to near, lit from the upper left front; faces seen
+/// from behind are drawn darker.
+void draw_faces(_cairo* cr, const View3& view, const std::vector<Face3>& faces);
+
+/// Every corner of \p faces (to fit a view).
+std::vector<Vec3> corners_of(const std::vector<Face3>& faces);
+
+}  // namespace kerfab
