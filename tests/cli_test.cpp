@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <set>
 #include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -180,6 +181,27 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   }
   EXPECT_LT(ladders, 732 / 4);
   EXPECT_LT(facet_quads, 732 / 2);
+  // The assembly order: every part once, and every step after the first joins a part placed
+  // before it, by the neighbour lists of the layout section (the borders, not the plan).
+  const auto& order = report["assembly"]["order"];
+  const auto& table = report["layout"]["assembly"];
+  ASSERT_EQ(order.size(), table.size());
+  EXPECT_EQ(report["assembly"]["pieces"], 1);
+  std::set<int> placed;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const int p = order[k].get<int>();
+    bool joined = false;
+    for (const auto& nb : table[p]["neighbours"])
+      joined = joined || (nb["part"].get<int>() != p && placed.count(nb["part"].get<int>()) &&
+                          nb["length_mm"].get<double>() > 0);
+    if (k > 0) {
+      EXPECT_TRUE(joined) << "step " << k + 1 << ", part " << p;
+    }
+    EXPECT_TRUE(placed.insert(p).second) << "part " << p << " twice";
+  }
+  EXPECT_TRUE(fs::is_regular_file(out / "assembly" / "index.html"));
+  for (const char* f : {"bending.png", "strips.png", "kerf_density.png", "patches.png", "parts.png"})
+    EXPECT_TRUE(fs::is_regular_file(out / "pictures" / f)) << f;
   const auto& q = report["quality"];
   EXPECT_GT(q["hausdorff_rel"].get<double>(), 0.0);
   EXPECT_LT(q["hausdorff_rel"].get<double>(), 0.02);

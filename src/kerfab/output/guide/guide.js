@@ -93,7 +93,7 @@
     scene.add(camera);
     // Model up along +y, seen from 35 degrees around and 10 degrees above: the view of kerfab's
     // pictures (pictures/*.png).
-    const az = 35 * Math.PI / 180, el = 10 * Math.PI / 180, dist = diag * 1.5;
+    const az = 35 * Math.PI / 180, el = 10 * Math.PI / 180, dist = diag * 1.75;
     camera.position.set(centre.x - dist * Math.cos(az) * Math.cos(el),
                         centre.y + dist * Math.sin(el),
                         centre.z - dist * Math.sin(az) * Math.cos(el));
