@@ -39,16 +39,9 @@ std::vector<double> part_perimeters(const Strips& strips) {
   std::vector<double> out;
   for (const Patch& patch : strips.patches) {
     double length = 0;
-    if (patch.flat) {
-      for (const OutlineEdge& e : patch.flat_outline)
-        length += (strips.vertices[patch.flat_vertices[e.v[1]]] -
-                   strips.vertices[patch.flat_vertices[e.v[0]]])
-                      .norm();
-    } else {
-      const std::vector<int> local = patch.local_vertices();
-      for (const OutlineEdge& e : patch.outline())
-        length += (strips.vertices[local[e.v[1]]] - strips.vertices[local[e.v[0]]]).norm();
-    }
+    const std::vector<int> local = patch.local_vertices();  // facets too
+    for (const OutlineEdge& e : patch.outline())
+      length += (strips.vertices[local[e.v[1]]] - strips.vertices[local[e.v[0]]]).norm();
     out.push_back(length);
   }
   return out;
@@ -63,16 +56,12 @@ AssemblyPlan plan_assembly(const Joints& joints, const std::vector<PartShape>& s
   if (static_cast<int>(shapes.size()) != n)
     throw InvalidInput("assembly: " + std::to_string(shapes.size()) + " part shapes for " +
                        std::to_string(n) + " parts");
-  std::vector<double> area(n);
   std::vector<char> rimmed(n, 0);  // no free border: once its neighbours are placed, a hole
   std::vector<double> shared(n, 0);
   for (const BorderJoint& b : joints.borders)
     for (int side : {0, 1})
       if (b.patches[side] >= 0 && b.patches[side] < n) shared[b.patches[side]] += b.length;
-  for (int p = 0; p < n; ++p) {
-    area[p] = shapes[p].area;
-    rimmed[p] = shared[p] >= 0.98 * shapes[p].perimeter - 1.0 ? 1 : 0;
-  }
+  for (int p = 0; p < n; ++p) rimmed[p] = shared[p] >= 0.98 * shapes[p].perimeter - 1.0 ? 1 : 0;
   AssemblyPlan plan;
   plan.contacts = part_contacts(joints, n);
   auto weight = [&](const PartContact& c) {
@@ -82,31 +71,28 @@ AssemblyPlan plan_assembly(const Joints& joints, const std::vector<PartShape>& s
   std::vector<double> hold(n, 0);     // weighted border to the placed parts
   std::vector<int> waiting(n, 0);     // neighbours not yet placed
   for (int p = 0; p < n; ++p) waiting[p] = static_cast<int>(plan.contacts[p].size());
+  // Some neighbour of p is placed.
+  auto touches = [&](int p) { return waiting[p] < static_cast<int>(plan.contacts[p].size()); };
   // Among the parts touching the placed ones: one that leaves no hole first, then the best held,
   // then the larger, then the lower number.
   auto better = [&](int a, int b) {
     const bool open_a = waiting[a] > 0 || !rimmed[a], open_b = waiting[b] > 0 || !rimmed[b];
     if (open_a != open_b) return open_a;
     if (hold[a] != hold[b]) return hold[a] > hold[b];
-    if (area[a] != area[b]) return area[a] > area[b];
+    if (shapes[a].area != shapes[b].area) return shapes[a].area > shapes[b].area;
     return a < b;
   };
   for (int step = 0; step < n; ++step) {
     int next = -1;
     bool touching = false;
-    for (int p = 0; p < n; ++p) {
-      if (placed[p]) continue;
-      bool t = false;
-      for (const PartContact& c : plan.contacts[p])
-        if (placed[c.part]) t = true;
-      if (t && (!touching || better(p, next))) {
+    for (int p = 0; p < n; ++p)
+      if (!placed[p] && touches(p) && (!touching || better(p, next))) {
         next = p;
         touching = true;
       }
-    }
     if (!touching)  // a new piece: the largest part left
       for (int p = 0; p < n; ++p)
-        if (!placed[p] && (next < 0 || area[p] > area[next])) next = p;
+        if (!placed[p] && (next < 0 || shapes[p].area > shapes[next].area)) next = p;
     AssemblyStep s;
     s.part = next;
     s.new_piece = !touching;

@@ -12,6 +12,15 @@
 
 namespace kerfab {
 
+/// The rule in words, for the report and the guide (with the default plain_weight).
+inline constexpr const char* kAssemblyRule =
+    "Start with the largest part. Each next part is the one with the longest border to the "
+    "parts already placed (box-jointed border counting fully, plain border half), so the piece "
+    "stays one connected shell and each new part is held along as much of its border as "
+    "possible. A part whose whole outline would meet placed parts fills a hole; such parts wait "
+    "until the end, and the holes let a hand reach inside to hold the joints while the glue "
+    "sets.";
+
 struct AssemblyOptions {
   double plain_weight = 0.5;  ///< weight of a border without teeth against a toothed one [-],
                               ///< in [0, 1]

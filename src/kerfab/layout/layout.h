@@ -39,6 +39,11 @@ struct LayoutResult {
                                                   ///< (a part may join itself after a loop cut)
   int border_labels_placed = 0;                   ///< "-N" labels engraved
   int border_labels_wanted = 0;                   ///< borders with another part
+  /// The 1-based sheet \p part is on, as the files and the report number them; 0: on none.
+  int sheet_number(int part) const {
+    return part >= 0 && part < static_cast<int>(placements.size()) ? placements[part].sheet + 1
+                                                                    : 0;
+  }
 };
 
 /// Smallest-area enclosing rectangle of a polygon's convex hull: its angle [rad] (turning the

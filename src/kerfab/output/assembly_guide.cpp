@@ -1,7 +1,6 @@
 #include "kerfab/output/assembly_guide.h"
 
 #include <cairo-pdf.h>
-#include <cairo.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +11,7 @@
 #include <string_view>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/output/cairo_picture.h"
 #include "kerfab/output/pictures.h"
 #include "kerfab/output/render3d.h"
 #include "kerfab/output/sheet_files.h"
@@ -109,11 +109,8 @@ json model_json(const RunResult& run) {
     }
     json neighbours = json::array();
     for (const PartContact& c : plan.contacts[p]) neighbours.push_back(contact_json(c));
-    const int sheet = p < static_cast<int>(layout.placements.size())
-                          ? layout.placements[p].sheet + 1
-                          : 0;
     jparts.push_back({{"n", p},
-                      {"sheet", sheet},
+                      {"sheet", layout.sheet_number(p)},
                       {"step", step_of[p] + 1},
                       {"colour", hex_colour(strip_colour(p))},
                       {"area", round2(std::abs(polygon_area(run.joints->parts[p].designed)))},
@@ -150,21 +147,12 @@ json model_json(const RunResult& run) {
           {"units", "mm"},
           {"model", run.inputs.target.filename().string()},
           {"diagonal", round2(diagonal)},
-          {"rule",
-           "Start with the largest part. Each next part is the one with the longest border to "
-           "the parts already placed (box-jointed border counting fully, plain border half), so "
-           "the piece stays one connected shell and each new part is held along as much of its "
-           "border as possible. A part whose whole outline would meet placed parts fills a "
-           "hole; such parts wait until the end, and the holes let a hand reach inside to hold "
-           "the joints while the glue sets."},
+          {"rule", kAssemblyRule},
           {"pieces", plan.pieces},
           {"parts", jparts},
           {"steps", steps},
           {"sheets", sheets}};
 }
-
-using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
 
 /// steps.pdf: A4 pages of 4 x 5 steps; each a picture of the parts placed so far (grey), the
 /// new one orange, and a caption: step, part, sheet, the parts it joins.
@@ -180,11 +168,12 @@ void write_steps_pdf(const RunResult& run, const fs::path& path) {
   const double margin = 36, cell_w = (page_w - 2 * margin) / cols,
                cell_h = (page_h - 2 * margin - 24) / rows, caption = 30;
   const double px = 1.5;  // picture pixels per point (216 dpi)
-  Surface pdf(cairo_pdf_surface_create(path.c_str(), page_w, page_h), cairo_surface_destroy);
+  CairoSurface pdf(cairo_pdf_surface_create(path.c_str(), page_w, page_h),
+                   cairo_surface_destroy);
   if (cairo_surface_status(pdf.get()) != CAIRO_STATUS_SUCCESS)
     throw IoError("cannot write " + path.string());
   cairo_pdf_surface_set_metadata(pdf.get(), CAIRO_PDF_METADATA_TITLE, "kerfab assembly steps");
-  Context cr(cairo_create(pdf.get()), cairo_destroy);
+  CairoContext cr(cairo_create(pdf.get()), cairo_destroy);
   cairo_t* c = cr.get();
   std::vector<char> placed(strips.patches.size(), 0);
   const int pic_w = static_cast<int>(cell_w * px), pic_h = static_cast<int>((cell_h - caption) * px);
@@ -218,14 +207,9 @@ void write_steps_pdf(const RunResult& run, const fs::path& path) {
                                  : Rgb{0.88, 0.88, 0.88};
       faces.push_back(std::move(face));
     }
-    Surface image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, pic_w, pic_h),
-                  cairo_surface_destroy);
-    {
-      Context ic(cairo_create(image.get()), cairo_destroy);
-      cairo_set_source_rgb(ic.get(), 1, 1, 1);
-      cairo_paint(ic.get());
-      draw_faces(ic.get(), v, faces);
-    }
+    auto [image, ic] = white_picture(pic_w, pic_h);
+    draw_faces(ic.get(), v, faces);
+    ic.reset();
     cairo_surface_flush(image.get());
     const double x = margin + (slot % cols) * cell_w;
     const double y = margin + 12 + (slot / cols) * cell_h;
@@ -239,9 +223,7 @@ void write_steps_pdf(const RunResult& run, const fs::path& path) {
     cairo_set_source_rgb(c, 0.8, 0.8, 0.8);
     cairo_set_line_width(c, 0.5);
     cairo_stroke(c);
-    const int sheet = step.part < static_cast<int>(run.layout->placements.size())
-                          ? run.layout->placements[step.part].sheet + 1
-                          : 0;
+    const int sheet = run.layout->sheet_number(step.part);
     std::string line1 = "Step " + std::to_string(k + 1) + ": part " + std::to_string(step.part) +
                         (sheet > 0 ? ", sheet " + std::to_string(sheet) : ", on no sheet");
     std::string line2 = step.new_piece ? (k == 0 ? "start here" : "starts a separate piece")

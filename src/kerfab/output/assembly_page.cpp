@@ -19,9 +19,7 @@ void write_assembly_page(const RunResult& run, const std::filesystem::path& cut_
           "listed as its own neighbour closes into a ring.</p>\n"
        << "<table><tr><th>part</th><th>sheet</th><th>joins</th></tr>\n";
   for (std::size_t p = 0; p < neighbours.size(); ++p) {
-    html << "<tr><td>" << p << "</td><td>"
-         << (run.layout && p < run.layout->placements.size() ? run.layout->placements[p].sheet + 1
-                                                             : 0)
+    html << "<tr><td>" << p << "</td><td>" << run.layout->sheet_number(static_cast<int>(p))
          << "</td><td>";
     bool first = true;
     for (const auto& [q, length] : neighbours[p]) {

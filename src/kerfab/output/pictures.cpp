@@ -1,7 +1,5 @@
 #include "kerfab/output/pictures.h"
 
-#include <cairo.h>
-
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -10,6 +8,7 @@
 #include <string>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/output/cairo_picture.h"
 #include "kerfab/output/strip_files.h"
 
 namespace kerfab {
@@ -17,19 +16,6 @@ namespace fs = std::filesystem;
 namespace {
 
 Rgb rgb(const std::array<int, 3>& c) { return {c[0] / 255.0, c[1] / 255.0, c[2] / 255.0}; }
-
-using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
-using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
-
-/// A white picture of w x h pixels.
-std::pair<Surface, Context> white_picture(int w, int h) {
-  Surface s(cairo_image_surface_create(CAIRO_FORMAT_RGB24, std::max(w, 1), std::max(h, 1)),
-            cairo_surface_destroy);
-  Context cr(cairo_create(s.get()), cairo_destroy);
-  cairo_set_source_rgb(cr.get(), 1, 1, 1);
-  cairo_paint(cr.get());
-  return {std::move(s), std::move(cr)};
-}
 
 void write_png(cairo_surface_t* s, const fs::path& path) {
   cairo_surface_flush(s);
@@ -193,7 +179,7 @@ std::vector<FlatShape> patch_shapes(const Strips& strips, const Flattening& flat
   std::vector<std::pair<double, int>> by_area;
   for (std::size_t p = 0; p < strips.patches.size() && p < flat.patches.size(); ++p) {
     const Patch& patch = strips.patches[p];
-    const auto quads = patch.flat ? patch.flat_quads : patch.local_quads();
+    const auto quads = patch.local_quads();  // facets too
     double area = 0;
     for (const auto& q : quads) {
       Polygon2 poly;
@@ -207,7 +193,7 @@ std::vector<FlatShape> patch_shapes(const Strips& strips, const Flattening& flat
   for (std::size_t k = 0; k < by_area.size() && k < 6; ++k) {
     const int p = by_area[k].second;
     const Patch& patch = strips.patches[p];
-    const auto quads = patch.flat ? patch.flat_quads : patch.local_quads();
+    const auto quads = patch.local_quads();  // facets too
     std::map<std::pair<int, int>, int> uses;
     for (const auto& q : quads)
       for (int i = 0; i < 4; ++i) ++uses[{std::min(q[i], q[(i + 1) % 4]), std::max(q[i], q[(i + 1) % 4])}];

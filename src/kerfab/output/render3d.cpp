@@ -54,12 +54,9 @@ double View3::aspect(const std::vector<Vec3>& points, const ViewOptions& options
 
 Vec3 View3::turn(const Vec3& p) const { return turned(p, options_); }
 
-std::array<double, 2> View3::screen(const Vec3& p) const {
-  const Vec3 t = turned(p, options_);
+std::array<double, 2> View3::screen_of_turned(const Vec3& t) const {
   return {ox_ + scale_ * (t.x() - cx_), oy_ - scale_ * (t.z() - cz_)};
 }
-
-double View3::depth(const Vec3& p) const { return turned(p, options_).y(); }
 
 std::vector<Vec3> corners_of(const std::vector<Face3>& faces) {
   std::vector<Vec3> out;
@@ -73,23 +70,27 @@ void draw_faces(cairo_t* cr, const View3& view, const std::vector<Face3>& faces)
     double depth;
     std::size_t face;
     double shade;
+    std::size_t first;  // its corners, turned, from seen[first] on
   };
   std::vector<Drawn> order;
+  std::vector<Vec3> seen;  // every face's corners in view coordinates, face after face
   for (std::size_t f = 0; f < faces.size(); ++f) {
     const auto& c = faces[f].corners;
     if (c.size() < 3) continue;
+    const std::size_t first = seen.size();
+    for (const Vec3& p : c) seen.push_back(view.turn(p));
+    const Vec3* t = seen.data() + first;
     Vec3 n = Vec3::Zero(), centre = Vec3::Zero();  // Newell's normal, in view coordinates
-    std::vector<Vec3> t;
-    for (const Vec3& p : c) t.push_back(view.turn(p));
-    for (std::size_t k = 0; k < t.size(); ++k) {
-      n += t[k].cross(t[(k + 1) % t.size()]);
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      n += t[k].cross(t[(k + 1) % c.size()]);
       centre += t[k];
     }
     if (n.norm() < 1e-300) continue;
     n.normalize();
     const bool back = n.y() > 0;  // the viewer looks along +y
     const double lambert = std::max(0.0, (back ? -n : n).dot(light));
-    order.push_back({centre.y() / t.size(), f, back ? 0.45 + 0.3 * lambert : 0.35 + 0.65 * lambert});
+    order.push_back({centre.y() / c.size(), f,
+                     back ? 0.45 + 0.3 * lambert : 0.35 + 0.65 * lambert, first});
   }
   std::stable_sort(order.begin(), order.end(),
                    [](const Drawn& a, const Drawn& b) { return a.depth > b.depth; });
@@ -98,7 +99,8 @@ void draw_faces(cairo_t* cr, const View3& view, const std::vector<Face3>& faces)
   for (const Drawn& d : order) {
     const Face3& f = faces[d.face];
     std::vector<std::array<double, 2>> s;
-    for (const Vec3& p : f.corners) s.push_back(view.screen(p));
+    for (std::size_t k = 0; k < f.corners.size(); ++k)
+      s.push_back(view.screen_of_turned(seen[d.first + k]));
     cairo_move_to(cr, s[0][0], s[0][1]);
     for (std::size_t k = 1; k < s.size(); ++k) cairo_line_to(cr, s[k][0], s[k][1]);
     cairo_close_path(cr);

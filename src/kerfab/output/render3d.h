@@ -41,11 +41,11 @@ class View3 {
   View3(const std::vector<Vec3>& points, const ViewOptions& options, double x, double y, double w,
         double h);
   /// Picture position of a model point (y down).
-  std::array<double, 2> screen(const Vec3& p) const;
-  /// Depth of a model point (larger: farther).
-  double depth(const Vec3& p) const;
-  /// The model direction turned into view coordinates (x right, y depth, z up).
+  std::array<double, 2> screen(const Vec3& p) const { return screen_of_turned(turn(p)); }
+  /// The model point turned into view coordinates (x right, y depth: larger is farther, z up).
   Vec3 turn(const Vec3& p) const;
+  /// Picture position of a point already turned (turn()).
+  std::array<double, 2> screen_of_turned(const Vec3& t) const;
   /// Height over width of the points' view (for sizing a picture).
   static double aspect(const std::vector<Vec3>& points, const ViewOptions& options);
 

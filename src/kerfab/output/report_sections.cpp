@@ -337,7 +337,7 @@ json layout_section(const LayoutResult& l, const LayoutOptions& options,
   json parts = json::array();
   for (std::size_t i = 0; i < l.placements.size(); ++i)
     parts.push_back({{"part", i},
-                     {"sheet", l.placements[i].sheet + 1},
+                     {"sheet", l.sheet_number(static_cast<int>(i))},
                      {"angle_deg", l.placements[i].angle * 180 / M_PI},
                      {"offset_mm", {l.placements[i].offset.x(), l.placements[i].offset.y()}},
                      {"label", l.labels.size() > i && l.labels[i].has_value()}});
@@ -346,8 +346,8 @@ json layout_section(const LayoutResult& l, const LayoutOptions& options,
     json list = json::array();
     for (const auto& [q, length] : l.neighbours[p])
       list.push_back({{"part", q}, {"length_mm", length}});
-    const int sheet = p < l.placements.size() ? l.placements[p].sheet + 1 : 0;
-    assembly.push_back({{"part", p}, {"sheet", sheet}, {"neighbours", list}});
+    assembly.push_back(
+        {{"part", p}, {"sheet", l.sheet_number(static_cast<int>(p))}, {"neighbours", list}});
   }
   json written = json::array();
   if (formats.svg) written.push_back("svg");
@@ -375,20 +375,15 @@ json assembly_section(const AssemblyPlan& a, const LayoutResult& l) {
     json joins = json::array();
     for (const PartContact& c : s.joins)
       joins.push_back({{"part", c.part}, {"length_mm", c.length}, {"toothed_mm", c.toothed}});
-    const int sheet = s.part < static_cast<int>(l.placements.size())
-                          ? l.placements[s.part].sheet + 1
-                          : 0;
     steps.push_back({{"step", k + 1},
                      {"part", s.part},
-                     {"sheet", sheet},
+                     {"sheet", l.sheet_number(s.part)},
                      {"joins", joins},
                      {"held_mm", s.held},
                      {"new_piece", s.new_piece},
                      {"closing", s.closing}});
   }
-  return {{"rule",
-           "largest part first; then the part with the longest border to the parts placed "
-           "(toothed border fully, plain border half); parts that would fill a hole last"},
+  return {{"rule", kAssemblyRule},
           {"pieces", a.pieces},
           {"order", order},
           {"steps", steps},

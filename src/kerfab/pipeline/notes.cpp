@@ -215,7 +215,8 @@ StageNotes notes(const AssemblyPlan& a) {
   int closing = 0;
   for (const AssemblyStep& s : a.steps) closing += s.closing ? 1 : 0;
   Line os;
-  os << a.steps.size() << " steps, one piece grown part by part";
+  os << a.steps.size() << " steps, " << a.pieces << (a.pieces == 1 ? " piece" : " pieces")
+     << " grown part by part";
   if (closing > 0) os << ", the last " << closing << " filling holes";
   n.lines.push_back(os.str());
   if (a.pieces > 1)
