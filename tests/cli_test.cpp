@@ -171,7 +171,9 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   EXPECT_GT(strips, 10);
   EXPECT_LE(st["strips"].get<int>(), strips);
   // Strips are long chains of quads; flat facets (where 3 mm MDF cannot bend that tightly at
-  // 250 mm: horns, ears, hooves, tail) cover less than half of the quads (324 of 732).
+  // 250 mm: horns, ears, hooves, tail) cover about half of the quads (376 of 732; 340 before
+  // every border got a joint: slots on both long borders of a narrow strip leave its kerf cuts
+  // less room).
   int ladders = 0, facet_quads = 0;
   for (const auto& p : st["patch_list"]) {
     if (p["facet"].get<bool>())
@@ -180,7 +182,7 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
       ++ladders;
   }
   EXPECT_LT(ladders, 732 / 4);
-  EXPECT_LT(facet_quads, 732 / 2);
+  EXPECT_LT(facet_quads, 732 * 11 / 20);
   // The assembly order: every part once, and every step after the first joins a part placed
   // before it, by the neighbour lists of the layout section (the borders, not the plan).
   const auto& order = report["assembly"]["order"];

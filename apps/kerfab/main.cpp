@@ -236,6 +236,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "No teeth where the tooth would overlap its slot by less than this [mm]")
       ->capture_default_str()
       ->check(kNonNegative);
+  cmd.add_option("--tab-misfit", jo.tab_misfit,
+                 "Where a fold is too shallow for box teeth, in-plane dovetail tabs whose tip "
+                 "leaves the other part's faces by at most this; 0: no tabs [mm]")
+      ->capture_default_str()
+      ->check(kNonNegative);
   cmd.add_option("--kerf-width", f.options.machine.kerf_width,
                  "Width of the laser cut; outlines are offset by half of it so parts fit as "
                  "designed [mm]")

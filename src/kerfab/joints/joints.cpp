@@ -4,8 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 
 #include "kerfab/core/errors.h"
 
@@ -101,6 +103,13 @@ class Builder {
       for (int p : redo) out_.parts[p] = outline(p);
     }
     for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
+    for (std::size_t b = 0; b < out_.borders.size(); ++b) {
+      std::vector<TabFlare> flares;
+      for (int j = 0; j + 1 < static_cast<int>(out_.borders[b].intervals.size()); ++j)
+        if (const auto f = flare_between(static_cast<int>(b), j)) flares.push_back(*f);
+      out_.flares.push_back(std::move(flares));
+      out_.borders_without_joint += out_.borders[b].teeth == 0 ? 1 : 0;
+    }
     return std::move(out_);
   }
 
@@ -208,9 +217,29 @@ class Builder {
     return side.reversed ? b - t * (b - a) : a + t * (b - a);
   }
 
+  /// Box teeth where they are deep enough, else tabs if they are, else nothing (shallow).
+  JointKind kind_for(double fold) const {
+    const ToothOffsets box = offsets_of(JointKind::kBox, fold);
+    if (box.tip - box.slot >= o_.min_depth) return JointKind::kBox;
+    // Paper (no thickness) is glued with tabs of its own, not with tabs cut from the sheet.
+    if (o_.tab_misfit > o_.protrusion && thickness_ > 0) {
+      const ToothOffsets tab = offsets_of(JointKind::kTab, fold);
+      if (tab.tip - tab.slot >= o_.min_depth) return JointKind::kTab;
+    }
+    return JointKind::kNone;
+  }
+  /// A tab's tip may leave the mate's faces by the misfit; it is no longer than a tooth is wide
+  /// (a longer tab locates no better and needs more room in both parts).
+  ToothOffsets offsets_of(JointKind kind, double fold) const {
+    const double f = std::clamp(fold, 1e-6, kMaxJointFold);
+    if (kind == JointKind::kTab)
+      return tooth_offsets(f, thickness_, o_.tab_misfit, std::min(o_.max_tip, 0.5 * o_.tooth_width));
+    return tooth_offsets(f, thickness_, o_.protrusion, o_.max_tip);
+  }
   ToothOffsets offsets_at(const Piece& piece, double s) const {
-    return tooth_offsets(std::clamp(piece.fold_at(s), 1e-6, kMaxJointFold), thickness_,
-                         o_.protrusion, o_.max_tip);
+    const double fold = piece.fold_at(s);
+    const JointKind kind = kind_for(fold);
+    return offsets_of(kind == JointKind::kNone ? JointKind::kBox : kind, fold);
   }
 
   /// Paper Fig. 6: every mated outline edge gets a band from its slot to its tip offset; where
@@ -290,18 +319,20 @@ class Builder {
       b.edge = piece.edge;
       b.patches = {piece.sides[0].patch, piece.sides[1].patch};
       b.length = piece.length;
-      const int n = std::max(1, static_cast<int>(std::lround(piece.length / o_.tooth_width)));
-      for (int j = 0; j < n; ++j) {
+      const auto stretches = tooth_stretches(piece.length, forbidden[2 * i], forbidden[2 * i + 1]);
+      for (const auto& [s0, s1, phase] : stretches) {
         JointInterval in;
-        in.s0 = piece.length * j / n;
-        in.s1 = piece.length * (j + 1) / n;
+        in.s0 = s0;
+        in.s1 = s1;
         const double mid = 0.5 * (in.s0 + in.s1);
         in.fold = piece.fold_at(mid);
         in.plain = plain_offset(in.fold, thickness_);
         // Conservative over the interval: the shortest tip and the deepest slot.
-        in.offsets = offsets_at(piece, mid);
+        const JointKind kind = kind_for(in.fold);
+        const JointKind shape = kind == JointKind::kNone ? JointKind::kBox : kind;
+        in.offsets = offsets_of(shape, in.fold);
         for (double at : {in.s0, in.s1}) {
-          const ToothOffsets e = offsets_at(piece, at);
+          const ToothOffsets e = offsets_of(shape, piece.fold_at(at));
           in.offsets.tip = std::min(in.offsets.tip, e.tip);
           in.offsets.slot = std::min(in.offsets.slot, e.slot);
           in.plain = std::min(in.plain, plain_offset(piece.fold_at(at), thickness_));
@@ -310,16 +341,24 @@ class Builder {
         for (int side = 0; side < 2 && free; ++side)
           for (const auto& f : forbidden[2 * i + side])
             if (std::min(f[1], in.s1) - std::max(f[0], in.s0) > 1e-9) free = false;
-        if (in.offsets.tip - in.offsets.slot < o_.min_depth) {
+        if (kind == JointKind::kNone || in.offsets.tip - in.offsets.slot < o_.min_depth) {
           ++b.shallow;
         } else if (!free) {
           ++b.blocked;
-        } else if (const int owner = untrimmed_owner(static_cast<int>(i), in, j % 2); owner < 0) {
-          ++b.blocked;  // a tooth on either side would have to be trimmed at a corner
+        } else if (const int owner = phase < 0 ? -1
+                                     : std::max(untrimmed_owner(static_cast<int>(i), in, phase),
+                                                lone(stretches, in)
+                                                    ? untrimmed_owner(static_cast<int>(i), in,
+                                                                      1 - phase)
+                                                    : -1);
+                   owner < 0) {
+          ++b.blocked;  // a tooth would have to be trimmed at a corner
         } else {
           in.owner = owner;
+          in.kind = kind;
           ++b.teeth;
           out_.toothed_length += in.s1 - in.s0;
+          if (kind == JointKind::kTab) ++b.tabs, ++out_.tabs, out_.tab_length += in.s1 - in.s0;
         }
         b.intervals.push_back(in);
       }
@@ -327,6 +366,63 @@ class Builder {
       out_.border_length += piece.length;
       out_.borders.push_back(std::move(b));
     }
+  }
+
+  /// The intervals of a border piece of \p length: where neither side forbids teeth, stretches
+  /// of about the tooth width (teeth alternate sides: phase 0 or 1); the forbidden stretches
+  /// between them, and free ones too short for a tooth, plain (phase -1). Teeth fill the room
+  /// that is free instead of a fixed grid, so a short border between two corners still gets one.
+  std::vector<std::tuple<double, double, int>> tooth_stretches(
+      double length, const std::vector<std::array<double, 2>>& a,
+      const std::vector<std::array<double, 2>>& b) const {
+    std::vector<std::array<double, 2>> blocked;
+    for (const auto* list : {&a, &b})
+      for (const auto& f : *list)
+        if (std::min(f[1], length) - std::max(f[0], 0.0) > 1e-9)
+          blocked.push_back({std::max(f[0], 0.0), std::min(f[1], length)});
+    std::sort(blocked.begin(), blocked.end());
+    std::vector<std::array<double, 2>> merged;
+    for (const auto& f : blocked)
+      if (!merged.empty() && f[0] <= merged.back()[1] + 1e-9)
+        merged.back()[1] = std::max(merged.back()[1], f[1]);
+      else
+        merged.push_back(f);
+    // The narrowest tooth that stands: half the tooth width, at least 1 mm.
+    const double narrowest = std::max(1.0, 0.5 * o_.tooth_width);
+    std::vector<std::tuple<double, double, int>> out;
+    auto free_run = [&](double s0, double s1) {
+      if (s1 - s0 <= 1e-9) return;
+      if (s1 - s0 < narrowest) {
+        out.emplace_back(s0, s1, -1);
+        return;
+      }
+      const int n = std::max(1, static_cast<int>(std::lround((s1 - s0) / o_.tooth_width)));
+      for (int j = 0; j < n; ++j)
+        out.emplace_back(s0 + (s1 - s0) * j / n, s0 + (s1 - s0) * (j + 1) / n, j % 2);
+    };
+    // A tooth right at the edge of a forbidden stretch would leave a slit narrower than the
+    // laser can cut against the cut-back there: the forbidden stretches grow by the smallest
+    // feature on each side.
+    const double margin = o_.min_feature;
+    for (auto& f : merged) f = {std::max(0.0, f[0] - margin), std::min(length, f[1] + margin)};
+    double at = 0;
+    for (const auto& f : merged) {
+      free_run(at, f[0]);
+      if (f[1] > std::max(at, f[0]) + 1e-9) out.emplace_back(std::max(at, f[0]), f[1], -1);
+      at = std::max(at, f[1]);
+    }
+    free_run(at, length);
+    if (out.empty()) out.emplace_back(0.0, length, -1);
+    return out;
+  }
+
+  /// Whether \p in is the only tooth stretch of its run (it may then go to either side).
+  static bool lone(const std::vector<std::tuple<double, double, int>>& stretches,
+                   const JointInterval& in) {
+    for (const auto& [s0, s1, phase] : stretches)
+      if (phase >= 0 && s0 != in.s0 && (std::abs(s1 - in.s0) < 1e-12 || std::abs(s0 - in.s1) < 1e-12))
+        return false;
+    return true;
   }
 
   /// \p preferred if its tooth for interval \p in of piece \p i needs no trimming at a
@@ -420,13 +516,16 @@ class Builder {
                        (t1 - t0) * (b - a).norm(),
                        e,
                        in.owner == side_index,
+                       JointKind::kNone,
                        {},
                        at(t0, 0),
                        at(t1, 0),
                        n};
-        if (span.tooth)
+        if (span.tooth) {
+          span.kind = in.kind;
           span.region =
               trim_at_concave_corners(p, k, t0, t1, {at(t0, 0), at(t1, 0), at(t1, e), at(t0, e)});
+        }
         if (t0 < 1e-9) first_span[k] = static_cast<int>(part.spans.size());
         if (t1 > 1 - 1e-9) last_span[k] = static_cast<int>(part.spans.size());
         part.spans.push_back(std::move(span));
@@ -446,6 +545,7 @@ class Builder {
       }
       if (!spans.empty()) first_offset[k] = spans.front()[2], last_offset[k] = spans.back()[2];
     }
+    add_tab_flares(p, part, add, cut);
     // Where two cut-back stretches meet at a corner, the wedge between them goes too (it lies
     // outside the part at convex corners and would stay as a spur at concave ones).
     for (int k = 0; k < m; ++k) {
@@ -484,6 +584,75 @@ class Builder {
     return part;
   }
 
+  /// The dovetail sides of part \p p's tabs: at every leaning boundary the part gains the
+  /// triangle between the border-perpendicular and the leaning line beyond its border line (its
+  /// tab's head widens) and loses the one below it (the mate's head widens there).
+  void add_tab_flares(int p, Shapes& part, std::vector<Polygon2>& add,
+                      std::vector<Polygon2>& cut) const {
+    constexpr double kOverlap = 1e-3;
+    const Ring& ring = rings_[p];
+    std::set<std::pair<int, int>> sides;  // (piece, side index) of this part
+    for (std::size_t k = 0; k < ring.edges.size(); ++k)
+      if (ring.piece[k] >= 0) sides.insert({ring.piece[k], ring.piece_side[k]});
+    for (const auto& [i, side_index] : sides) {
+      const Side& side = pieces_[i].sides[side_index];
+      const BorderJoint& border = out_.borders[i];
+      for (int j = 0; j + 1 < static_cast<int>(border.intervals.size()); ++j) {
+        const std::optional<TabFlare> flare = flare_between(i, j);
+        if (!flare) continue;
+        // The ring edge of this side where the boundary lies, and the point on it.
+        int k = -1;
+        double t = 0;
+        for (int e : side.ring_edges) {
+          const auto [sa, sb] = s_range(side, e);
+          if (flare->s >= sa - 1e-9 && flare->s <= sb + 1e-9) {
+            k = e;
+            t = sb > sa ? std::clamp((flare->s - sa) / (sb - sa), 0.0, 1.0) : 0.5;
+            break;
+          }
+        }
+        if (k < 0) continue;
+        if (side.reversed) t = 1 - t;
+        const Vec2 a = ring.start[k], b = ring.end[k], n = ring.normal[k];
+        if (!((b - a).norm() > 0)) continue;
+        const Vec2 point = a + t * (b - a);
+        const Vec2 ds = (side.reversed ? a - b : b - a).normalized();  // direction of growing s
+        const bool own_below = border.intervals[j].owner == side_index;
+        const int own = own_below ? j : j + 1, other = own_below ? j + 1 : j;
+        const Vec2 e = own_below ? ds : Vec2(-ds);  // from this part's tab toward the mate's
+        const double tip = border.intervals[own].offsets.tip;
+        const double slot = border.intervals[other].offsets.slot;
+        const double k_ = flare->slope, g = flare->clearance;
+        const double v0 = 0.5 * g / std::max(k_, 1e-12);  // where the line crosses the boundary
+        auto at = [&](double u, double v) { return Vec2(point + u * e + v * n); };
+        Polygon2 gain, loss = {at(k_ * slot - 0.5 * g, slot), at(kOverlap, slot),
+                               at(kOverlap, v0), at(0, v0)};
+        if (k_ * tip - 0.5 * g > 0 && tip > v0)
+          gain = {at(-kOverlap, v0), at(k_ * tip - 0.5 * g, tip), at(-kOverlap, tip)};
+        make_counter_clockwise(loss);
+        cut.push_back(loss);
+        if (!gain.empty()) {
+          make_counter_clockwise(gain);
+          add.push_back(gain);
+        }
+        // The tab's region: the span of its interval that ends at this boundary.
+        JointSpan* best = nullptr;
+        double nearest = 1e-3;
+        for (JointSpan& sp : part.spans)
+          if (sp.tooth && sp.border == i && sp.interval == own)
+            for (const Vec2& end : {sp.from, sp.to})
+              if ((end - point).norm() < nearest) nearest = (end - point).norm(), best = &sp;
+        if (best && best->region.size() >= 3) {
+          Polygon2 region = best->region;
+          make_counter_clockwise(region);
+          std::vector<Polygon2> grown = {region};
+          if (!gain.empty()) grown = polygon_union({region, gain});
+          best->region = largest(polygon_difference(grown, {loss}));
+        }
+      }
+    }
+  }
+
   /// Teeth that a cut-back of their own part bites into (at an acute corner the mitre of the
   /// next border reaches across this one) would no longer fill their slots: such intervals are
   /// made plain, on both parts, until no tooth is bitten.
@@ -493,7 +662,6 @@ class Builder {
       std::vector<std::pair<int, int>> bitten;  // (border, interval)
       for (std::size_t p = 0; p < rings_.size(); ++p) {
         const Shapes sh = shapes(static_cast<int>(p));
-        if (sh.cut.empty()) continue;
         for (const JointSpan& sp : sh.spans) {
           if (!sp.tooth || sp.region.size() < 3) continue;
           double lost = 0;
@@ -515,9 +683,39 @@ class Builder {
   /// Interval \p in of border \p b without its tooth (counted as blocked), if it had one.
   void make_plain(BorderJoint& b, JointInterval& in) {
     if (in.owner < 0) return;
+    if (in.kind == JointKind::kTab) --b.tabs, --out_.tabs, out_.tab_length -= in.s1 - in.s0;
     in.owner = -1;
+    in.kind = JointKind::kNone;
     --b.teeth, --out_.teeth, ++b.blocked;
     out_.toothed_length -= in.s1 - in.s0;
+  }
+
+  /// The leaning line between intervals j and j + 1 of border \p b, if both are tabs owned by
+  /// different sides (docs/joints.md): the slope keeps each tab at least two thirds of its width
+  /// at the root; the clearance is what the slope turns the out-of-plane overlap of the two
+  /// tilted plates into, k (L (1 - cos f) + h/2 sin f) for the longer tip L and the sharper fold.
+  std::optional<TabFlare> flare_between(int b, int j) const {
+    const BorderJoint& border = out_.borders[b];
+    if (j < 0 || j + 1 >= static_cast<int>(border.intervals.size())) return std::nullopt;
+    const JointInterval &lo = border.intervals[j], &hi = border.intervals[j + 1];
+    if (lo.kind != JointKind::kTab || hi.kind != JointKind::kTab || lo.owner < 0 ||
+        hi.owner < 0 || lo.owner == hi.owner)
+      return std::nullopt;
+    TabFlare f;
+    f.s = lo.s1;
+    // The flared sides are drawn in the frame of one straight edge of the border line: no
+    // corner of it within reach of the flare (the same arc lengths on both sides).
+    const double reach = 0.5 * std::min(lo.s1 - lo.s0, hi.s1 - hi.s0);
+    for (double at : pieces_[b].sides[0].s)
+      if (std::abs(at - f.s) < reach) return std::nullopt;
+    const double deepest = std::max({lo.offsets.tip, hi.offsets.tip, -lo.offsets.slot,
+                                     -hi.offsets.slot});
+    const double narrowest = std::min(lo.s1 - lo.s0, hi.s1 - hi.s0);
+    f.slope = std::min(kTabFlare, narrowest / 6 / std::max(deepest, 1e-9));
+    const double fold = std::max({lo.fold, hi.fold, pieces_[b].fold_at(f.s)});
+    const double tip = std::max(lo.offsets.tip, hi.offsets.tip);
+    f.clearance = f.slope * (tip * (1 - std::cos(fold)) + 0.5 * thickness_ * std::sin(fold));
+    return f;
   }
 
   static Polygon2 largest(const std::vector<Polygon2>& polys) {
@@ -531,7 +729,13 @@ class Builder {
     Shapes sh = shapes(p);
     PartOutline part;
     part.spans = std::move(sh.spans);
-    const auto pieces = polygon_difference(polygon_union(sh.add), sh.cut);
+    // The body with its teeth, without holes: where teeth close over a notch of the flattened
+    // outline (a collapsed strip end), the notch is enclosed by the part's own material and no
+    // mate can reach it; left open it would be a cavity the laser path around the part skips.
+    std::vector<Polygon2> solid;
+    for (auto& c : polygon_union(sh.add))
+      if (polygon_area(c) > 0) solid.push_back(std::move(c));
+    const auto pieces = polygon_difference(solid, sh.cut);
     // Slivers far smaller than a tooth (left where a tooth corner meets a cut-back wedge) are
     // dropped silently; a second piece of tooth size means the part fell apart.
     const double significant = 0.25 * o_.tooth_width * std::max(o_.min_depth, 0.1);
@@ -540,7 +744,12 @@ class Builder {
     const auto left = without_thin_features(largest(pieces), part.spans);
     for (const auto& c : left) outer += polygon_area(c) > significant ? 1 : 0;
     part.repaired = outer != 2;  // one piece from the Booleans, one after the cleanup
-    part.designed = largest(left);
+    // Pinches closed: a cavity joined to the outside only through a slit of zero width (where a
+    // widened slit stopped at a tooth) would be skipped by the laser path around the part.
+    std::vector<Polygon2> pinched;
+    for (auto& c : polygon_offset(polygon_offset({largest(left)}, 1e-3), -1e-3))
+      if (polygon_area(c) > 0) pinched.push_back(std::move(c));
+    part.designed = largest(pinched);
     part.cut = largest(polygon_offset({part.designed}, 0.5 * kerf_width_));
     return part;
   }
@@ -617,6 +826,22 @@ class Builder {
 
 }  // namespace
 
+const char* to_string(JointKind kind) {
+  switch (kind) {
+    case JointKind::kBox: return "box";
+    case JointKind::kTab: return "tab";
+    case JointKind::kNone: break;
+  }
+  return "none";
+}
+
+std::string BorderJoint::kind() const {
+  bool box = false, tab = false;
+  for (const JointInterval& in : intervals)
+    box |= in.kind == JointKind::kBox, tab |= in.kind == JointKind::kTab;
+  return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : "none";
+}
+
 double plain_offset(double fold, double thickness) {
   return -0.5 * thickness * std::tan(0.5 * std::min(std::abs(fold), kMaxJointFold));
 }
@@ -632,6 +857,8 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
   if (!(options.min_depth >= 0)) throw InvalidInput("--min-tooth-depth must be >= 0 mm");
   if (!(machine.kerf_width >= 0)) throw InvalidInput("--kerf-width must be >= 0 mm");
   if (!(options.max_tip > 0)) throw InvalidInput("joints: max_tip must be > 0 mm");
+  if (!(options.tab_misfit >= 0) || !std::isfinite(options.tab_misfit))
+    throw InvalidInput("--tab-misfit must be >= 0 mm");
   if (flat.patches.size() != strips.patches.size())
     throw InvalidInput("joints: flattening does not belong to these strips");
   return Builder(strips, flat, material.thickness, machine.kerf_width, options).run();

@@ -1,8 +1,11 @@
 #pragma once
-/// \file Box joints (paper Sec. 3.3): fold angles along every shared border, tooth depths from
-/// tooth_offsets(), collision-free joint regions from offset bands of each flattened part
+/// \file Joints (paper Sec. 3.3, extended): fold angles along every shared border, tooth depths
+/// from tooth_offsets(), collision-free joint regions from offset bands of each flattened part
 /// (Clipper), interlocking teeth with a phase shared by both sides of a border, laser-kerf
-/// compensation, and each part's closed outline.
+/// compensation, and each part's closed outline. Where the fold is too shallow for box teeth,
+/// the teeth become in-plane dovetail tabs (docs/joints.md): longer, with flared sides that lock
+/// the two parts in the sheet's plane, and an out-of-plane misfit of at most
+/// JointOptions::tab_misfit.
 #include <array>
 #include <cmath>
 #include <string>
@@ -27,12 +30,29 @@ struct JointOptions {
                                  ///< each other's teeth [rad]
   double min_feature = 1.0;      ///< tails and slits of the outline narrower than this are
                                  ///< removed (tails cut off, slits widened) [mm], >= 0
+  double tab_misfit = 0.3;       ///< where box teeth would be shallower than min_depth, dovetail
+                                 ///< tabs whose tip leaves the other part's faces by at most this
+                                 ///< [mm], >= 0; 0: no tabs (such borders stay plain)
 };
+
+/// What holds an interval of a border.
+enum class JointKind {
+  kNone,  ///< plain on both sides
+  kBox,   ///< a box tooth (derived offsets, straight sides)
+  kTab,   ///< an in-plane dovetail tab (nearly coplanar parts)
+};
+const char* to_string(JointKind kind);
+
+/// Flare of a dovetail tab's sides: each side leans outward by this much per millimetre of depth
+/// (1:6, the woodworker's dovetail slope for hardwood). Narrower where the tab would otherwise be
+/// less than two thirds of its width at the root.
+inline constexpr double kTabFlare = 1.0 / 6.0;
 
 /// One tooth or slot interval of a border piece (a coarse edge shared by two patch sides).
 struct JointInterval {
   double s0 = 0, s1 = 0;  ///< arc length along the piece from its common end [mm]
   int owner = -1;         ///< side (0 or 1) that has the tooth; -1: no tooth (both cut plain)
+  JointKind kind = JointKind::kNone;  ///< kind of the tooth (kNone exactly when owner < 0)
   double fold = 0;        ///< fold angle at the interval's middle [rad]
   ToothOffsets offsets;   ///< tip and slot for that fold
   double plain = 0;       ///< offset of both sides where there is no tooth [mm]
@@ -43,9 +63,23 @@ struct BorderJoint {
   std::array<int, 2> patches{-1, -1};  ///< the two sides (may be one patch twice)
   double length = 0;                   ///< 3D length [mm]
   std::vector<JointInterval> intervals;
-  int teeth = 0;
+  int teeth = 0;    ///< box teeth and tabs
+  int tabs = 0;     ///< of which dovetail tabs
   int blocked = 0;  ///< intervals without teeth because of collisions
   int shallow = 0;  ///< intervals without teeth because tip - slot < min_depth
+  /// "box", "tab", "box+tab" or "none" (no tooth at all: nothing locates the two parts)
+  std::string kind() const;
+};
+
+/// Where two neighbouring tab intervals of one border meet, the line between the two parts leans
+/// (dovetail): in the frame of the part whose tab is on the lower-s side, its contour runs
+/// u = s + slope * v - clearance / 2 (u along the border, v outward), the mate's
+/// u = s + slope * v + clearance / 2 (docs/joints.md).
+struct TabFlare {
+  double s = 0;          ///< arc length of the boundary along the border [mm]
+  double slope = 0;      ///< lean of the line [mm per mm of depth]
+  double clearance = 0;  ///< gap between the two parts' lines that keeps them apart at the
+                         ///< fold in 3D [mm]
 };
 
 /// Where a part's contour leaves its border line: a tooth (outward) or a cut-back (slot or plain).
@@ -55,7 +89,9 @@ struct JointSpan {
   double length = 0;  ///< length along the flattened border line [mm]
   double offset = 0;  ///< tip (> 0), slot or plain offset (< 0) [mm]
   bool tooth = false;
-  Polygon2 region;            ///< for a tooth: the part of it beyond the border line
+  JointKind kind = JointKind::kNone;  ///< of a tooth
+  Polygon2 region;            ///< for a tooth: the part of it beyond the border line (with a
+                              ///< tab's flared sides)
   Vec2 from{0, 0}, to{0, 0};  ///< the stretch of the border line it spans [mm]
   Vec2 normal{0, 0};          ///< outward unit normal of the border there
 };
@@ -73,9 +109,13 @@ struct PartOutline {
 struct Joints {
   std::vector<BorderJoint> borders;
   std::vector<PartOutline> parts;  ///< per patch
-  int teeth = 0;
+  std::vector<std::vector<TabFlare>> flares;  ///< per border: its leaning boundaries
+  int teeth = 0;              ///< box teeth and tabs
+  int tabs = 0;               ///< of which dovetail tabs
   double border_length = 0;   ///< total length of shared borders [mm]
-  double toothed_length = 0;  ///< of which covered by tooth intervals [mm]
+  double toothed_length = 0;  ///< of which covered by teeth or tabs [mm]
+  double tab_length = 0;      ///< of which by tabs [mm]
+  int borders_without_joint = 0;  ///< border pieces with no tooth or tab at all
   int repaired_parts = 0;
 };
 

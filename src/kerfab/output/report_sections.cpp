@@ -119,6 +119,7 @@ json options_section(const RunResult& run, const OutputOptions& output) {
   j["protrusion_mm"] = o.joints.protrusion;
   j["tooth_width_mm"] = o.joints.tooth_width;
   j["min_tooth_depth_mm"] = o.joints.min_depth;
+  j["tab_misfit_mm"] = o.joints.tab_misfit;
   j["kerf_width_mm"] = o.machine.kerf_width;
   j["stroke_mm"] = output.style.stroke;
   j["cut_colour"] = output.style.cut;
@@ -244,12 +245,32 @@ json joints_section(const Joints& jt, const Material& material) {
                          {"tip_mm", in.offsets.tip},
                          {"slot_mm", in.offsets.slot},
                          {"tooth", in.owner >= 0},
+                         {"joint", to_string(in.kind)},
                          {"patches", b.patches},
                          {"edge", b.edge},
                          {"s_mm", {in.s0, in.s1}}});
   }
+  json borders = json::array();
+  int flared = 0;
+  for (std::size_t i = 0; i < jt.borders.size(); ++i) {
+    const BorderJoint& b = jt.borders[i];
+    const int flares = i < jt.flares.size() ? static_cast<int>(jt.flares[i].size()) : 0;
+    flared += flares;
+    borders.push_back({{"edge", b.edge},
+                       {"patches", b.patches},
+                       {"length_mm", b.length},
+                       {"joint", b.kind()},
+                       {"teeth", b.teeth - b.tabs},
+                       {"tabs", b.tabs},
+                       {"dovetail_sides", flares}});
+  }
   return {{"thickness_mm", material.thickness},
-          {"teeth", jt.teeth},
+          {"teeth", jt.teeth - jt.tabs},
+          {"tabs", jt.tabs},
+          {"borders_without_joint", jt.borders_without_joint},
+          {"tab_length_mm", jt.tab_length},
+          {"dovetail_sides", flared},
+          {"borders", borders},
           {"border_pieces", jt.borders.size()},
           {"border_length_mm", jt.border_length},
           {"toothed_length_mm", jt.toothed_length},

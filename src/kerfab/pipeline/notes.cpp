@@ -134,9 +134,11 @@ StageNotes notes(const Joints& j, const JointOptions& options) {
   int blocked = 0, shallow = 0;
   for (const auto& b : j.borders) blocked += b.blocked, shallow += b.shallow;
   Line os;
-  os << j.teeth << " teeth on " << j.borders.size() << " border pieces ("
+  os << j.teeth - j.tabs << " box teeth and " << j.tabs << " dovetail tabs on "
+     << j.borders.size() << " border pieces ("
      << 100 * (j.border_length > 0 ? j.toothed_length / j.border_length : 0)
-     << "% of the shared border length); intervals without teeth: " << shallow
+     << "% of the shared border length); " << j.borders_without_joint
+     << " border pieces without a joint; intervals without teeth: " << shallow
      << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
      << " in collision regions";
   n.lines.push_back(os.str());
