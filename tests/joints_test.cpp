@@ -284,7 +284,9 @@ TEST(Joints, RealMeshesHaveSoundOutlines) {
     const Joints j = make_joints(s, f, kMdf, kLaser, o);
     EXPECT_GT(j.teeth, 100);
     EXPECT_GT(j.toothed_length, 0.25 * j.border_length);
-    expect_sound_joints(s, f, j, 4);
+    // (6: on these raw strips, before the resolve stage removes their collapsed ends, six parts
+    // are so thin at such an end that their teeth cut them through; they are flagged)
+    expect_sound_joints(s, f, j, 6);
     expect_teeth_fit_slots(s, f, j);
   }
 }

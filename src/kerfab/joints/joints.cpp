@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -62,6 +63,7 @@ struct Side {
 
 struct Piece {
   int edge = -1;
+  std::vector<int> edges;  // the coarse edges of the border (a chain)
   std::array<Side, 2> sides;
   double length = 0;
   double fold_at(double s) const {
@@ -159,11 +161,51 @@ class Builder {
         const auto& e = rings_[p].edges[k];
         groups[e.coarse_edge][static_cast<int>(p) * 4 + e.side].push_back(static_cast<int>(k));
       }
-    for (auto& [edge, sides] : groups) {
-      if (sides.size() != 2) continue;  // the mesh boundary: no mate, no joint
+    // Consecutive coarse edges along which the same two patch sides meet form one border (a
+    // chain): its teeth run on across the coarse vertices, so a border made of short coarse
+    // edges still has room for them. A chain that closes into a loop stays in coarse edges.
+    auto pair_of = [&](int edge) {
+      const auto& sides = groups.at(edge);
+      return std::make_pair(sides.begin()->first, std::next(sides.begin())->first);
+    };
+    std::map<int, int> parent;
+    std::function<int(int)> root = [&](int e) {
+      int r = e;
+      while (parent.at(r) != r) r = parent.at(r);
+      return parent[e] = r;
+    };
+    for (const auto& [edge, sides] : groups)
+      if (sides.size() == 2) parent[edge] = edge;
+    for (const Ring& ring : rings_) {
+      const std::size_t m = ring.edges.size();
+      for (std::size_t k = 0; k < m; ++k) {
+        const int a = ring.edges[k].coarse_edge, b = ring.edges[(k + 1) % m].coarse_edge;
+        if (a == b || !parent.count(a) || !parent.count(b) || pair_of(a) != pair_of(b)) continue;
+        parent[root(a)] = root(b);
+      }
+    }
+    std::map<int, std::vector<int>> chains;  // root -> coarse edges
+    for (const auto& [edge, up] : parent) chains[root(edge)].push_back(edge);
+    std::vector<std::pair<std::vector<int>, std::map<int, std::vector<int>>>> borders;
+    for (const auto& [r, edges] : chains) {
+      std::map<int, std::vector<int>> sides;
+      for (int e : edges)
+        for (const auto& [key, ring_edges] : groups.at(e))
+          sides[key].insert(sides[key].end(), ring_edges.begin(), ring_edges.end());
+      const auto& first = sides.begin()->second;
+      const bool loop = edges.size() > 1 &&
+                        first.size() == rings_[sides.begin()->first / 4].edges.size();
+      if (!loop) {
+        borders.emplace_back(edges, std::move(sides));
+        continue;
+      }
+      for (int e : edges) borders.emplace_back(std::vector<int>{e}, groups.at(e));
+    }
+    for (auto& [edges, sides] : borders) {
       Piece piece;
-      piece.edge = edge;
-      const Vec3 common = s_.vertices[s_.edge_vertices[edge].front()];
+      piece.edge = edges.front();
+      piece.edges = edges;
+      Vec3 common = s_.vertices[s_.edge_vertices[piece.edge].front()];
       int i = 0;
       for (auto& [key, ring_edges] : sides) {
         Side& side = piece.sides[i++];
@@ -180,6 +222,7 @@ class Builder {
           }
         const Vec3 first = p3(side.patch, ring.edges[ring_edges.front()].v[0]);
         const Vec3 last = p3(side.patch, ring.edges[ring_edges.back()].v[1]);
+        if (i == 1 && edges.size() > 1) common = first;  // a chain: from the first side's start
         side.reversed = (last - common).norm() < (first - common).norm();
         if (side.reversed) std::reverse(ring_edges.begin(), ring_edges.end());
         side.ring_edges = ring_edges;
@@ -317,6 +360,7 @@ class Builder {
       const Piece& piece = pieces_[i];
       BorderJoint b;
       b.edge = piece.edge;
+      b.edges = piece.edges;
       b.patches = {piece.sides[0].patch, piece.sides[1].patch};
       b.length = piece.length;
       const auto stretches = tooth_stretches(piece.length, forbidden[2 * i], forbidden[2 * i + 1]);

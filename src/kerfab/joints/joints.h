@@ -59,7 +59,9 @@ struct JointInterval {
 };
 
 struct BorderJoint {
-  int edge = -1;                       ///< coarse edge
+  int edge = -1;                       ///< its first coarse edge
+  std::vector<int> edges;              ///< all its coarse edges (consecutive coarse edges along
+                                       ///< which the same two part sides meet), ascending
   std::array<int, 2> patches{-1, -1};  ///< the two sides (may be one patch twice)
   double length = 0;                   ///< 3D length [mm]
   std::vector<JointInterval> intervals;

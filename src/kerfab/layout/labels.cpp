@@ -261,7 +261,7 @@ std::vector<Label> border_labels(const Strips& strips, const Flattening& flat,
   for (const BorderJoint& b : joints.borders)
     for (int k = 0; k < 2; ++k)
       if (b.patches[k] == patch && b.patches[1 - k] != patch)
-        neighbours_of_edge[b.edge].push_back(b.patches[1 - k]);
+        for (int e : b.edges) neighbours_of_edge[e].push_back(b.patches[1 - k]);
   for (const FlatEdge& e : flat_edges(strips, flat, patch)) {
     const auto it = neighbours_of_edge.find(e.coarse_edge);
     if (it == neighbours_of_edge.end()) continue;

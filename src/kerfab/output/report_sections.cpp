@@ -257,6 +257,7 @@ json joints_section(const Joints& jt, const Material& material) {
     const int flares = i < jt.flares.size() ? static_cast<int>(jt.flares[i].size()) : 0;
     flared += flares;
     borders.push_back({{"edge", b.edge},
+                       {"edges", b.edges},
                        {"patches", b.patches},
                        {"length_mm", b.length},
                        {"joint", b.kind()},
