@@ -15,9 +15,9 @@ namespace kerfab {
 /// The rule in words, for the report and the guide (with the default plain_weight).
 inline constexpr const char* kAssemblyRule =
     "Start with the largest part. Each next part is the one with the longest border to the "
-    "parts already placed (box-jointed border counting fully, plain border half), so the piece "
-    "stays one connected shell and each new part is held along as much of its border as "
-    "possible. A part whose whole outline would meet placed parts fills a hole; such parts wait "
+    "parts already placed (border with teeth or tabs counting fully, plain border half), so "
+    "the piece stays one connected shell and each new part is held along as much of its "
+    "border as possible. A part whose whole outline would meet placed parts fills a hole; such parts wait "
     "until the end, and the holes let a hand reach inside to hold the joints while the glue "
     "sets.";
 
@@ -37,7 +37,7 @@ struct PartShape {
 struct PartContact {
   int part = -1;
   double length = 0;   ///< shared border [mm] (3D)
-  double toothed = 0;  ///< of which box-jointed [mm]
+  double toothed = 0;  ///< of which with teeth or tabs [mm]
 };
 
 /// One step: the part added and the placed parts it joins.

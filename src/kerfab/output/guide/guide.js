@@ -168,7 +168,7 @@
   }
   function partLink(q) { return `<a class="part" data-part="${q}">${q}</a>`; }
   function contactText(c) {
-    return `${partLink(c[0])} (${c[1].toFixed(0)} mm` + (c[2] > 0 ? `, ${c[2].toFixed(0)} mm box-jointed)` : ', plain)');
+    return `${partLink(c[0])} (${c[1].toFixed(0)} mm` + (c[2] > 0 ? `, ${c[2].toFixed(0)} mm with teeth or tabs)` : ', plain)');
   }
   function sheetText(p) { return p.sheet > 0 ? `sheet ${p.sheet}` : 'no sheet (it did not fit; see the report)'; }
   function stepText(s) {
