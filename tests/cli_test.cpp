@@ -9,6 +9,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <tuple>
 
 #include "cli_util.h"
 #include "kerfab/io/mesh_io.h"
@@ -126,6 +127,41 @@ TEST(Cli, SheetStyleOptionsAreCheckedAndReported) {
   const CliRun bad_stroke =
       run_cli("run --target " + target.string() + " --out out --stroke 0", scratch);
   EXPECT_EQ(bad_stroke.exit_code, 1);
+}
+
+// Paper sizes by name; paper models go on A4 pages of true size unless told otherwise. A 120 mm
+// cube (whose quality stage once needed more than 50 million distance samples and failed) runs
+// in paper; the report says the sample spacing it used.
+TEST(Cli, PaperSizesByNameAndA4ForPaper) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "cube.obj";
+  write_mesh(test::cube_grid_mesh(4, [](const Vec3& p) { return Vec3(60 * p); }), target);
+  const CliRun paper = run_cli(
+      "run --target " + target.string() + " --material paper --out " + (scratch / "a").string(),
+      scratch);
+  ASSERT_EQ(paper.exit_code, 0) << paper.err;
+  const auto report = read_report(scratch / "a");
+  EXPECT_EQ(report["layout"]["sheet_mm"], nlohmann::json::array({210.0, 297.0}));
+  EXPECT_GT(report["quality"]["sample_spacing_mm"].get<double>(), 0);
+  EXPECT_LE(report["quality"]["samples"].get<long>(), 10'000'000);
+  EXPECT_LT(report["quality"]["hausdorff_rel"].get<double>(), 1e-6);  // flat faces, exact
+  // The PDF page is A4 at true size: 210 x 297 mm = 595.28 x 841.89 pt.
+  const std::string pdf = test::slurp(scratch / "a" / "cut" / "sheet-001.pdf");
+  EXPECT_NE(pdf.find("/MediaBox [ 0 0 595.27"), std::string::npos);
+  for (const auto& [name, w, h] : {std::tuple{"letter", 215.9, 279.4}, {"a3", 297.0, 420.0}}) {
+    const fs::path out = scratch / name;
+    const CliRun r = run_cli("run --target " + target.string() + " --sheet " + name +
+                                 " --stop-after layout --out " + out.string(),
+                             scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(read_report(out)["layout"]["sheet_mm"], nlohmann::json::array({w, h})) << name;
+  }
+  const CliRun bad =
+      run_cli("run --target " + target.string() + " --sheet B5 --out " +
+                  (scratch / "b").string(),
+              scratch);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("A4, A3, letter"), std::string::npos) << bad.err;
 }
 
 // The bundled example end to end: report and the bending dump follow docs/outputs.md.

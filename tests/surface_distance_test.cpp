@@ -24,6 +24,23 @@ TEST(SurfaceDistance, ParallelPlanesAreTheirOffsetApart) {
   EXPECT_GT(d.samples, 2 * 32 * 20);
 }
 
+// A spacing that would need too many samples is widened to the budget when one is given (the
+// quality stage's 120 mm cube failed before), refused without one; the distance stays right.
+TEST(SurfaceDistance, ASpacingTooFineIsWidenedToTheBudget) {
+  const TriangleMesh a = test::quad_plane(100, 4, 2).target;
+  const TriangleMesh b = shifted(a, {0, 0, 2.5});
+  const SurfaceDistance fine = surface_distance(a, b, {.sample_spacing = 0.5});
+  EXPECT_NEAR(fine.spacing, 0.5, 1e-12);
+  const long budget = fine.samples / 10;
+  const SurfaceDistance d = surface_distance(a, b, {.sample_spacing = 0.5, .max_samples = budget});
+  EXPECT_LE(d.samples, budget);
+  EXPECT_GT(d.samples, budget / 4);  // widened about as much as needed, not far more
+  EXPECT_GT(d.spacing, 0.5 * std::sqrt(10.0) * 0.9);
+  EXPECT_NEAR(d.hausdorff, 2.5, 1e-9);
+  EXPECT_THROW(surface_distance(a, b, {.sample_spacing = 0.001}), InvalidInput);
+  EXPECT_NO_THROW(surface_distance(a, b, {.sample_spacing = 0.001, .max_samples = budget}));
+}
+
 TEST(SurfaceDistance, OneSidedDistancesDifferForASmallerPatch) {
   // B is the quarter [0,50]^2 of A = [0,100]^2: every point of B is on A, but A's far corner
   // is 50*sqrt(2) from B; the mean from A is the mean distance of [0,100]^2 to [0,50]^2.

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -100,6 +101,7 @@ struct RunFlags {
   std::string projection = "normal";
   std::string material = "mdf";
   std::string sheet = "600x450";
+  CLI::Option* sheet_option = nullptr;  // to tell a given --sheet from the default
   std::string format = "svg,dxf,pdf";
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
   std::optional<int> constant_density;
@@ -278,8 +280,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "Overhead per separate cut path (pierce, travel) for the time estimate [s]")
       ->capture_default_str()
       ->check(kNonNegative);
-  cmd.add_option("--sheet", f.sheet, "Sheet size WxH of the laser bed or stock, e.g. 600x450 [mm]")
-      ->capture_default_str();
+  f.sheet_option = cmd.add_option("--sheet", f.sheet,
+                                  "Sheet size WxH of the laser bed or stock, e.g. 600x450, or a "
+                                  "paper size A4, A3, letter (portrait) [mm]; A4 with "
+                                  "--material paper")
+                       ->capture_default_str();
   cmd.add_option("--format", f.format,
                  "Cut-sheet files to write, comma separated: svg, dxf, pdf (PNG previews always)")
       ->capture_default_str();
@@ -353,12 +358,21 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   if (f.safety) options.material.safety = *f.safety;
   options.kerf.constant_cuts_per_quad = f.constant_density;
   {
+    // Paper sizes by name (ISO 216 and US letter, portrait); paper models print on A4 unless
+    // told otherwise.
+    std::string sheet = f.sheet;
+    if (f.material == "paper" && f.sheet_option && f.sheet_option->count() == 0) sheet = "A4";
+    std::string lower = sheet;
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower == "a4") sheet = "210x297";
+    if (lower == "a3") sheet = "297x420";
+    if (lower == "letter") sheet = "215.9x279.4";
     double w = 0, h = 0;
     char x = 0, rest = 0;
-    if (std::sscanf(f.sheet.c_str(), "%lf%c%lf%c", &w, &x, &h, &rest) != 3 ||
+    if (std::sscanf(sheet.c_str(), "%lf%c%lf%c", &w, &x, &h, &rest) != 3 ||
         (x != 'x' && x != 'X') || !(w > 0) || !(h > 0) || !(w <= 10000) || !(h <= 10000)) {
       std::cerr << "kerfab: error: --sheet must be WxH in mm, each side in (0, 10000], e.g. "
-                   "600x450, got '"
+                   "600x450, or A4, A3, letter, got '"
                 << kerfab::one_line(f.sheet) << "'\n";
       return kInvalid;
     }

@@ -96,12 +96,19 @@ SurfaceDistance surface_distance(const TriangleMesh& a_in, const TriangleMesh& b
   if (a.triangles.empty() || b.triangles.empty())
     throw InvalidInput("surface distance: a surface has no triangle of positive area");
   constexpr long kMaxSamples = 50'000'000;
-  if (estimated_samples(a, options.sample_spacing) + estimated_samples(b, options.sample_spacing) >
-      kMaxSamples)
+  double spacing = options.sample_spacing;
+  auto needed = [&](double at) { return estimated_samples(a, at) + estimated_samples(b, at); };
+  if (options.max_samples > 0) {
+    const long budget = std::min(options.max_samples, kMaxSamples);
+    // Samples fall about with the square of the spacing; a few rounds settle the grid rounding.
+    for (int round = 0; round < 64 && needed(spacing) > budget; ++round)
+      spacing *= std::max(1.05, std::sqrt(static_cast<double>(needed(spacing)) / budget));
+  }
+  if (needed(spacing) > kMaxSamples)
     throw InvalidInput("surface distance: sample spacing too fine for the model size");
   const TargetSurface sa(a), sb(b);
-  const OneSided ab = one_sided(a, sb, options.sample_spacing);
-  const OneSided ba = one_sided(b, sa, options.sample_spacing);
+  const OneSided ab = one_sided(a, sb, spacing);
+  const OneSided ba = one_sided(b, sa, spacing);
   SurfaceDistance d;
   d.a_to_b_max = ab.max;
   d.a_to_b_mean = ab.area > 0 ? ab.weighted_sum / ab.area : 0;
@@ -110,6 +117,7 @@ SurfaceDistance surface_distance(const TriangleMesh& a_in, const TriangleMesh& b
   d.hausdorff = std::max(d.a_to_b_max, d.b_to_a_max);
   d.mean = 0.5 * (d.a_to_b_mean + d.b_to_a_mean);
   d.samples = ab.samples + ba.samples;
+  d.spacing = spacing;
   return d;
 }
 

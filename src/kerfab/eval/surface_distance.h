@@ -7,6 +7,9 @@ namespace kerfab {
 
 struct SurfaceDistanceOptions {
   double sample_spacing = 1.0;  ///< largest distance between samples on either surface [mm], > 0
+  /// > 0: where the spacing would need more samples than this, it is widened until they fit
+  /// (SurfaceDistance::spacing says by how much); 0: such a spacing is refused.
+  long max_samples = 0;
 };
 
 struct SurfaceDistance {
@@ -17,13 +20,14 @@ struct SurfaceDistance {
   double hausdorff = 0;  ///< max of the two maxima [mm]
   double mean = 0;       ///< mean of the two means (symmetric mean distance) [mm]
   long samples = 0;      ///< distance queries made
+  double spacing = 0;    ///< the sample spacing used [mm] (the requested one unless widened)
 };
 
 /// Samples each triangle on a barycentric grid fine enough for \p options.sample_spacing
 /// (vertices, grid points and sub-triangle centroids, the centroids weighted by area for the
 /// means) and measures each sample's distance to the other surface. Zero-area triangles are
 /// skipped. \throw InvalidInput either mesh has no triangle of positive area, or the spacing
-/// would need more than 50 million samples.
+/// would need more than 50 million samples (and max_samples is 0).
 SurfaceDistance surface_distance(const TriangleMesh& a, const TriangleMesh& b,
                                  const SurfaceDistanceOptions& options);
 

@@ -423,6 +423,7 @@ json quality_section(const SurfaceDistance& q, double diagonal) {
           {"target_to_strips_max_mm", q.b_to_a_max},
           {"target_to_strips_mean_mm", q.b_to_a_mean},
           {"target_diagonal_mm", diagonal},
+          {"sample_spacing_mm", q.spacing},
           {"samples", q.samples}};
 }
 

@@ -232,7 +232,7 @@ StageNotes notes(const SurfaceDistance& q, double diagonal) {
   Line os;
   os << "strips vs target: Hausdorff " << q.hausdorff << " mm (" << 100 * q.hausdorff / diagonal
      << "% of diagonal), mean " << q.mean << " mm (" << 100 * q.mean / diagonal << "%), "
-     << q.samples << " samples";
+     << q.samples << " samples " << q.spacing << " mm apart";
   n.lines.push_back(os.str());
   return n;
 }

@@ -174,7 +174,8 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
       {Stage::kQuality,
        [&] {
          r.quality = surface_distance(triangulate(r.flat->strips), r.input->surface.mesh(),
-                                      {.sample_spacing = o.quality_sample_spacing * diag()});
+                                      {.sample_spacing = o.quality_sample_spacing * diag(),
+                                       .max_samples = kQualitySampleBudget});
          return notes(*r.quality, diag());
        }},
   };

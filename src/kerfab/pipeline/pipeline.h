@@ -31,6 +31,11 @@ struct RunInputs {
   std::optional<std::filesystem::path> guidance;  ///< guidance JSON (forced edges)
 };
 
+/// Most distance samples the quality stage takes (the demo needs 4.4 million; a 120 mm cube's
+/// strips at the default spacing would need more than 50 million and the run failed): beyond it
+/// the spacing is widened and the report says which spacing was used.
+inline constexpr long kQualitySampleBudget = 10'000'000;
+
 struct PipelineOptions {
   InputOptions input;
   QuadMeshOptions quads;  ///< the quad mesh made for a triangle target without --quad
@@ -46,6 +51,8 @@ struct PipelineOptions {
   Machine machine;    ///< the laser: kerf width (joints) and speed (cutting time)
   double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
                                           ///< fraction of the target's bbox diagonal [-], > 0
+                                          ///< (widened where it would need more than
+                                          ///< kQualitySampleBudget samples)
   double max_memory_mb = 0;  ///< memory budget [MB]; > 0: work that would need more is refused
                              ///< before it starts (the sub-quads, kMemoryPerSubQuadKb each)
   bool row_baseline = false;  ///< also build the naive one-strip-per-row layout (for comparison)
