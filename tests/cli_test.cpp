@@ -219,6 +219,23 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   }
   EXPECT_LT(ladders, 732 / 4);
   EXPECT_LT(facet_quads, 732 * 11 / 20);
+  // Joints (issue 16): every part has a tooth or tab on some border, so nothing is glued on
+  // without something that locates it; borders without any joint are few and short.
+  {
+    const auto& joints = report["joints"];
+    std::map<int, int> jointed;  // part -> teeth and tabs on its borders
+    int without = 0;
+    for (const auto& border : joints["borders"]) {
+      const int n = border["teeth"].get<int>() + border["tabs"].get<int>();
+      for (const auto& p : border["patches"]) jointed[p.get<int>()] += n;
+      without += n == 0 ? 1 : 0;
+    }
+    EXPECT_EQ(without, joints["borders_without_joint"].get<int>());
+    for (const auto& [part, n] : jointed) EXPECT_GT(n, 0) << "part " << part << " has no joint";
+    EXPECT_LT(without, static_cast<int>(joints["borders"].size()) / 10);  // 42 of 572
+    EXPECT_GT(joints["toothed_length_mm"].get<double>(),
+              0.7 * joints["border_length_mm"].get<double>());
+  }
   // The assembly order: every part once, and every step after the first joins a part placed
   // before it, by the neighbour lists of the layout section (the borders, not the plan).
   const auto& order = report["assembly"]["order"];

@@ -87,8 +87,34 @@ class Builder {
     drop_bitten_teeth();
     for (std::size_t p = 0; p < rings_.size(); ++p)
       out_.parts.push_back(outline(static_cast<int>(p)));
-    // A part so thin that its slots cut it through keeps its borders plain instead (the mitre
-    // alone cuts back far less), and so do the parts whose teeth reached into those slots.
+    // A part so thin that its slots cut it through takes the teeth of its borders instead: its
+    // outline then grows where it was cut back (its mates, larger as a rule, get the slots).
+    std::set<int> swapped;
+    for (std::size_t p = 0; p < out_.parts.size(); ++p) {
+      if (!out_.parts[p].repaired) continue;
+      for (std::size_t i = 0; i < out_.borders.size(); ++i) {
+        BorderJoint& b = out_.borders[i];
+        for (int side = 0; side < 2; ++side) {
+          if (b.patches[side] != static_cast<int>(p)) continue;
+          for (JointInterval& in : b.intervals) {
+            if (in.owner < 0 || in.owner == side) continue;
+            if (untrimmed_owner(static_cast<int>(i), in, side) == side)
+              in.owner = side;
+            else
+              make_plain(b, in);
+            swapped.insert(b.patches[0]);
+            swapped.insert(b.patches[1]);
+          }
+        }
+      }
+    }
+    if (!swapped.empty() && drop_bitten_teeth()) {
+      for (std::size_t p = 0; p < rings_.size(); ++p) out_.parts[p] = outline(static_cast<int>(p));
+    } else {
+      for (int p : swapped) out_.parts[p] = outline(p);
+    }
+    // A part that still falls apart keeps its borders plain (the mitre alone cuts back far
+    // less), and so do the parts whose teeth reached into its slots.
     std::set<int> redo;
     for (std::size_t p = 0; p < out_.parts.size(); ++p) {
       if (!out_.parts[p].repaired) continue;
