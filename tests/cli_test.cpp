@@ -207,7 +207,7 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   EXPECT_GT(strips, 10);
   EXPECT_LE(st["strips"].get<int>(), strips);
   // Strips are long chains of quads; flat facets (where 3 mm MDF cannot bend that tightly at
-  // 250 mm: horns, ears, hooves, tail) cover about half of the quads (376 of 732; 340 before
+  // 250 mm: horns, ears, hooves, tail) cover about half of the quads (365 of 732; 340 before
   // every border got a joint: slots on both long borders of a narrow strip leave its kerf cuts
   // less room).
   int ladders = 0, facet_quads = 0;
