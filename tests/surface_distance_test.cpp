@@ -41,6 +41,28 @@ TEST(SurfaceDistance, ASpacingTooFineIsWidenedToTheBudget) {
   EXPECT_NO_THROW(surface_distance(a, b, {.sample_spacing = 0.001, .max_samples = budget}));
 }
 
+// The sampled Hausdorff distance can miss an interior maximum; the stated bound cannot. A strip
+// [0,100] x [0,10] against two squares at its ends: the true distance is 40 (x = 50 to either
+// square), sampled 40 mm apart the samples miss x = 50.
+TEST(SurfaceDistance, TheTrueHausdorffLiesWithinTheStatedBound) {
+  auto rect = [](double x0, double x1) {
+    TriangleMesh m;
+    m.vertices = {{x0, 0, 0}, {x1, 0, 0}, {x1, 10, 0}, {x0, 10, 0}};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    return m;
+  };
+  TriangleMesh b = rect(0, 10);
+  const TriangleMesh far = rect(90, 100);
+  for (const auto& t : far.triangles) b.triangles.push_back({t[0] + 4, t[1] + 4, t[2] + 4});
+  b.vertices.insert(b.vertices.end(), far.vertices.begin(), far.vertices.end());
+  for (double spacing : {40.0, 7.0, 1.0}) {
+    const SurfaceDistance d = surface_distance(rect(0, 100), b, {.sample_spacing = spacing});
+    EXPECT_LE(d.hausdorff, 40 + 1e-9) << spacing;
+    EXPECT_GE(d.hausdorff_upper_bound(), 40 - 1e-9) << spacing;
+  }
+  EXPECT_LT(surface_distance(rect(0, 100), b, {.sample_spacing = 40}).hausdorff, 39);  // missed
+}
+
 TEST(SurfaceDistance, OneSidedDistancesDifferForASmallerPatch) {
   // B is the quarter [0,50]^2 of A = [0,100]^2: every point of B is on A, but A's far corner
   // is 50*sqrt(2) from B; the mean from A is the mean distance of [0,100]^2 to [0,50]^2.

@@ -21,6 +21,10 @@ struct SurfaceDistance {
   double mean = 0;       ///< mean of the two means (symmetric mean distance) [mm]
   long samples = 0;      ///< distance queries made
   double spacing = 0;    ///< the sample spacing used [mm] (the requested one unless widened)
+  /// No point of either surface is farther than the spacing from a sample (every sub-triangle's
+  /// edges are at most that long) and a distance function moves by at most the distance moved,
+  /// so the true Hausdorff distance lies in [hausdorff, hausdorff + spacing].
+  double hausdorff_upper_bound() const { return hausdorff + spacing; }
 };
 
 /// Samples each triangle on a barycentric grid fine enough for \p options.sample_spacing

@@ -424,6 +424,7 @@ json quality_section(const SurfaceDistance& q, double diagonal) {
           {"target_to_strips_mean_mm", q.b_to_a_mean},
           {"target_diagonal_mm", diagonal},
           {"sample_spacing_mm", q.spacing},
+          {"hausdorff_upper_bound_mm", q.hausdorff_upper_bound()},
           {"samples", q.samples}};
 }
 

@@ -232,7 +232,8 @@ StageNotes notes(const SurfaceDistance& q, double diagonal) {
   Line os;
   os << "strips vs target: Hausdorff " << q.hausdorff << " mm (" << 100 * q.hausdorff / diagonal
      << "% of diagonal), mean " << q.mean << " mm (" << 100 * q.mean / diagonal << "%), "
-     << q.samples << " samples " << q.spacing << " mm apart";
+     << q.samples << " samples " << q.spacing << " mm apart (true Hausdorff at most "
+     << q.hausdorff_upper_bound() << " mm)";
   n.lines.push_back(os.str());
   return n;
 }
