@@ -3,13 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 #include <map>
 
 #include "fixtures.h"
 #include "kerfab/core/errors.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
+#include "polygon_probe.h"
 #include "shapes.h"
 #include "test_util.h"
 
@@ -155,14 +155,7 @@ double length_inside(const Vec2& a, const Vec2& b, const Polygon2& poly, bool ou
   double len = 0;
   for (std::size_t k = 0; k + 1 < t.size(); ++k) {
     const Vec2 m = a + 0.5 * (t[k] + t[k + 1]) * d;
-    bool in = false;  // even-odd
-    for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
-      if ((poly[i].y() > m.y()) != (poly[j].y() > m.y()) &&
-          m.x() <
-              (poly[j].x() - poly[i].x()) * (m.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) +
-                  poly[i].x())
-        in = !in;
-    if (in != outside) len += (t[k + 1] - t[k]) * d.norm();
+    if (test::inside_even_odd(m, poly) != outside) len += (t[k + 1] - t[k]) * d.norm();
   }
   return len;
 }
@@ -321,26 +314,6 @@ PartFrame frame_of(const Strips& s, const Flattening& f, int p) {
   return fr;
 }
 
-double distance_to_boundary(const Vec2& v, const Polygon2& poly) {
-  double d = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vec2 a = poly[i], e = poly[(i + 1) % poly.size()] - a;
-    const double t = std::clamp((v - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
-    d = std::min(d, (a + t * e - v).norm());
-  }
-  return d;
-}
-
-bool inside(const Vec2& m, const Polygon2& poly) {
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
-    if ((poly[i].y() > m.y()) != (poly[j].y() > m.y()) &&
-        m.x() < (poly[j].x() - poly[i].x()) * (m.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) +
-                    poly[i].x())
-      in = !in;
-  return in;
-}
-
 // The parts as cut, placed in 3D as plates of the material's thickness on their planes: points
 // of each part's joint zone (within 4 mm of its outline, 0.15 mm grid, three heights) that lie
 // inside another plate by more than 0.01 mm. Shares nothing with the joint code but the outlines.
@@ -372,7 +345,7 @@ int points_inside_other_parts(const Case& c, double h) {
     for (double x = lo.x(); x <= hi.x(); x += 0.15)
       for (double y = lo.y(); y <= hi.y(); y += 0.15) {
         const Vec2 v(x, y);
-        if (!inside(v, poly) || distance_to_boundary(v, poly) > 4) continue;
+        if (!test::inside_even_odd(v, poly) || test::distance_to_outline(v, poly) > 4) continue;
         for (double w : {-0.45 * h, 0.0, 0.45 * h}) {
           const Vec3 q = frames[p].to3d(v, w);
           for (std::size_t o : near) {
@@ -380,7 +353,7 @@ int points_inside_other_parts(const Case& c, double h) {
             if (std::abs(l.z()) > 0.5 * h - tol) continue;
             const Vec2 m(l.x(), l.y());
             const Polygon2& other = c.joints.parts[o].designed;
-            if (inside(m, other) && distance_to_boundary(m, other) > tol) ++hits;
+            if (test::inside_even_odd(m, other) && test::distance_to_outline(m, other) > tol) ++hits;
           }
         }
       }

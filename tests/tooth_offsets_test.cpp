@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "polygon_probe.h"
+
 namespace kerfab {
 namespace {
 
@@ -39,21 +41,6 @@ Polygon clip(const Polygon& subject, const Polygon& clipper) {
   return out;
 }
 
-double distance_to_segment(const P2& p, const P2& a, const P2& b) {
-  const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-  return (a + t * (b - a) - p).norm();
-}
-
-bool inside_polygon(const P2& p, const Polygon& poly) {  // even-odd rule
-  bool in = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
-    if ((poly[i].y() > p.y()) != (poly[j].y() > p.y()) &&
-        p.x() < (poly[j].x() - poly[i].x()) * (p.y() - poly[i].y()) / (poly[j].y() - poly[i].y()) +
-                    poly[i].x())
-      in = !in;
-  return in;
-}
-
 // The two parts' cross-sections for fold f, thickness h: part A along -x with its contour at
 // x = e_a, part B turned by f with its contour at p.b = -e_b; and the mitred shell.
 struct Section {
@@ -80,11 +67,8 @@ struct Section {
     for (int i = 0; i <= 200; ++i)
       for (double y : {-h / 2, h / 2, -h / 2 + h * i / 200.0}) {
         const P2 p(std::min(tip, tip * i / 100.0), y);
-        if (inside_polygon(p, s)) continue;
-        double d = std::numeric_limits<double>::infinity();
-        for (std::size_t k = 0; k < s.size(); ++k)
-          d = std::min(d, distance_to_segment(p, s[k], s[(k + 1) % s.size()]));
-        worst = std::max(worst, d);
+        if (test::inside_even_odd(p, s)) continue;
+        worst = std::max(worst, test::distance_to_outline(p, s));
       }
     return worst;
   }

@@ -98,13 +98,16 @@ SurfaceDistance surface_distance(const TriangleMesh& a_in, const TriangleMesh& b
   constexpr long kMaxSamples = 50'000'000;
   double spacing = options.sample_spacing;
   auto needed = [&](double at) { return estimated_samples(a, at) + estimated_samples(b, at); };
+  long samples = needed(spacing);
   if (options.max_samples > 0) {
     const long budget = std::min(options.max_samples, kMaxSamples);
     // Samples fall about with the square of the spacing; a few rounds settle the grid rounding.
-    for (int round = 0; round < 64 && needed(spacing) > budget; ++round)
-      spacing *= std::max(1.05, std::sqrt(static_cast<double>(needed(spacing)) / budget));
+    for (int round = 0; round < 64 && samples > budget; ++round) {
+      spacing *= std::max(1.05, std::sqrt(static_cast<double>(samples) / budget));
+      samples = needed(spacing);
+    }
   }
-  if (needed(spacing) > kMaxSamples)
+  if (samples > kMaxSamples)
     throw InvalidInput("surface distance: sample spacing too fine for the model size");
   const TargetSurface sa(a), sb(b);
   const OneSided ab = one_sided(a, sb, spacing);

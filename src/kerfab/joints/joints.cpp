@@ -2,13 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
 #include <set>
 #include <string>
-#include <tuple>
 
 #include "kerfab/core/errors.h"
 
@@ -108,11 +106,7 @@ class Builder {
         }
       }
     }
-    if (!swapped.empty() && drop_bitten_teeth()) {
-      for (std::size_t p = 0; p < rings_.size(); ++p) out_.parts[p] = outline(static_cast<int>(p));
-    } else {
-      for (int p : swapped) out_.parts[p] = outline(p);
-    }
+    redraw(swapped);
     // A part that still falls apart keeps its borders plain (the mitre alone cuts back far
     // less), and so do the parts whose teeth reached into its slots.
     std::set<int> redo;
@@ -125,11 +119,7 @@ class Builder {
         redo.insert(b.patches[1]);
       }
     }
-    if (!redo.empty() && drop_bitten_teeth()) {  // plain cut-backs where slots were
-      for (std::size_t p = 0; p < rings_.size(); ++p) out_.parts[p] = outline(static_cast<int>(p));
-    } else {
-      for (int p : redo) out_.parts[p] = outline(p);
-    }
+    redraw(redo);
     for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
     for (std::size_t b = 0; b < out_.borders.size(); ++b) {
       std::vector<TabFlare> flares;
@@ -195,7 +185,7 @@ class Builder {
       return std::make_pair(sides.begin()->first, std::next(sides.begin())->first);
     };
     std::map<int, int> parent;
-    std::function<int(int)> root = [&](int e) {
+    auto root = [&](int e) {
       int r = e;
       while (parent.at(r) != r) r = parent.at(r);
       return parent[e] = r;
@@ -305,10 +295,13 @@ class Builder {
       return tooth_offsets(f, thickness_, o_.tab_misfit, std::min(o_.max_tip, 0.5 * o_.tooth_width));
     return tooth_offsets(f, thickness_, o_.protrusion, o_.max_tip);
   }
+  /// The offsets an interval of \p kind is drawn with: box offsets where there is no joint.
+  static JointKind drawn_as(JointKind kind) {
+    return kind == JointKind::kNone ? JointKind::kBox : kind;
+  }
   ToothOffsets offsets_at(const Piece& piece, double s) const {
     const double fold = piece.fold_at(s);
-    const JointKind kind = kind_for(fold);
-    return offsets_of(kind == JointKind::kNone ? JointKind::kBox : kind, fold);
+    return offsets_of(drawn_as(kind_for(fold)), fold);
   }
 
   /// Paper Fig. 6: every mated outline edge gets a band from its slot to its tip offset; where
@@ -389,17 +382,17 @@ class Builder {
       b.edges = piece.edges;
       b.patches = {piece.sides[0].patch, piece.sides[1].patch};
       b.length = piece.length;
-      const auto stretches = tooth_stretches(piece.length, forbidden[2 * i], forbidden[2 * i + 1]);
-      for (const auto& [s0, s1, phase] : stretches) {
+      for (const Stretch& st :
+           tooth_stretches(piece.length, forbidden[2 * i], forbidden[2 * i + 1])) {
         JointInterval in;
-        in.s0 = s0;
-        in.s1 = s1;
+        in.s0 = st.s0;
+        in.s1 = st.s1;
         const double mid = 0.5 * (in.s0 + in.s1);
         in.fold = piece.fold_at(mid);
         in.plain = plain_offset(in.fold, thickness_);
         // Conservative over the interval: the shortest tip and the deepest slot.
         const JointKind kind = kind_for(in.fold);
-        const JointKind shape = kind == JointKind::kNone ? JointKind::kBox : kind;
+        const JointKind shape = drawn_as(kind);
         in.offsets = offsets_of(shape, in.fold);
         for (double at : {in.s0, in.s1}) {
           const ToothOffsets e = offsets_of(shape, piece.fold_at(at));
@@ -415,13 +408,7 @@ class Builder {
           ++b.shallow;
         } else if (!free) {
           ++b.blocked;
-        } else if (const int owner = phase < 0 ? -1
-                                     : std::max(untrimmed_owner(static_cast<int>(i), in, phase),
-                                                lone(stretches, in)
-                                                    ? untrimmed_owner(static_cast<int>(i), in,
-                                                                      1 - phase)
-                                                    : -1);
-                   owner < 0) {
+        } else if (const int owner = owner_of(static_cast<int>(i), in, st); owner < 0) {
           ++b.blocked;  // a tooth would have to be trimmed at a corner
         } else {
           in.owner = owner;
@@ -438,11 +425,28 @@ class Builder {
     }
   }
 
+  /// An interval of a border as tooth_stretches() lays it out.
+  struct Stretch {
+    double s0 = 0, s1 = 0;  // arc length along the piece [mm]
+    int phase = -1;         // side whose turn it is for a tooth (0 or 1); -1: plain
+    bool lone = false;      // the only tooth stretch of its free run
+  };
+
+  /// The side that gets the tooth of interval \p in laid out as \p st, or -1: the side whose
+  /// turn it is, unless its tooth would be trimmed at a corner; a lone tooth has no neighbours
+  /// to alternate with, so the other side is tried as well and kept when it fits.
+  int owner_of(int i, const JointInterval& in, const Stretch& st) const {
+    if (st.phase < 0) return -1;
+    int owner = untrimmed_owner(i, in, st.phase);
+    if (st.lone) owner = std::max(owner, untrimmed_owner(i, in, 1 - st.phase));
+    return owner;
+  }
+
   /// The intervals of a border piece of \p length: where neither side forbids teeth, stretches
-  /// of about the tooth width (teeth alternate sides: phase 0 or 1); the forbidden stretches
-  /// between them, and free ones too short for a tooth, plain (phase -1). Teeth fill the room
-  /// that is free instead of a fixed grid, so a short border between two corners still gets one.
-  std::vector<std::tuple<double, double, int>> tooth_stretches(
+  /// of about the tooth width (teeth alternate sides); the forbidden stretches between them, and
+  /// free ones too short for a tooth, plain. Teeth fill the room that is free instead of a fixed
+  /// grid, so a short border between two corners still gets one.
+  std::vector<Stretch> tooth_stretches(
       double length, const std::vector<std::array<double, 2>>& a,
       const std::vector<std::array<double, 2>>& b) const {
     std::vector<std::array<double, 2>> blocked;
@@ -459,16 +463,16 @@ class Builder {
         merged.push_back(f);
     // The narrowest tooth that stands: half the tooth width, at least 1 mm.
     const double narrowest = std::max(1.0, 0.5 * o_.tooth_width);
-    std::vector<std::tuple<double, double, int>> out;
+    std::vector<Stretch> out;
     auto free_run = [&](double s0, double s1) {
       if (s1 - s0 <= 1e-9) return;
       if (s1 - s0 < narrowest) {
-        out.emplace_back(s0, s1, -1);
+        out.push_back({s0, s1, -1, false});
         return;
       }
       const int n = std::max(1, static_cast<int>(std::lround((s1 - s0) / o_.tooth_width)));
       for (int j = 0; j < n; ++j)
-        out.emplace_back(s0 + (s1 - s0) * j / n, s0 + (s1 - s0) * (j + 1) / n, j % 2);
+        out.push_back({s0 + (s1 - s0) * j / n, s0 + (s1 - s0) * (j + 1) / n, j % 2, n == 1});
     };
     // A tooth right at the edge of a forbidden stretch would leave a slit narrower than the
     // laser can cut against the cut-back there: the forbidden stretches grow by the smallest
@@ -478,21 +482,12 @@ class Builder {
     double at = 0;
     for (const auto& f : merged) {
       free_run(at, f[0]);
-      if (f[1] > std::max(at, f[0]) + 1e-9) out.emplace_back(std::max(at, f[0]), f[1], -1);
+      if (f[1] > std::max(at, f[0]) + 1e-9) out.push_back({std::max(at, f[0]), f[1], -1, false});
       at = std::max(at, f[1]);
     }
     free_run(at, length);
-    if (out.empty()) out.emplace_back(0.0, length, -1);
+    if (out.empty()) out.push_back({0.0, length, -1, false});
     return out;
-  }
-
-  /// Whether \p in is the only tooth stretch of its run (it may then go to either side).
-  static bool lone(const std::vector<std::tuple<double, double, int>>& stretches,
-                   const JointInterval& in) {
-    for (const auto& [s0, s1, phase] : stretches)
-      if (phase >= 0 && s0 != in.s0 && (std::abs(s1 - in.s0) < 1e-12 || std::abs(s0 - in.s1) < 1e-12))
-        return false;
-    return true;
   }
 
   /// \p preferred if its tooth for interval \p in of piece \p i needs no trimming at a
@@ -723,6 +718,17 @@ class Builder {
     }
   }
 
+  /// The outlines of \p changed parts (whose joints changed) drawn again; if the change let a
+  /// cut-back bite into teeth elsewhere (plain cut-backs where slots were), all of them.
+  void redraw(const std::set<int>& changed) {
+    if (changed.empty()) return;
+    if (drop_bitten_teeth()) {
+      for (std::size_t p = 0; p < rings_.size(); ++p) out_.parts[p] = outline(static_cast<int>(p));
+    } else {
+      for (int p : changed) out_.parts[p] = outline(p);
+    }
+  }
+
   /// Teeth that a cut-back of their own part bites into (at an acute corner the mitre of the
   /// next border reaches across this one) would no longer fill their slots: such intervals are
   /// made plain, on both parts, until no tooth is bitten.
@@ -816,10 +822,7 @@ class Builder {
     part.repaired = outer != 2;  // one piece from the Booleans, one after the cleanup
     // Pinches closed: a cavity joined to the outside only through a slit of zero width (where a
     // widened slit stopped at a tooth) would be skipped by the laser path around the part.
-    std::vector<Polygon2> pinched;
-    for (auto& c : polygon_offset(polygon_offset({largest(left)}, 1e-3), -1e-3))
-      if (polygon_area(c) > 0) pinched.push_back(std::move(c));
-    part.designed = largest(pinched);
+    part.designed = largest(polygon_offset(polygon_offset({largest(left)}, 1e-3), -1e-3));
     part.cut = largest(polygon_offset({part.designed}, 0.5 * kerf_width_));
     return part;
   }
