@@ -9,6 +9,7 @@
 #include "kerfab/core/errors.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
+#include "kerfab/joints/glue_tabs.h"
 #include "polygon_probe.h"
 #include "shapes.h"
 #include "test_util.h"
@@ -28,7 +29,8 @@ struct Case {
 
 // A 100 x 100 mm sheet folded by `fold_deg` along v = 0.5, strips forced across the fold and
 // split there (split angle below the fold): every strip meets its other half at the fold.
-Case folded_sheet(double fold_deg, const JointOptions& options = {}) {
+Case folded_sheet(double fold_deg, const JointOptions& options = {},
+                  const Material& material = kMdf) {
   const double f = fold_deg * kPi / 180;
   auto sheet = [f](double u, double v) {
     if (v <= 0.5) return Vec3(100 * u, 100 * v, 0);
@@ -44,7 +46,7 @@ Case folded_sheet(double fold_deg, const JointOptions& options = {}) {
   Case c;
   c.strips = build_strips(quads, choose_bending_edges(quads, target, bo), target, so);
   c.flat = flatten_patches(c.strips, {});
-  c.joints = make_joints(c.strips, c.flat, kMdf, kLaser, options);
+  c.joints = make_joints(c.strips, c.flat, material, kLaser, options);
   return c;
 }
 
@@ -466,6 +468,163 @@ TEST(Joints, FoldsBackOntoEachOtherGetABoundedCutBack) {
   EXPECT_NEAR(plain_offset(M_PI - 1e-12, h), -deepest, 1e-9);
   EXPECT_NEAR(plain_offset(M_PI / 2, h), -0.5 * h, 1e-12);  // box corner: the mitre, unclamped
   EXPECT_TRUE(std::isfinite(plain_offset(-M_PI, h)));
+}
+
+// --- Paper: glue tabs -------------------------------------------------------------------------
+
+const Material kPaper = material_preset("paper");
+
+// A cube of 120 mm, 6 x 6 quads a face, strips split at its edges: borders of 0 degrees between
+// the strips of a face, 90 degrees (all convex) at its edges.
+Case paper_cube() {
+  const auto f = [](const Vec3& p) { return Vec3(60 * p); };
+  const PolyMesh quads = test::cube_grid_mesh(6, f);
+  const TargetSurface target(triangulate(test::cube_grid_mesh(24, f)));
+  Case c;
+  c.strips = build_strips(quads, choose_bending_edges(quads, target, {}), target, {});
+  c.flat = flatten_patches(c.strips, {});
+  c.joints = make_joints(c.strips, c.flat, kPaper, kLaser, {});
+  return c;
+}
+
+// A glue tab as it lies once folded: each vertex keeps its distance along the root and its
+// distance beyond it, the latter turned into the mate's plane (in 3D, from the part frames fitted
+// to the flattened and 3D vertices, not from the joint code's own transform). Returned in the
+// mate's flattened frame.
+Polygon2 folded_under(const Case& c, const std::vector<PartFrame>& frames, const JointSpan& sp,
+                      int p, int q) {
+  const Vec2 d = (sp.to - sp.from).normalized();
+  const Vec3 a3 = frames[p].to3d(sp.from, 0), b3 = frames[p].to3d(sp.to, 0);
+  const Vec3 along = (b3 - a3).normalized();
+  Vec2 centre(0, 0);
+  const Polygon2& mate = c.joints.parts[q].designed;
+  for (const Vec2& v : mate) centre += v / static_cast<double>(mate.size());
+  Vec3 into = frames[q].to3d(centre, 0) - a3;
+  into = (into - into.dot(along) * along).normalized();
+  Polygon2 out;
+  for (const Vec2& v : sp.region) {
+    const double u = (v - sp.from).dot(d), w = (v - sp.from).dot(sp.normal);
+    const Vec3 x = a3 + u * along + w * into;
+    const Vec3 l = frames[q].local(x);
+    out.push_back({l.x(), l.y()});
+  }
+  return out;  // vertex k is region vertex k (the fold keeps the orientation)
+}
+
+// Issue 16, papercraft: every border has glue tabs on exactly one side at each point; folded
+// under the other part, each lies inside it and off every other tab glued there; on the sheet no
+// tab overlaps its own part or its part's other tabs; a fold line runs along every tab root,
+// mountain where the surface is convex.
+void expect_sound_glue_tabs(const Case& c, double fold_deg) {
+  EXPECT_EQ(c.joints.borders_without_joint, 0);
+  EXPECT_EQ(c.joints.teeth, 0);
+  std::vector<PartFrame> frames;
+  for (std::size_t p = 0; p < c.joints.parts.size(); ++p)
+    frames.push_back(frame_of(c.strips, c.flat, static_cast<int>(p)));
+  std::map<int, std::vector<Polygon2>> under;  // part -> tabs folded under it
+  int tabs = 0;
+  for (std::size_t p = 0; p < c.joints.parts.size(); ++p) {
+    const PartOutline& part = c.joints.parts[p];
+    EXPECT_FALSE(part.repaired);
+    std::vector<const JointSpan*> own;
+    for (const JointSpan& sp : part.spans) {
+      if (!sp.tooth) continue;
+      EXPECT_EQ(sp.kind, JointKind::kGlue);
+      ++tabs;
+      own.push_back(&sp);
+      const BorderJoint& b = c.joints.borders[sp.border];
+      const JointInterval& in = b.intervals[sp.interval];
+      const int q = b.patches[1 - in.owner];
+      ASSERT_EQ(b.patches[in.owner], static_cast<int>(p));
+      // On the sheet: off its own part (but for the 1 um overlap along its root), whole.
+      Polygon2 body;
+      for (const OutlineEdge& e : c.strips.patches[p].outline())
+        body.push_back(c.flat.patches[p].points[e.v[0]]);
+      make_counter_clockwise(body);
+      EXPECT_GT(polygon_area(sp.region), kMinGlueTabArea);
+      EXPECT_LE(overlap_area(sp.region, body), 1.1e-3 * sp.length + 1e-6);
+      // Folded under the mate: inside it, by the gap.
+      const Polygon2 folded = folded_under(c, frames, sp, static_cast<int>(p), q);
+      const Polygon2& mate = c.joints.parts[q].designed;
+      EXPECT_NEAR(overlap_area(folded, mate), polygon_area(folded), 1e-3 * polygon_area(folded))
+          << "a tab of part " << p << " sticks out from under part " << q;
+      // Its vertices off the root by the gap or more keep the gap from the mate's edges.
+      for (std::size_t k = 0; k < folded.size(); ++k)
+        if (test::distance_to_outline(sp.region[k], body) > kGlueTabGap) {
+          EXPECT_GE(test::distance_to_outline(folded[k], mate), kGlueTabGap - 0.05);
+        }
+      for (const Polygon2& other : under[q]) EXPECT_LT(overlap_area(folded, other), 1e-3);
+      under[q].push_back(folded);
+      // A fold line along its root, mountain where the surface is convex.
+      const FoldLine* root = nullptr;
+      for (const FoldLine& f : part.folds)
+        if (f.kind == FoldLine::Kind::kTabRoot && f.border == sp.border &&
+            (f.points.front() - sp.from).norm() < 1e-6 && (f.points.back() - sp.to).norm() < 1e-6)
+          root = &f;
+      ASSERT_NE(root, nullptr) << "no fold line along a tab root of part " << p;
+      const Vec2 mid = 0.5 * (sp.from + sp.to);
+      Vec2 centre(0, 0);
+      for (const Vec2& v : mate) centre += v / static_cast<double>(mate.size());
+      const double rise = frames[p].normal.dot(frames[q].to3d(centre, 0) - frames[p].to3d(mid, 0));
+      const double fold = angle_between(frames[p].normal, frames[q].normal);
+      EXPECT_NEAR(std::abs(root->angle), fold, 0.01);
+      if (fold > 0.02) {
+        EXPECT_EQ(root->mountain(), rise < 0) << "part " << p;
+      }
+      if (fold > 1e-3) {
+        EXPECT_NEAR(fold, fold_deg * kPi / 180, 0.01);
+      }
+    }
+    // Its tabs apart on the sheet.
+    for (std::size_t i = 0; i < own.size(); ++i)
+      for (std::size_t j = i + 1; j < own.size(); ++j)
+        EXPECT_LT(overlap_area(own[i]->region, own[j]->region), 1e-6);
+  }
+  // Exactly one side at each point: the two sides' tab roots along a border never overlap, and
+  // together they cover most of it.
+  for (const BorderJoint& b : c.joints.borders) {
+    double covered = 0;
+    std::vector<std::array<double, 3>> roots;  // s0, s1, owner
+    for (const JointInterval& in : b.intervals)
+      if (in.owner >= 0) {
+        EXPECT_EQ(in.kind, JointKind::kGlue);
+        roots.push_back({in.s0, in.s1, static_cast<double>(in.owner)});
+        covered += in.s1 - in.s0;
+      }
+    for (std::size_t i = 0; i < roots.size(); ++i)
+      for (std::size_t j = i + 1; j < roots.size(); ++j)
+        EXPECT_LE(std::min(roots[i][1], roots[j][1]) - std::max(roots[i][0], roots[j][0]), 1e-9);
+    EXPECT_GE(covered, 0.9 * b.length) << "border at edge " << b.edge;
+  }
+  EXPECT_GE(tabs, static_cast<int>(c.joints.borders.size()));
+}
+
+TEST(Joints, PaperGetsGlueTabsOnEveryBorder) {
+  for (double deg : {1.0, 30.0, 90.0, 150.0, 179.0}) {
+    SCOPED_TRACE(std::to_string(deg) + " degrees");
+    const Case c = folded_sheet(deg, {}, kPaper);
+    ASSERT_EQ(c.joints.borders.size(), 6u + 2 * 5u);  // 6 at the fold, 5 in each half
+    expect_sound_glue_tabs(c, deg);
+  }
+  // Tabs taller than the strips (16.7 mm) are clipped under them, and against each other.
+  JointOptions tall;
+  tall.glue_tab = 25;
+  const Case c = folded_sheet(90, tall, kPaper);
+  expect_sound_glue_tabs(c, 90);
+}
+
+TEST(Joints, ACubeInPaperHasMountainFoldsOnly) {
+  const Case c = paper_cube();
+  expect_sound_glue_tabs(c, 90);
+  int folds = 0;
+  for (const PartOutline& part : c.joints.parts)
+    for (const FoldLine& f : part.folds)
+      if (std::abs(f.angle) > 0.1) {
+        ++folds;
+        EXPECT_TRUE(f.mountain());
+        EXPECT_NEAR(f.angle, kPi / 2, 0.01);
+      }
+  EXPECT_GE(folds, 12);  // every cube edge
 }
 
 TEST(Joints, RejectsBadOptions) {

@@ -243,6 +243,14 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "leaves the other part's faces by at most this; 0: no tabs [mm]")
       ->capture_default_str()
       ->check(kNonNegative);
+  cmd.add_option("--glue-tab", jo.glue_tab,
+                 "Paper (--material paper or --thickness 0): height of the glue tabs, one side "
+                 "of every border, folded under the other part; 0: no tabs, plain borders [mm]")
+      ->capture_default_str()
+      ->check(kNonNegative);
+  cmd.add_flag("--score-rulings", jo.score_rulings,
+               "Paper: also draw the rulings that bend by 1 degree or more as fold lines (the "
+               "strips are folded there instead of curved)");
   cmd.add_option("--kerf-width", f.options.machine.kerf_width,
                  "Width of the laser cut; outlines are offset by half of it so parts fit as "
                  "designed [mm]")

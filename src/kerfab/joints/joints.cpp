@@ -10,6 +10,7 @@
 
 #include "kerfab/core/errors.h"
 #include "kerfab/joints/border_pieces.h"
+#include "kerfab/joints/glue_tabs.h"
 
 namespace kerfab {
 namespace {
@@ -738,6 +739,7 @@ const char* to_string(JointKind kind) {
   switch (kind) {
     case JointKind::kBox: return "box";
     case JointKind::kTab: return "tab";
+    case JointKind::kGlue: return "glue";
     case JointKind::kNone: break;
   }
   return "none";
@@ -747,7 +749,7 @@ std::string BorderJoint::kind() const {
   bool box = false, tab = false;
   for (const JointInterval& in : intervals)
     box |= in.kind == JointKind::kBox, tab |= in.kind == JointKind::kTab;
-  return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : "none";
+  return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : glue > 0 ? "glue" : "none";
 }
 
 double plain_offset(double fold, double thickness) {
@@ -767,8 +769,12 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
   if (!(options.max_tip > 0)) throw InvalidInput("joints: max_tip must be > 0 mm");
   if (!(options.tab_misfit >= 0) || !std::isfinite(options.tab_misfit))
     throw InvalidInput("--tab-misfit must be >= 0 mm");
+  if (!(options.glue_tab >= 0) || !std::isfinite(options.glue_tab))
+    throw InvalidInput("--glue-tab must be >= 0 mm");
   if (flat.patches.size() != strips.patches.size())
     throw InvalidInput("joints: flattening does not belong to these strips");
+  if (material.thickness == 0 && options.glue_tab > 0)
+    return make_glue_tabs(strips, flat, machine, options);
   return Builder(strips, flat, material.thickness, machine.kerf_width, options).run();
 }
 

@@ -33,6 +33,11 @@ struct JointOptions {
   double tab_misfit = 0.3;       ///< where box teeth would be shallower than min_depth, dovetail
                                  ///< tabs whose tip leaves the other part's faces by at most this
                                  ///< [mm], >= 0; 0: no tabs (such borders stay plain)
+  // Paper (thickness 0): glue tabs instead of teeth (joints/glue_tabs.h).
+  double glue_tab = 6.0;         ///< height of a glue tab, root to edge [mm], >= 0; 0: no glue
+                                 ///< tabs (plain borders, the paper's emulation)
+  bool score_rulings = false;    ///< paper: the rulings that bend by a degree or more are fold
+                                 ///< lines too (the strip folds there instead of curving)
 };
 
 /// What holds an interval of a border.
@@ -40,6 +45,7 @@ enum class JointKind {
   kNone,  ///< plain on both sides
   kBox,   ///< a box tooth (derived offsets, straight sides)
   kTab,   ///< an in-plane dovetail tab (nearly coplanar parts)
+  kGlue,  ///< paper: a glue tab, folded under the other part and glued to its back
 };
 const char* to_string(JointKind kind);
 
@@ -67,9 +73,11 @@ struct BorderJoint {
   std::vector<JointInterval> intervals;
   int teeth = 0;    ///< box teeth and tabs
   int tabs = 0;     ///< of which dovetail tabs
+  int glue = 0;     ///< paper: glue tabs
   int blocked = 0;  ///< intervals without teeth because of collisions
   int shallow = 0;  ///< intervals without teeth because tip - slot < min_depth
-  /// "box", "tab", "box+tab" or "none" (no tooth at all: nothing locates the two parts)
+  /// "box", "tab", "box+tab", "glue" or "none" (no tooth, tab or glue tab: nothing locates or
+  /// holds the two parts)
   std::string kind() const;
 };
 
@@ -98,6 +106,18 @@ struct JointSpan {
   Vec2 normal{0, 0};          ///< outward unit normal of the border there
 };
 
+/// A line the part is folded along (paper: scored or creased before assembly), in the part's
+/// flattened frame. Seen from the printed side (the outside of the model), a mountain fold's
+/// crease points toward the viewer (the surface is convex there), a valley fold's away.
+struct FoldLine {
+  enum class Kind { kTabRoot, kRuling };
+  Kind kind = Kind::kTabRoot;
+  std::vector<Vec2> points;  ///< polyline [mm]
+  double angle = 0;          ///< signed fold angle [rad]: > 0 mountain, < 0 valley
+  int border = -1;           ///< a tab root: index into Joints::borders
+  bool mountain() const { return angle > 0; }
+};
+
 struct PartOutline {
   Polygon2 designed;  ///< closed outline with teeth, counter-clockwise [mm], in the patch's
                       ///< flattened frame
@@ -106,6 +126,7 @@ struct PartOutline {
                                  ///< edges gives two spans)
   bool repaired = false;  ///< the Booleans or the removal of thin features split the part: only
                           ///< its largest piece is here (the resolve stage rebuilds such parts)
+  std::vector<FoldLine> folds;  ///< paper: glue-tab roots, and rulings when asked
 };
 
 struct Joints {
@@ -114,15 +135,18 @@ struct Joints {
   std::vector<std::vector<TabFlare>> flares;  ///< per border: its leaning boundaries
   int teeth = 0;              ///< box teeth and tabs
   int tabs = 0;               ///< of which dovetail tabs
+  int glue_tabs = 0;          ///< paper: glue tabs
   double border_length = 0;   ///< total length of shared borders [mm]
-  double toothed_length = 0;  ///< of which covered by teeth or tabs [mm]
+  double toothed_length = 0;  ///< of which covered by teeth, tabs or glue tabs [mm]
   double tab_length = 0;      ///< of which by tabs [mm]
+  double glue_length = 0;     ///< of which by glue tabs (their roots) [mm]
   int borders_without_joint = 0;  ///< border pieces with no tooth or tab at all
   int repaired_parts = 0;
 };
 
 /// Builds the joints of every shared border and the outline of every part, for sheets of
-/// \p material (its thickness) cut on \p machine (outlines grow by half its kerf width).
+/// \p material (its thickness) cut on \p machine (outlines grow by half its kerf width). Paper
+/// (thickness 0) gets glue tabs (make_glue_tabs) unless JointOptions::glue_tab is 0.
 /// \pre \p flat was computed from \p strips. \throw InvalidInput options out of range.
 Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,
                    const Machine& machine, const JointOptions& options);

@@ -120,6 +120,8 @@ json options_section(const RunResult& run, const OutputOptions& output) {
   j["tooth_width_mm"] = o.joints.tooth_width;
   j["min_tooth_depth_mm"] = o.joints.min_depth;
   j["tab_misfit_mm"] = o.joints.tab_misfit;
+  j["glue_tab_mm"] = o.joints.glue_tab;
+  j["score_rulings"] = o.joints.score_rulings;
   j["kerf_width_mm"] = o.machine.kerf_width;
   j["stroke_mm"] = output.style.stroke;
   j["cut_colour"] = output.style.cut;
@@ -250,6 +252,16 @@ json joints_section(const Joints& jt, const Material& material) {
                          {"edge", b.edge},
                          {"s_mm", {in.s0, in.s1}}});
   }
+  int tab_roots = 0, rulings = 0, mountain = 0;
+  for (const PartOutline& part : jt.parts)
+    for (const FoldLine& f : part.folds) {
+      (f.kind == FoldLine::Kind::kRuling ? rulings : tab_roots) += 1;
+      mountain += f.mountain() ? 1 : 0;
+    }
+  const json folds = {{"tab_roots", tab_roots},
+                      {"rulings", rulings},
+                      {"mountain", mountain},
+                      {"valley", tab_roots + rulings - mountain}};
   json borders = json::array();
   int flared = 0;
   for (std::size_t i = 0; i < jt.borders.size(); ++i) {
@@ -263,6 +275,7 @@ json joints_section(const Joints& jt, const Material& material) {
                        {"joint", b.kind()},
                        {"teeth", b.teeth - b.tabs},
                        {"tabs", b.tabs},
+                       {"glue_tabs", b.glue},
                        {"dovetail_sides", flares}});
   }
   return {{"thickness_mm", material.thickness},
@@ -270,6 +283,9 @@ json joints_section(const Joints& jt, const Material& material) {
           {"tabs", jt.tabs},
           {"borders_without_joint", jt.borders_without_joint},
           {"tab_length_mm", jt.tab_length},
+          {"glue_tabs", jt.glue_tabs},
+          {"glue_length_mm", jt.glue_length},
+          {"fold_lines", folds},
           {"dovetail_sides", flared},
           {"borders", borders},
           {"border_pieces", jt.borders.size()},

@@ -1,0 +1,475 @@
+#include "kerfab/joints/glue_tabs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <limits>
+#include <optional>
+
+#include "kerfab/joints/border_pieces.h"
+
+namespace kerfab {
+namespace {
+
+using border::Piece;
+using border::Ring;
+using border::Side;
+
+// Tabs reach this far across their root into the part, so that tab and body overlap instead of
+// merely touching after rounding [mm].
+constexpr double kOverlap = 1e-3;
+
+Polygon2 ccw(Polygon2 p) {
+  make_counter_clockwise(p);
+  return p;
+}
+
+/// The part of convex polygon \p poly with (p - at).m <= 0.
+Polygon2 clip_half_plane(const Polygon2& poly, const Vec2& at, const Vec2& m) {
+  Polygon2 out;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2 &p = poly[i], &q = poly[(i + 1) % poly.size()];
+    const double dp = (p - at).dot(m), dq = (q - at).dot(m);
+    if (dp <= 0) out.push_back(p);
+    if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
+  }
+  return out;
+}
+
+Polygon2 largest(const std::vector<Polygon2>& polys) {
+  const Polygon2* best = nullptr;
+  for (const auto& c : polys)
+    if (polygon_area(c) > 0 && (!best || polygon_area(c) > polygon_area(*best))) best = &c;
+  return best ? *best : Polygon2{};
+}
+
+double total_area(const std::vector<Polygon2>& polys) {
+  double a = 0;
+  for (const auto& c : polys) a += polygon_area(c);
+  return a;
+}
+
+/// p -> R p + t, a rotation and a translation.
+struct Rigid {
+  double c = 1, s = 0;
+  Vec2 t{0, 0};
+  Vec2 apply(const Vec2& p) const { return Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y()) + t; }
+  Vec2 inverse(const Vec2& q) const {
+    const Vec2 d = q - t;
+    return {c * d.x() + s * d.y(), -s * d.x() + c * d.y()};
+  }
+  Polygon2 apply(const Polygon2& poly) const {
+    Polygon2 out;
+    for (const Vec2& p : poly) out.push_back(apply(p));
+    return out;
+  }
+  Vec2 turn(const Vec2& d) const { return {c * d.x() - s * d.y(), s * d.x() + c * d.y()}; }
+  Polygon2 inverse(const Polygon2& poly) const {
+    Polygon2 out;
+    for (const Vec2& p : poly) out.push_back(inverse(p));
+    return out;
+  }
+};
+
+/// The rotation and translation that best maps points \p a onto \p b (least squares).
+Rigid fit_rigid(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+  Vec2 ca(0, 0), cb(0, 0);
+  for (std::size_t i = 0; i < a.size(); ++i) ca += a[i], cb += b[i];
+  ca /= static_cast<double>(a.size());
+  cb /= static_cast<double>(b.size());
+  double dot = 0, cross = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Vec2 p = a[i] - ca, q = b[i] - cb;
+    dot += p.dot(q);
+    cross += p.x() * q.y() - p.y() * q.x();
+  }
+  const double angle = std::atan2(cross, dot);
+  Rigid r{std::cos(angle), std::sin(angle), {0, 0}};
+  r.t = cb - (r.apply(ca) - r.t);
+  return r;
+}
+
+/// How far the ray from \p from (a point on the outline of \p poly) along unit \p dir runs
+/// inside \p poly: where it first leaves it more than 0.5 mm out (nearer, it may still be
+/// crossing the wiggles of the outline it starts on) [mm]; 0 if it never enters.
+double depth(const Polygon2& poly, const Vec2& from, const Vec2& dir) {
+  const Vec2 start = from - 0.5 * dir;
+  std::vector<double> crossings;  // along the ray from start
+  bool inside = false;            // start's even-odd state
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2 a = poly[i], e = poly[(i + 1) % poly.size()] - a;
+    const Vec2 b = a + e;
+    if ((a.y() > start.y()) != (b.y() > start.y()) &&
+        start.x() < a.x() + (start.y() - a.y()) / (b.y() - a.y()) * e.x())
+      inside = !inside;
+    const double den = dir.x() * e.y() - dir.y() * e.x();
+    if (std::abs(den) < 1e-12) continue;
+    const Vec2 w = a - start;
+    const double t = (w.x() * e.y() - w.y() * e.x()) / den;    // along the ray
+    const double u = (w.x() * dir.y() - w.y() * dir.x()) / den;  // along the edge
+    if (t > 0 && u >= 0 && u < 1) crossings.push_back(t);
+  }
+  std::sort(crossings.begin(), crossings.end());
+  for (double t : crossings) {
+    inside = !inside;
+    if (!inside && t > 1.0) return t - 0.5;
+  }
+  return 0;
+}
+
+/// Where arc length s lies on one side of a border, in its part's plane.
+struct SidePoint {
+  Vec2 point{0, 0};
+  Vec2 normal{0, 0};  // outward
+  Vec2 dir{0, 0};     // toward growing s
+  int ring_edge = -1;
+};
+
+/// One glue tab as placed.
+struct Tab {
+  Polygon2 region;   // in its part's frame
+  Polygon2 under;    // the same in the frame of the part it is glued under
+  double s0 = 0, s1 = 0;  // its root along the border [mm]
+  double height = 0;
+};
+
+class GlueBuilder {
+ public:
+  GlueBuilder(const Strips& s, const Flattening& f, const Machine& machine, const JointOptions& o)
+      : s_(s), f_(f), kerf_width_(machine.kerf_width), o_(o), bp_(border::make_pieces(s, f)) {}
+
+  Joints run() {
+    const std::size_t parts = bp_.rings.size();
+    for (const Ring& ring : bp_.rings) body_.push_back(ccw(ring.start));
+    own_.resize(parts);
+    under_.resize(parts);
+    spans_.resize(parts);
+    folds_.resize(parts);
+    out_.borders.resize(bp_.pieces.size());
+    out_.flares.resize(bp_.pieces.size());
+    // Long borders first: they hold the model together, and get their tabs before short
+    // borders' tabs take the room at the corners.
+    std::vector<int> order(bp_.pieces.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return bp_.pieces[a].length > bp_.pieces[b].length;
+    });
+    for (int i : order) place(i);
+    for (std::size_t p = 0; p < parts; ++p) out_.parts.push_back(outline(static_cast<int>(p)));
+    for (const BorderJoint& b : out_.borders) {
+      out_.border_length += b.length;
+      out_.borders_without_joint += b.glue == 0 ? 1 : 0;
+    }
+    return std::move(out_);
+  }
+
+ private:
+  const Strips& s_;
+  const Flattening& f_;
+  const double kerf_width_;
+  const JointOptions& o_;
+  const border::Pieces bp_;
+  std::vector<Polygon2> body_;                // per part: its flattened outline
+  std::vector<std::vector<Polygon2>> own_;    // per part: its tabs, in its frame
+  std::vector<std::vector<Polygon2>> under_;  // per part: tabs glued under it, in its frame
+  std::vector<std::vector<JointSpan>> spans_;
+  std::vector<std::vector<FoldLine>> folds_;
+  Joints out_;
+
+  SidePoint at(const Side& side, double s) const {
+    const Ring& ring = bp_.rings[side.patch];
+    const int m = static_cast<int>(side.ring_edges.size());
+    int j = 0;
+    while (j + 1 < m && side.s[j + 1] < s) ++j;
+    const double len = side.s[j + 1] - side.s[j];
+    const double t = len > 0 ? std::clamp((s - side.s[j]) / len, 0.0, 1.0) : 0.5;
+    const int k = side.ring_edges[j];
+    Vec2 a = ring.start[k], b = ring.end[k];
+    if (side.reversed) std::swap(a, b);
+    const Vec2 d = b - a;
+    return {a + t * d, ring.normal[k], d.norm() > 0 ? Vec2(d.normalized()) : Vec2(0, 0), k};
+  }
+
+  /// Arc lengths of the side's polyline from s0 to s1: the ends and the vertices between.
+  std::vector<double> stations(const Side& side, double s0, double s1) const {
+    std::vector<double> ss = {s0};
+    for (double v : side.s)
+      if (v > s0 + 1e-9 && v < s1 - 1e-9) ss.push_back(v);
+    ss.push_back(s1);
+    return ss;
+  }
+
+  Vec3 face_centre(int sub_quad) const {
+    Vec3 c(0, 0, 0);
+    for (int v : s_.faces[sub_quad]) c += s_.vertices[v];
+    return c / 4.0;
+  }
+
+  /// Signed fold of the border at s, seen from side \p si: > 0 where the surface is convex
+  /// (the other part falls away below this part's plane: a mountain fold from outside).
+  double signed_fold(const Piece& piece, int si, double s) const {
+    const Side &side = piece.sides[si], &mate = piece.sides[1 - si];
+    const double f = piece.fold_at(s);
+    const int k = at(side, s).ring_edge, km = at(mate, s).ring_edge;
+    const Vec3 own = face_centre(bp_.rings[side.patch].edges[k].sub_quad);
+    const Vec3 other = face_centre(bp_.rings[mate.patch].edges[km].sub_quad);
+    return side.normal_at(s).dot(other - own) < 0 ? f : -f;
+  }
+
+  /// The region beyond the border line of side \p si of piece \p i from s0 to s1, up to
+  /// \p h from it, its ends leaning in by kGlueTabTaper (the untrimmed tab): a rectangle per
+  /// edge of the side's polyline and a wedge at each bend, each clipped by the two ends.
+  std::vector<Polygon2> trapezoid(const Side& side, double s0, double s1, double h) const {
+    const std::vector<double> ss = stations(side, s0, s1);
+    std::vector<Vec2> pts;
+    for (double v : ss) pts.push_back(at(side, v).point);
+    // The ends lean in by the taper: keep (x - end).m <= 0 at both ends.
+    const SidePoint first = at(side, std::min(s0 + 1e-6, s1)),
+                    last = at(side, std::max(s1 - 1e-6, s0));
+    const double ca = std::cos(kGlueTabTaper), sa = std::sin(kGlueTabTaper);
+    const Vec2 m0 = -sa * first.dir + ca * first.normal, m1 = sa * last.dir + ca * last.normal;
+    Vec2 lo = pts[0], hi = pts[0];
+    for (const Vec2& v : pts) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    lo -= Vec2::Constant(h + 1), hi += Vec2::Constant(h + 1);
+    Polygon2 keep = {lo, {hi.x(), lo.y()}, hi, {lo.x(), hi.y()}};
+    keep = clip_half_plane(keep, pts.front(), m0);
+    keep = clip_half_plane(keep, pts.back(), m1);
+    if (keep.size() < 3) return {};
+    keep = ccw(keep);
+    std::vector<Polygon2> pieces;
+    Vec2 before(0, 0);
+    for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
+      const Vec2 a = pts[j], b = pts[j + 1];
+      if ((b - a).norm() < 1e-9) continue;
+      const Vec2 n = at(side, 0.5 * (ss[j] + ss[j + 1])).normal;
+      std::vector<Polygon2> parts = {
+          ccw({a - kOverlap * n, b - kOverlap * n, b + h * n, a + h * n})};
+      if (before.norm() > 0) {
+        const Polygon2 wedge = {a, a + h * before, a + h * n};
+        if (std::abs(polygon_area(wedge)) > 1e-9) parts.push_back(ccw(wedge));
+      }
+      before = n;
+      for (const auto& part : parts)
+        for (auto& c : polygon_intersection(part, keep)) pieces.push_back(std::move(c));
+    }
+    return polygon_union(pieces);
+  }
+
+  /// The tab of height \p h on side \p si of border \p i from s0 to s1, clipped to what is free
+  /// on the sheet and under the other part; nothing if too little of it is left.
+  std::optional<Tab> candidate(int i, int si, double s0, double s1, double h) const {
+    const Piece& piece = bp_.pieces[i];
+    const Side &side = piece.sides[si], &mate = piece.sides[1 - si];
+    const int p = side.patch, q = mate.patch;
+    const std::vector<double> ss = stations(side, s0, s1);
+    std::vector<Vec2> pts;
+    for (double v : ss) pts.push_back(at(side, v).point);
+    // Under the other part: inside it, off the tabs already glued there. The frames are related
+    // by the rigid motion that lays this side's border onto the other side's.
+    std::vector<Vec2> from, to;
+    for (int k = 0; k <= 16; ++k) {
+      const double v = s0 + (s1 - s0) * k / 16;
+      from.push_back(at(side, v).point);
+      to.push_back(at(mate, v).point);
+    }
+    const Rigid onto = fit_rigid(from, to);
+    // At most half as tall as the mate is deep there, so that the border across it has room
+    // for its tabs too.
+    const SidePoint centre = at(side, 0.5 * (s0 + s1));
+    const double deep = depth(body_[q], onto.apply(centre.point), onto.turn(centre.normal));
+    h = std::min(h, 0.5 * (deep - kGlueTabGap));
+    if (!(h > 0)) return std::nullopt;
+    std::vector<Polygon2> shape = trapezoid(side, s0, s1, h);
+    const double ideal = total_area(shape);
+    if (!(ideal > 0)) return std::nullopt;
+    // Off its own part (but for the overlap along the root) and its other tabs on the sheet.
+    std::vector<Polygon2> remove = polygon_offset({body_[p]}, -2 * kOverlap);
+    for (auto& c : polygon_offset(own_[p], kGlueTabGap)) remove.push_back(std::move(c));
+    Polygon2 tab = largest(polygon_difference(shape, remove));
+    if (tab.size() < 3) return std::nullopt;
+    // The room: the mate kept the gap inside its edges, but for the stretch along this border.
+    std::vector<Polygon2> room;
+    for (auto& r : polygon_offset({body_[q]}, -kGlueTabGap))
+      if (polygon_area(r) > 0) room.push_back(std::move(r));
+    for (const auto& c : trapezoid(side, s0, s1, kGlueTabGap + 0.01))
+      room.push_back(onto.apply(c));
+    room = polygon_union(room);
+    std::vector<Polygon2> inside;
+    for (const auto& r : room)
+      if (polygon_area(r) > 0)
+        for (auto& c : polygon_intersection(onto.apply(tab), r)) inside.push_back(std::move(c));
+    inside = polygon_union(inside);
+    if (!under_[q].empty()) inside = polygon_difference(inside, under_[q]);
+    Polygon2 under = largest(inside);
+    if (under.size() < 3) return std::nullopt;
+    tab = onto.inverse(under);
+    const double area = polygon_area(tab);
+    if (area < kMinGlueTabArea || area < ideal / 3) return std::nullopt;
+    // Its root: where it still touches the border line.
+    double r0 = s1, r1 = s0;
+    for (const Vec2& v : tab)
+      for (std::size_t j = 0; j + 1 < pts.size(); ++j) {
+        const Vec2 a = pts[j], e = pts[j + 1] - a;
+        const double t = std::clamp((v - a).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+        if ((a + t * e - v).norm() > 0.01) continue;
+        const double at_s = ss[j] + t * (ss[j + 1] - ss[j]);
+        r0 = std::min(r0, at_s), r1 = std::max(r1, at_s);
+      }
+    if (r1 - r0 < 0.5 * (s1 - s0)) return std::nullopt;
+    return Tab{tab, under, r0, r1, h};
+  }
+
+  void place(int i) {
+    const Piece& piece = bp_.pieces[i];
+    BorderJoint& b = out_.borders[i];
+    b.edge = piece.edge;
+    b.edges = piece.edges;
+    b.patches = {piece.sides[0].patch, piece.sides[1].patch};
+    b.length = piece.length;
+    const int n = std::max(1, static_cast<int>(std::lround(piece.length / kGlueTabRun)));
+    for (int j = 0; j < n; ++j)
+      stretch(i, piece.length * j / n, piece.length * (j + 1) / n, j % 2, n == 1, 0);
+  }
+
+  /// Glue tab for the stretch [s0, s1] of border \p i: on the \p preferred side, else the
+  /// other, else at half the height; a \p lone tab goes to the side where more of it is left.
+  /// Where none fits, the two halves of the stretch are tried (twice at most), so that a tab is
+  /// made where there is room (a corner of the other part, or a tab already glued under it, may
+  /// block only part of the stretch).
+  void stretch(int i, double s0, double s1, int preferred, bool lone, int depth) {
+    const Piece& piece = bp_.pieces[i];
+    BorderJoint& b = out_.borders[i];
+    {
+      JointInterval in;
+      in.s0 = s0;
+      in.s1 = s1;
+      in.fold = piece.fold_at(0.5 * (in.s0 + in.s1));
+      const double len = in.s1 - in.s0;
+      const double h = std::min(o_.glue_tab, 0.4 * len * std::tan(kGlueTabTaper));
+      std::optional<Tab> tab;
+      int owner = -1;
+      for (double height : {h, 0.5 * h}) {
+        if (lone) {
+          auto a = candidate(i, 0, in.s0, in.s1, height), c = candidate(i, 1, in.s0, in.s1, height);
+          if (a && (!c || polygon_area(a->region) >= polygon_area(c->region)))
+            tab = a, owner = 0;
+          else if (c)
+            tab = c, owner = 1;
+        } else {
+          for (int side : {preferred, 1 - preferred})
+            if ((tab = candidate(i, side, in.s0, in.s1, height))) {
+              owner = side;
+              break;
+            }
+        }
+        if (tab) break;
+      }
+      if (!tab && depth < 2 && len >= 8.0) {
+        const double mid = 0.5 * (s0 + s1);
+        stretch(i, s0, mid, preferred, false, depth + 1);
+        stretch(i, mid, s1, 1 - preferred, false, depth + 1);
+        return;
+      }
+      if (!tab) {
+        ++b.blocked;
+        b.intervals.push_back(in);
+        return;
+      }
+      in.owner = owner;
+      in.kind = JointKind::kGlue;
+      in.offsets.tip = tab->height;
+      in.offsets.slot = 0;
+      const int interval = static_cast<int>(b.intervals.size());
+      b.intervals.push_back(in);
+      ++b.glue, ++out_.glue_tabs;
+      out_.glue_length += tab->s1 - tab->s0;
+      out_.toothed_length += tab->s1 - tab->s0;
+      const Side& side = piece.sides[owner];
+      const int p = side.patch, q = piece.sides[1 - owner].patch;
+      own_[p].push_back(tab->region);
+      for (auto& c : polygon_offset({tab->under}, 0.5 * kGlueTabGap)) under_[q].push_back(std::move(c));
+      // Its root is a fold line.
+      FoldLine fold;
+      fold.kind = FoldLine::Kind::kTabRoot;
+      fold.border = i;
+      for (double v : stations(side, tab->s0, tab->s1)) fold.points.push_back(at(side, v).point);
+      fold.angle = signed_fold(piece, owner, 0.5 * (tab->s0 + tab->s1));
+      double root = 0;
+      for (std::size_t k = 0; k + 1 < fold.points.size(); ++k)
+        root += (fold.points[k + 1] - fold.points[k]).norm();
+      const SidePoint mid = at(side, 0.5 * (tab->s0 + tab->s1));
+      JointSpan span;
+      span.border = i;
+      span.interval = interval;
+      span.length = root;
+      span.offset = tab->height;
+      span.tooth = true;
+      span.kind = JointKind::kGlue;
+      span.region = tab->region;
+      span.from = fold.points.front();
+      span.to = fold.points.back();
+      span.normal = mid.normal;
+      spans_[p].push_back(std::move(span));
+      folds_[p].push_back(std::move(fold));
+    }
+  }
+
+  /// The rulings of patch \p p that bend by kMinScoredFold or more, as fold lines.
+  std::vector<FoldLine> ruling_folds(int p) const {
+    std::vector<FoldLine> out;
+    const Patch& patch = s_.patches[p];
+    if (patch.flat || patch.rulings.size() < 3) return out;
+    const auto& x = f_.patches[p].points;
+    auto normal = [&](int face) {
+      const auto& q = s_.faces[face];
+      Vec3 n(0, 0, 0);
+      for (int k = 0; k < 4; ++k) n += s_.vertices[q[k]].cross(s_.vertices[q[(k + 1) % 4]]);
+      return n.norm() > 0 ? Vec3(n.normalized()) : n;
+    };
+    for (int i = 1; i + 1 < static_cast<int>(patch.rulings.size()); ++i) {
+      double angle = 0, sign = 0;
+      for (int row = 0; row < patch.rows(); ++row) {
+        const int a = patch.face(i - 1, row), b = patch.face(i, row);
+        const Vec3 na = normal(a), nb = normal(b);
+        const double f = angle_between(na, nb);
+        if (f > angle) {
+          angle = f;
+          sign = na.dot(face_centre(b) - face_centre(a)) < 0 ? 1 : -1;
+        }
+      }
+      if (angle < kMinScoredFold) continue;
+      FoldLine fold;
+      fold.kind = FoldLine::Kind::kRuling;
+      fold.angle = sign * angle;
+      for (int k = 0; k <= patch.rows(); ++k) fold.points.push_back(x[patch.local(k, i)]);
+      out.push_back(std::move(fold));
+    }
+    return out;
+  }
+
+  PartOutline outline(int p) {
+    PartOutline part;
+    std::vector<Polygon2> all = {body_[p]};
+    all.insert(all.end(), own_[p].begin(), own_[p].end());
+    const auto united = polygon_union(all);
+    part.designed = largest(united);
+    int pieces = 0;
+    for (const auto& c : united) pieces += polygon_area(c) > 0 ? 1 : 0;
+    part.repaired = pieces != 1;
+    part.cut = largest(polygon_offset({part.designed}, 0.5 * kerf_width_));
+    part.spans = std::move(spans_[p]);
+    part.folds = std::move(folds_[p]);
+    if (o_.score_rulings)
+      for (auto& fold : ruling_folds(p)) part.folds.push_back(std::move(fold));
+    return part;
+  }
+};
+
+}  // namespace
+
+Joints make_glue_tabs(const Strips& strips, const Flattening& flat, const Machine& machine,
+                      const JointOptions& options) {
+  return GlueBuilder(strips, flat, machine, options).run();
+}
+
+}  // namespace kerfab
