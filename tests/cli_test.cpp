@@ -168,6 +168,76 @@ TEST(Cli, PaperSizesByNameAndA4ForPaper) {
   EXPECT_NE(bad.err.find("A4, A3, letter"), std::string::npos) << bad.err;
 }
 
+// Even-odd point in polygon (the sheet reader's outlines).
+bool inside_outline(const Vec2& p, const Polygon2& poly) {
+  bool in = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++)
+    if ((poly[i].y() > p.y()) != (poly[j].y() > p.y()) &&
+        p.x() < poly[j].x() + (p.y() - poly[j].y()) / (poly[i].y() - poly[j].y()) *
+                                  (poly[i].x() - poly[j].x()))
+      in = !in;
+  return in;
+}
+
+// Issue 16, papercraft: a paper cube's sheets, read back from the SVG: no kerf cuts; fold lines
+// as <path class="fold" data-fold="mountain|valley">, mountain and valley in different colours
+// and dashes; every fold line has paper on both sides (a tab root: the part on one side, its tab
+// on the other), and on a cube every fold that bends is a mountain fold; the DXF has them on
+// their own layers; the report counts them.
+TEST(Cli, PaperModelsGetGlueTabsAndFoldLines) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "cube.obj";
+  write_mesh(test::cube_grid_mesh(4, [](const Vec3& p) { return Vec3(40 * p); }), target);
+  const CliRun r = run_cli("run --target " + target.string() + " --material paper --out " +
+                               (scratch / "a").string(),
+                           scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(scratch / "a");
+  const auto& j = report["joints"];
+  EXPECT_EQ(j["borders_without_joint"], 0);
+  EXPECT_EQ(j["teeth"], 0);
+  EXPECT_EQ(report["kerf"]["cuts"], 0);
+  EXPECT_GE(j["glue_tabs"].get<int>(), j["border_pieces"].get<int>());
+  EXPECT_EQ(report["options"]["glue_tab_mm"], 6.0);
+  const auto parts = test::read_sheet_parts(scratch / "a" / "cut");
+  ASSERT_FALSE(parts.empty());
+  int folds = 0;
+  std::set<std::string> strokes;
+  for (const auto& part : parts) {
+    EXPECT_TRUE(part.kerf.empty()) << part.id;
+    EXPECT_FALSE(part.folds.empty()) << part.id << " has no glue tab";
+    for (const auto& f : part.folds) {
+      ++folds;
+      ASSERT_GE(f.points.size(), 2u);
+      EXPECT_TRUE(f.kind == "mountain" || f.kind == "valley") << f.kind;
+      strokes.insert(f.kind + " " + f.stroke + " " + f.dashes);
+      // Paper on both sides of its middle, 1 mm off.
+      const Vec2 a = f.points.front(), b = f.points.back(), m = 0.5 * (a + b);
+      const Vec2 n = Vec2(-(b - a).y(), (b - a).x()).normalized();
+      EXPECT_TRUE(inside_outline(m + n, part.outline) && inside_outline(m - n, part.outline))
+          << part.id << ": a fold line on the outline's edge, not between part and tab";
+    }
+  }
+  EXPECT_EQ(folds, j["fold_lines"]["tab_roots"].get<int>());
+  // A cube's folds: 0 degrees between strips of a face (either sign), 90 at its edges, all
+  // mountains: at least the 12 edges' worth of tabs.
+  EXPECT_GE(j["fold_lines"]["mountain"].get<int>(), 12);
+  // Mountain and valley drawn differently (when both occur), and never in the cut colour.
+  std::set<std::string> kinds;
+  for (const auto& s : strokes) kinds.insert(s.substr(0, s.find(' ')));
+  EXPECT_EQ(strokes.size(), kinds.size()) << "one style per kind of fold";
+  for (const auto& s : strokes) EXPECT_EQ(s.find("#ff0000"), std::string::npos) << s;
+  const std::string dxf = test::slurp(scratch / "a" / "cut" / "sheet-001.dxf");
+  EXPECT_NE(dxf.find("FOLD_MOUNTAIN"), std::string::npos);
+  // --glue-tab 0: the paper's emulation, plain borders, no folds.
+  const CliRun plain = run_cli("run --target " + target.string() +
+                                   " --material paper --glue-tab 0 --stop-after layout --out " +
+                                   (scratch / "b").string(),
+                               scratch);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(read_report(scratch / "b")["joints"]["glue_tabs"], 0);
+}
+
 // The bundled example end to end: report and the bending dump follow docs/outputs.md.
 TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   const fs::path scratch = test::fresh_dir();

@@ -82,8 +82,17 @@ std::vector<SheetPart> read_sheet_parts(const std::filesystem::path& cut_dir) {
         const std::size_t d = body.find(" d=\"", kind_end);
         const std::size_t d_end = body.find('"', d + 4);
         const auto pts = path_points(body.substr(d + 4, d_end - d - 4));
+        auto attribute = [&](const std::string& key) {
+          const std::size_t a = body.find(" " + key + "=\"", kind_end);
+          if (a == std::string::npos || a > d) return std::string();
+          const std::size_t v = a + key.size() + 3;
+          return body.substr(v, body.find('"', v) - v);
+        };
         if (kind == "outline") {
           part.outline = pts;
+        } else if (kind == "fold") {
+          part.folds.push_back(
+              {pts, attribute("data-fold"), attribute("stroke"), attribute("stroke-dasharray")});
         } else if (kind == "kerf" || kind == "label") {
           auto& list = kind == "kerf" ? part.kerf : part.engraving;
           for (std::size_t k = 0; k + 1 < pts.size(); k += 2) list.push_back({pts[k], pts[k + 1]});

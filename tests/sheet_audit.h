@@ -26,6 +26,12 @@ struct SheetPart {
   int sheet = 0;
   Polygon2 outline;
   std::vector<std::array<Vec2, 2>> kerf, engraving;
+  struct Fold {
+    std::vector<Vec2> points;
+    std::string kind;  ///< its data-fold attribute: "mountain" or "valley"
+    std::string stroke, dashes;
+  };
+  std::vector<Fold> folds;  ///< <path class="fold"> (paper)
 };
 
 struct SheetAudit {

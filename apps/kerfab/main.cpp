@@ -102,6 +102,7 @@ struct RunFlags {
   std::string material = "mdf";
   std::string sheet = "600x450";
   CLI::Option* sheet_option = nullptr;  // to tell a given --sheet from the default
+  CLI::Option* stroke_option = nullptr;  // to tell a given --stroke from the default
   std::string format = "svg,dxf,pdf";
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
   std::optional<int> constant_density;
@@ -296,11 +297,12 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--format", f.format,
                  "Cut-sheet files to write, comma separated: svg, dxf, pdf (PNG previews always)")
       ->capture_default_str();
-  cmd.add_option("--stroke", f.output.style.stroke,
-                 "Line width of cut and engrave lines in the SVG and PDF sheets; the default "
-                 "hairline is what laser drivers expect [mm]")
-      ->capture_default_str()
-      ->check(kPositive);
+  f.stroke_option = cmd.add_option("--stroke", f.output.style.stroke,
+                                   "Line width of cut, engrave and fold lines in the SVG and PDF "
+                                   "sheets; the default hairline is what laser drivers expect; "
+                                   "0.2 with --material paper, for printing [mm]")
+                       ->capture_default_str()
+                       ->check(kPositive);
   const auto colour = CLI::Validator(
       [](std::string& c) {
         const bool ok = c.size() == 7 && c[0] == '#' &&
@@ -313,6 +315,14 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->check(colour);
   cmd.add_option("--engrave-colour", f.output.style.engrave,
                  "Colour of engraved labels in SVG and PDF")
+      ->capture_default_str()
+      ->check(colour);
+  cmd.add_option("--mountain-colour", f.output.style.mountain,
+                 "Paper: colour of mountain fold lines (dash-dot) in SVG and PDF")
+      ->capture_default_str()
+      ->check(colour);
+  cmd.add_option("--valley-colour", f.output.style.valley,
+                 "Paper: colour of valley fold lines (dashed) in SVG and PDF")
       ->capture_default_str()
       ->check(colour);
   cmd.add_option("--margin", f.options.layout.margin, "Free border along each sheet edge [mm]")
@@ -370,6 +380,9 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     // told otherwise.
     std::string sheet = f.sheet;
     if (f.material == "paper" && f.sheet_option && f.sheet_option->count() == 0) sheet = "A4";
+    // Printed lines must be visible; a laser driver wants hairlines.
+    if (f.material == "paper" && f.stroke_option && f.stroke_option->count() == 0)
+      output.style.stroke = 0.2;
     std::string lower = sheet;
     for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     if (lower == "a4") sheet = "210x297";

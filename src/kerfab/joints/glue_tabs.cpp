@@ -302,6 +302,10 @@ class GlueBuilder {
     if (!under_[q].empty()) inside = polygon_difference(inside, under_[q]);
     Polygon2 under = largest(inside);
     if (under.size() < 3) return std::nullopt;
+    // Without spikes and slivers narrower than 0.6 times the gap (what the clipping leaves at
+    // corners): they would tear off, and are no cut a blade or laser makes cleanly.
+    under = largest(polygon_offset(polygon_offset({under}, -0.3 * kGlueTabGap), 0.3 * kGlueTabGap));
+    if (under.size() < 3) return std::nullopt;
     tab = onto.inverse(under);
     const double area = polygon_area(tab);
     if (area < kMinGlueTabArea || area < ideal / 3) return std::nullopt;

@@ -18,7 +18,20 @@ LayoutResult lay_out_parts(const Strips& strips, const Flattening& flat, const J
   LayoutResult out = nest_parts(outlines, options);
   const int parts = static_cast<int>(strips.patches.size());
   for (int p = 0; p < parts; ++p) {
-    const Polygon2& outline = joints.parts[p].designed;
+    // Labels go on the part itself, not on its glue tabs (hidden once glued).
+    std::vector<Polygon2> tabs;
+    for (const JointSpan& sp : joints.parts[p].spans)
+      if (sp.kind == JointKind::kGlue && sp.region.size() >= 3) {
+        Polygon2 t = sp.region;
+        make_counter_clockwise(t);
+        tabs.push_back(std::move(t));
+      }
+    Polygon2 outline = joints.parts[p].designed;
+    if (!tabs.empty()) {
+      double best = 0;
+      for (auto& c : polygon_difference({outline}, polygon_offset(tabs, 0.01)))
+        if (polygon_area(c) > best) best = polygon_area(c), outline = c;
+    }
     out.labels.push_back(part_label(strips, flat, kerf, outline, p));
     out.engravings.push_back(
         border_labels(strips, flat, kerf, joints, outline, p, out.labels.back()));

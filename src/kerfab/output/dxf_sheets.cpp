@@ -54,12 +54,14 @@ void write_dxf_sheets(const RunResult& run, const std::filesystem::path& cut_dir
     pair(out, 2, "TABLES");
     pair(out, 0, "TABLE");
     pair(out, 2, "LAYER");
-    pair(out, 70, "3");
-    for (const auto& [name, colour] : {std::pair{"CUT", "1"}, {"KERF", "1"}, {"LABEL", "5"}}) {
+    pair(out, 70, "5");
+    for (const auto& [name, colour] :
+         {std::pair{"CUT", "1"}, {"KERF", "1"}, {"LABEL", "5"}, {"FOLD_MOUNTAIN", "6"},
+          {"FOLD_VALLEY", "3"}}) {
       pair(out, 0, "LAYER");
       pair(out, 2, name);
       pair(out, 70, "0");
-      pair(out, 62, colour);  // 1 red (cut), 5 blue (engrave)
+      pair(out, 62, colour);  // 1 red (cut), 5 blue (engrave), 6 magenta, 3 green (folds)
       pair(out, 6, "CONTINUOUS");
     }
     pair(out, 0, "ENDTAB");
@@ -70,6 +72,9 @@ void write_dxf_sheets(const RunResult& run, const std::filesystem::path& cut_dir
       // Inside first: engraving, kerf cuts, then the outline.
       for (const auto& s : p.engraving) line(out, "LABEL", s[0], s[1]);
       for (const auto& c : p.kerf) line(out, "KERF", c[0], c[1]);
+      for (const PlacedFold& f : p.folds)
+        for (std::size_t i = 0; i + 1 < f.points.size(); ++i)
+          line(out, f.mountain ? "FOLD_MOUNTAIN" : "FOLD_VALLEY", f.points[i], f.points[i + 1]);
       pair(out, 0, "POLYLINE");
       pair(out, 8, "CUT");
       pair(out, 66, "1");

@@ -15,6 +15,9 @@ struct SheetFormats {
 struct SheetStyle {
   std::string cut = "#ff0000";      ///< colour of cut lines (outlines, kerf cuts), #rrggbb
   std::string engrave = "#0000ff";  ///< colour of engraved labels, #rrggbb
+  std::string mountain = "#c000c0";  ///< colour of mountain fold lines (paper), #rrggbb; drawn
+                                     ///< dash-dot
+  std::string valley = "#00a000";    ///< colour of valley fold lines (paper), #rrggbb; dashed
   double stroke = 0.01;             ///< line width in SVG and PDF [mm], > 0 (hairline)
 };
 

@@ -24,6 +24,7 @@ std::array<double, 3> rgb(const std::string& hex) {
 void draw_sheet(cairo_t* cr, const std::vector<PlacedPart>& parts, const SheetStyle& style,
                 double height, double line_mm) {
   const auto cut = rgb(style.cut), engrave = rgb(style.engrave);
+  const auto mountain = rgb(style.mountain), valley = rgb(style.valley);
   auto move = [&](const Vec2& q) { cairo_move_to(cr, q.x(), height - q.y()); };
   auto line = [&](const Vec2& q) { cairo_line_to(cr, q.x(), height - q.y()); };
   cairo_set_line_width(cr, line_mm);
@@ -37,6 +38,18 @@ void draw_sheet(cairo_t* cr, const std::vector<PlacedPart>& parts, const SheetSt
         line(s[1]);
       }
       cairo_stroke(cr);
+    }
+    for (const PlacedFold& f : p.folds) {
+      const auto& c = f.mountain ? mountain : valley;
+      cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+      if (f.mountain)
+        cairo_set_dash(cr, kMountainDash.data(), static_cast<int>(kMountainDash.size()), 0);
+      else
+        cairo_set_dash(cr, kValleyDash.data(), static_cast<int>(kValleyDash.size()), 0);
+      for (std::size_t i = 0; i < f.points.size(); ++i)
+        i == 0 ? move(f.points[i]) : line(f.points[i]);
+      cairo_stroke(cr);
+      cairo_set_dash(cr, nullptr, 0, 0);
     }
     cairo_set_source_rgb(cr, cut[0], cut[1], cut[2]);
     for (const auto& c : p.kerf) {

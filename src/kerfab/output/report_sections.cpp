@@ -126,6 +126,8 @@ json options_section(const RunResult& run, const OutputOptions& output) {
   j["stroke_mm"] = output.style.stroke;
   j["cut_colour"] = output.style.cut;
   j["engrave_colour"] = output.style.engrave;
+  j["mountain_colour"] = output.style.mountain;
+  j["valley_colour"] = output.style.valley;
   j["quality_sample_spacing_rel"] = o.quality_sample_spacing;
   j["row_baseline"] = o.row_baseline;
   j["stop_after"] = optional_json(o.stop_after);

@@ -28,6 +28,12 @@ std::vector<PlacedPart> sheet_parts(const RunResult& run, int sheet) {
     if (run.kerf)
       for (const auto& c : run.kerf->patches[part].cuts)
         p.kerf.push_back({pl.apply(c.a), pl.apply(c.b)});
+    for (const FoldLine& f : run.joints->parts[part].folds) {
+      PlacedFold placed;
+      placed.mountain = f.mountain();
+      for (const Vec2& v : f.points) placed.points.push_back(pl.apply(v));
+      p.folds.push_back(std::move(placed));
+    }
     for (const auto& v : run.joints->parts[part].cut) p.outline.push_back(pl.apply(v));
     out.push_back(std::move(p));
   }

@@ -48,6 +48,19 @@ void write_svg_sheets(const RunResult& run, const SheetStyle& style,
         for (const auto& c : p.kerf) svg << "M " << point(c[0]) << " L " << point(c[1]) << " ";
         svg << "\"/>\n";
       }
+      for (const PlacedFold& f : p.folds) {
+        svg << "<path class=\"fold\" data-fold=\"" << (f.mountain ? "mountain" : "valley")
+            << "\" " << line_style << (f.mountain ? style.mountain : style.valley)
+            << "\" stroke-dasharray=\"";
+        if (f.mountain)
+          for (double d : kMountainDash) svg << d << " ";
+        else
+          for (double d : kValleyDash) svg << d << " ";
+        svg << "\" d=\"";
+        for (std::size_t i = 0; i < f.points.size(); ++i)
+          svg << (i ? "L " : "M ") << point(f.points[i]) << " ";
+        svg << "\"/>\n";
+      }
       svg << "<path class=\"outline\" " << line_style << style.cut << "\" d=\"";
       for (std::size_t i = 0; i < p.outline.size(); ++i)
         svg << (i ? "L " : "M ") << point(p.outline[i]) << " ";
