@@ -9,6 +9,7 @@
 #include "kerfab/core/errors.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
+#include "kerfab/joints/border_pieces.h"
 #include "kerfab/joints/glue_tabs.h"
 #include "polygon_probe.h"
 #include "shapes.h"
@@ -284,6 +285,40 @@ TEST(Joints, RealMeshesHaveSoundOutlines) {
     expect_sound_joints(s, f, j, 6);
     expect_teeth_fit_slots(s, f, j);
   }
+}
+
+// Both sides of every border measure arc length from the same place and the same way round, so
+// that a tooth at s on one side meets its slot at s on the other: the 3D point at s on each side
+// (interpolated along its own vertices) agrees. Spot has borders that close on themselves (two
+// tubes meeting along a circle, each cut open elsewhere); their sides used to start at their own
+// cuts, tens of millimetres apart.
+TEST(Joints, BothSidesOfABorderMeasureFromTheSamePlace) {
+  const PreparedInput p = test::load(test::spot());
+  const Strips s = test::real_strips(p);
+  const Flattening f = flatten_patches(s, {});
+  const border::Pieces bp = border::make_pieces(s, f);
+  auto point = [&](const border::Side& side, double at) {
+    const border::Ring& ring = bp.rings[side.patch];
+    std::size_t j = 0;
+    while (j + 2 < side.s.size() && side.s[j + 1] < at) ++j;
+    const auto& e = ring.edges[side.ring_edges[j]];
+    Vec3 a = s.vertices[bp.locals[side.patch][e.v[0]]], b = s.vertices[bp.locals[side.patch][e.v[1]]];
+    if (side.reversed) std::swap(a, b);
+    const double len = side.s[j + 1] - side.s[j];
+    return Vec3(a + (len > 0 ? std::clamp((at - side.s[j]) / len, 0.0, 1.0) : 0.0) * (b - a));
+  };
+  int closed = 0;
+  double worst = 0;
+  for (const border::Piece& piece : bp.pieces) {
+    const auto& s0 = piece.sides[0];
+    closed += (point(s0, 0) - point(s0, s0.s.back())).norm() < 1e-6 ? 1 : 0;
+    for (int k = 0; k <= 20; ++k) {
+      const double at = piece.length * k / 20;
+      worst = std::max(worst, (point(piece.sides[0], at) - point(piece.sides[1], at)).norm());
+    }
+  }
+  EXPECT_GT(closed, 0) << "no closed border to check";
+  EXPECT_LT(worst, 0.5);
 }
 
 // The plane of each (planar) part of a folded sheet: 3D = origin + x e1 + y e2, fitted to its

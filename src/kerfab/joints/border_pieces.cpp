@@ -34,6 +34,43 @@ void make_rings(const Strips& strips, const Flattening& flat, Pieces& out) {
   }
 }
 
+/// 3D end points of ring edge \p k of \p side in piece order.
+std::pair<Vec3, Vec3> ends(const Strips& strips, const Pieces& out, const Side& side, int k) {
+  const auto& e = out.rings[side.patch].edges[k];
+  const Vec3 a = strips.vertices[out.locals[side.patch][e.v[0]]],
+             b = strips.vertices[out.locals[side.patch][e.v[1]]];
+  return side.reversed ? std::make_pair(b, a) : std::make_pair(a, b);
+}
+
+/// A border that closes on itself in 3D (two tubes meeting along a circle) has no common end:
+/// each side's run of ring edges starts wherever its patch was cut open. The second side is
+/// turned to start where the first does, and to run the same way, so that arc length means the
+/// same place on both sides.
+void align_closed_loop(const Strips& strips, const Pieces& out, const Side& first, Side& second) {
+  const auto& f = first.ring_edges;
+  auto& r = second.ring_edges;
+  if (f.empty() || r.size() < 2) return;
+  const Vec3 start = ends(strips, out, first, f.front()).first;
+  if ((ends(strips, out, first, f.back()).second - start).norm() > 1e-6 ||
+      (ends(strips, out, second, r.back()).second - ends(strips, out, second, r.front()).first)
+              .norm() > 1e-6)
+    return;
+  std::size_t j = 0;
+  for (std::size_t k = 1; k < r.size(); ++k)
+    if ((ends(strips, out, second, r[k]).first - start).norm() <
+        (ends(strips, out, second, r[j]).first - start).norm())
+      j = k;
+  std::rotate(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(j), r.end());
+  // The same way round: the first side's next vertex is nearer the second side's next vertex
+  // than its previous one.
+  const Vec3 next = ends(strips, out, first, f.front()).second;
+  if ((ends(strips, out, second, r.back()).first - next).norm() <
+      (ends(strips, out, second, r.front()).second - next).norm()) {
+    std::reverse(r.begin(), r.end());
+    second.reversed = !second.reversed;
+  }
+}
+
 void make_border_pieces(const Strips& strips, Pieces& out) {
   auto p3 = [&](int patch, int local) { return strips.vertices[out.locals[patch][local]]; };
   // Group outline edges by coarse edge and patch side.
@@ -108,8 +145,9 @@ void make_border_pieces(const Strips& strips, Pieces& out) {
       side.reversed = (last - common).norm() < (first - common).norm();
       if (side.reversed) std::reverse(ring_edges.begin(), ring_edges.end());
       side.ring_edges = ring_edges;
+      if (i == 2) align_closed_loop(strips, out, piece.sides[0], side);
       side.s.push_back(0);
-      for (int k : ring_edges) {
+      for (int k : side.ring_edges) {
         const auto& e = ring.edges[k];
         int a = e.v[0], b = e.v[1];
         if (side.reversed) std::swap(a, b);
