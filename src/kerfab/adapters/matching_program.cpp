@@ -6,6 +6,7 @@
 #include <string>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/core/headroom.h"
 
 namespace kerfab {
 namespace {
@@ -49,6 +50,7 @@ MatchingResult min_cost_perfect_matching(int nodes, const std::vector<MatchingPa
   Cbc_setLogLevel(model.get(), 0);
   Cbc_setMaximumSeconds(model.get(), time_limit_s);
   Cbc_setParameter(model.get(), "threads", "0");  // no worker threads: deterministic, and nothing to fail to start
+  ensure_headroom();  // CBC crashes where an allocation fails inside it
   Cbc_solve(model.get());
   const double* y = Cbc_bestSolution(model.get());
   if (y == nullptr) return result;

@@ -11,6 +11,7 @@
 #include <numeric>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/core/headroom.h"
 
 namespace kerfab {
 namespace {
@@ -259,6 +260,7 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
     Cbc_setMIPStartI(model.get(), n, idx.data(), val.data());
   }
 
+  ensure_headroom();  // CBC crashes where an allocation fails inside it
   Cbc_solve(model.get());
   const double* sol = Cbc_bestSolution(model.get());
   if (sol != nullptr) {
