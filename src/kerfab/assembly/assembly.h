@@ -15,7 +15,7 @@ namespace kerfab {
 /// The rule in words, for the report and the guide (with the default plain_weight).
 inline constexpr const char* kAssemblyRule =
     "Start with the largest part. Each next part is the one with the longest border to the "
-    "parts already placed (border with teeth or tabs counting fully, plain border half), so "
+    "parts already placed (border with teeth, tabs or glue tabs counting fully, plain border half), so "
     "the piece stays one connected shell and each new part is held along as much of its "
     "border as possible. A part whose whole outline would meet placed parts fills a hole; such parts wait "
     "until the end, and the holes let a hand reach inside to hold the joints while the glue "

@@ -148,6 +148,8 @@ json model_json(const RunResult& run) {
           {"model", run.inputs.target.filename().string()},
           {"diagonal", round2(diagonal)},
           {"rule", kAssemblyRule},
+          // What holds a border: box teeth and dovetail tabs, or (paper) glue tabs.
+          {"joint", run.joints && run.joints->glue_tabs > 0 ? "glue tabs" : "teeth or tabs"},
           {"pieces", plan.pieces},
           {"parts", jparts},
           {"steps", steps},

@@ -13,7 +13,7 @@
   $('summary').innerHTML =
     `<b>${M.model}</b>: ${n} parts on ${M.sheets.length} sheet${M.sheets.length === 1 ? '' : 's'}` +
     (M.pieces > 1 ? `, in ${M.pieces} separate pieces` : '') +
-    '. Each part carries its number, engraved.';
+    '. Each part carries its number, ' + (M.joint === 'glue tabs' ? 'printed.' : 'engraved.');
   $('rule').textContent = M.rule;
 
   // ---- 3D view ----
@@ -168,7 +168,7 @@
   }
   function partLink(q) { return `<a class="part" data-part="${q}">${q}</a>`; }
   function contactText(c) {
-    return `${partLink(c[0])} (${c[1].toFixed(0)} mm` + (c[2] > 0 ? `, ${c[2].toFixed(0)} mm with teeth or tabs)` : ', plain)');
+    return `${partLink(c[0])} (${c[1].toFixed(0)} mm` + (c[2] > 0 ? `, ${c[2].toFixed(0)} mm with ${M.joint || 'teeth or tabs'})` : ', plain)');
   }
   function sheetText(p) { return p.sheet > 0 ? `sheet ${p.sheet}` : 'no sheet (it did not fit; see the report)'; }
   function stepText(s) {
