@@ -341,81 +341,80 @@ class GlueBuilder {
   /// made where there is room (a corner of the other part, or a tab already glued under it, may
   /// block only part of the stretch).
   void stretch(int i, double s0, double s1, int preferred, bool lone, int depth) {
-    const Piece& piece = bp_.pieces[i];
-    BorderJoint& b = out_.borders[i];
-    {
-      JointInterval in;
-      in.s0 = s0;
-      in.s1 = s1;
-      in.fold = piece.fold_at(0.5 * (in.s0 + in.s1));
-      const double len = in.s1 - in.s0;
-      const double h = std::min(o_.glue_tab, 0.4 * len * std::tan(kGlueTabTaper));
-      std::optional<Tab> tab;
-      int owner = -1;
-      for (double height : {h, 0.5 * h}) {
-        if (lone) {
-          auto a = candidate(i, 0, in.s0, in.s1, height), c = candidate(i, 1, in.s0, in.s1, height);
-          if (a && (!c || polygon_area(a->region) >= polygon_area(c->region)))
-            tab = a, owner = 0;
-          else if (c)
-            tab = c, owner = 1;
-        } else {
-          for (int side : {preferred, 1 - preferred})
-            if ((tab = candidate(i, side, in.s0, in.s1, height))) {
-              owner = side;
-              break;
-            }
-        }
-        if (tab) break;
+    const double len = s1 - s0;
+    const double h = std::min(o_.glue_tab, 0.4 * len * std::tan(kGlueTabTaper));
+    std::optional<Tab> tab;
+    int owner = -1;
+    for (double height : {h, 0.5 * h}) {
+      if (lone) {
+        auto a = candidate(i, 0, s0, s1, height), c = candidate(i, 1, s0, s1, height);
+        if (a && (!c || polygon_area(a->region) >= polygon_area(c->region)))
+          tab = a, owner = 0;
+        else if (c)
+          tab = c, owner = 1;
+      } else {
+        for (int side : {preferred, 1 - preferred})
+          if ((tab = candidate(i, side, s0, s1, height))) {
+            owner = side;
+            break;
+          }
       }
-      if (!tab && depth < 2 && len >= 8.0) {
-        const double mid = 0.5 * (s0 + s1);
-        stretch(i, s0, mid, preferred, false, depth + 1);
-        stretch(i, mid, s1, 1 - preferred, false, depth + 1);
-        return;
-      }
-      if (!tab) {
-        ++b.blocked;
-        b.intervals.push_back(in);
-        return;
-      }
-      in.owner = owner;
-      in.kind = JointKind::kGlue;
-      in.offsets.tip = tab->height;
-      in.offsets.slot = 0;
-      const int interval = static_cast<int>(b.intervals.size());
-      b.intervals.push_back(in);
-      ++b.glue, ++out_.glue_tabs;
-      out_.glue_length += tab->s1 - tab->s0;
-      out_.toothed_length += tab->s1 - tab->s0;
-      const Side& side = piece.sides[owner];
-      const int p = side.patch, q = piece.sides[1 - owner].patch;
-      own_[p].push_back(tab->region);
-      for (auto& c : polygon_offset({tab->under}, 0.5 * kGlueTabGap)) under_[q].push_back(std::move(c));
-      // Its root is a fold line.
-      FoldLine fold;
-      fold.kind = FoldLine::Kind::kTabRoot;
-      fold.border = i;
-      for (double v : stations(side, tab->s0, tab->s1)) fold.points.push_back(at(side, v).point);
-      fold.angle = signed_fold(piece, owner, 0.5 * (tab->s0 + tab->s1));
-      double root = 0;
-      for (std::size_t k = 0; k + 1 < fold.points.size(); ++k)
-        root += (fold.points[k + 1] - fold.points[k]).norm();
-      const SidePoint mid = at(side, 0.5 * (tab->s0 + tab->s1));
-      JointSpan span;
-      span.border = i;
-      span.interval = interval;
-      span.length = root;
-      span.offset = tab->height;
-      span.tooth = true;
-      span.kind = JointKind::kGlue;
-      span.region = tab->region;
-      span.from = fold.points.front();
-      span.to = fold.points.back();
-      span.normal = mid.normal;
-      spans_[p].push_back(std::move(span));
-      folds_[p].push_back(std::move(fold));
+      if (tab) break;
     }
+    if (!tab && depth < 2 && len >= 8.0) {
+      const double mid = 0.5 * (s0 + s1);
+      stretch(i, s0, mid, preferred, false, depth + 1);
+      stretch(i, mid, s1, 1 - preferred, false, depth + 1);
+      return;
+    }
+    JointInterval in;
+    in.s0 = s0;
+    in.s1 = s1;
+    in.fold = bp_.pieces[i].fold_at(0.5 * (s0 + s1));
+    BorderJoint& b = out_.borders[i];
+    if (!tab) {
+      ++b.blocked;
+      b.intervals.push_back(in);
+      return;
+    }
+    in.owner = owner;
+    in.kind = JointKind::kGlue;
+    in.offsets.tip = tab->height;
+    in.offsets.slot = 0;
+    b.intervals.push_back(in);
+    record(i, static_cast<int>(b.intervals.size()) - 1, owner, *tab);
+  }
+
+  /// Keeps \p tab, made for interval \p interval of border \p i on side \p owner: on its part
+  /// (a span, and its root as a fold line) and under the other part.
+  void record(int i, int interval, int owner, const Tab& tab) {
+    const Piece& piece = bp_.pieces[i];
+    ++out_.borders[i].glue, ++out_.glue_tabs;
+    out_.glue_length += tab.s1 - tab.s0;
+    out_.toothed_length += tab.s1 - tab.s0;
+    const Side& side = piece.sides[owner];
+    const int p = side.patch, q = piece.sides[1 - owner].patch;
+    own_[p].push_back(tab.region);
+    for (auto& c : polygon_offset({tab.under}, 0.5 * kGlueTabGap)) under_[q].push_back(std::move(c));
+    FoldLine fold;
+    fold.kind = FoldLine::Kind::kTabRoot;
+    fold.border = i;
+    for (double v : stations(side, tab.s0, tab.s1)) fold.points.push_back(at(side, v).point);
+    fold.angle = signed_fold(piece, owner, 0.5 * (tab.s0 + tab.s1));
+    JointSpan span;
+    span.border = i;
+    span.interval = interval;
+    for (std::size_t k = 0; k + 1 < fold.points.size(); ++k)
+      span.length += (fold.points[k + 1] - fold.points[k]).norm();
+    span.offset = tab.height;
+    span.tooth = true;
+    span.kind = JointKind::kGlue;
+    span.region = tab.region;
+    span.from = fold.points.front();
+    span.to = fold.points.back();
+    span.normal = at(side, 0.5 * (tab.s0 + tab.s1)).normal;
+    spans_[p].push_back(std::move(span));
+    folds_[p].push_back(std::move(fold));
   }
 
   /// The rulings of patch \p p that bend by kMinScoredFold or more, as fold lines.
