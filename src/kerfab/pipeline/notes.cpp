@@ -208,7 +208,8 @@ StageNotes notes(const LayoutResult& l, const LayoutOptions& options) {
   for (const auto& label : l.labels) unlabelled += label ? 0 : 1;
   if (unlabelled > 0)
     n.warnings.push_back(std::to_string(unlabelled) +
-                         " parts are too narrow between kerf cuts for an engraved number");
+                         " parts have no room for their number (too small, or too narrow between "
+                         "kerf cuts); the assembly guide shows each on its sheet");
   return n;
 }
 
