@@ -77,8 +77,18 @@ class Builder {
       }
     }
     redraw(swapped);
-    // A part that still falls apart keeps its borders plain (the mitre alone cuts back far
-    // less), and so do the parts whose teeth reached into its slots.
+    // A part that still falls apart loses the joints next to where it comes apart: the
+    // intervals whose tooth, slot or cut-back on it touches a piece it lost go plain on both
+    // parts (the mitre alone cuts back far less), a few rounds; only a part that still falls
+    // apart then keeps all its borders plain, and so do the parts whose teeth reached into its
+    // slots.
+    for (int round = 0; round < 4; ++round) {
+      std::set<int> redo;
+      for (std::size_t p = 0; p < out_.parts.size(); ++p)
+        if (out_.parts[p].repaired) plain_where_lost(static_cast<int>(p), redo);
+      if (redo.empty()) break;
+      redraw(redo);
+    }
     std::set<int> redo;
     for (std::size_t p = 0; p < out_.parts.size(); ++p) {
       if (!out_.parts[p].repaired) continue;
@@ -109,6 +119,7 @@ class Builder {
   const border::Pieces bp_;
   const std::vector<Ring>& rings_;
   const std::vector<Piece>& pieces_;
+  std::map<int, std::vector<Polygon2>> lost_;  // per part: the pieces it lost when last drawn
   Joints out_;
 
 
@@ -554,6 +565,32 @@ class Builder {
     }
   }
 
+  /// The intervals of part \p p's joints whose stretch on it (tooth, slot or cut-back, from
+  /// its border line out to its offset) comes within a millimetre of a piece the part lost when
+  /// it was cut, made plain; the parts on both sides go into \p changed.
+  void plain_where_lost(int p, std::set<int>& changed) {
+    const auto lost = lost_.find(p);
+    if (lost == lost_.end() || lost->second.empty()) return;
+    const auto near = polygon_offset(lost->second, 1.0);
+    const Shapes sh = shapes(p);
+    for (const JointSpan& sp : sh.spans) {
+      BorderJoint& b = out_.borders[sp.border];
+      JointInterval& in = b.intervals[sp.interval];
+      if (in.owner < 0) continue;
+      const double e = sp.offset;
+      Polygon2 stretch = {sp.from, sp.to, sp.to + e * sp.normal, sp.from + e * sp.normal};
+      if (std::abs(polygon_area(stretch)) < 1e-12) continue;
+      make_counter_clockwise(stretch);
+      bool touches = false;
+      for (const Polygon2& n : near)
+        if (polygon_area(n) > 0 && !polygon_intersection(stretch, n).empty()) touches = true;
+      if (!touches) continue;
+      make_plain(b, in);
+      changed.insert(b.patches[0]);
+      changed.insert(b.patches[1]);
+    }
+  }
+
   /// The outlines of \p changed parts (whose joints changed) drawn again; if the change let a
   /// cut-back bite into teeth elsewhere (plain cut-backs where slots were), all of them.
   void redraw(const std::set<int>& changed) {
@@ -653,9 +690,20 @@ class Builder {
     const double significant = 0.25 * o_.tooth_width * std::max(o_.min_depth, 0.1);
     int outer = 0;
     for (const auto& c : pieces) outer += polygon_area(c) > significant ? 1 : 0;
-    const auto left = without_thin_features(largest(pieces), part.spans);
+    const Polygon2 kept = largest(pieces);
+    const auto left = without_thin_features(kept, part.spans);
     for (const auto& c : left) outer += polygon_area(c) > significant ? 1 : 0;
     part.repaired = outer != 2;  // one piece from the Booleans, one after the cleanup
+    // What it lost, for plain_where_lost().
+    std::vector<Polygon2>& lost = lost_[p];
+    lost.clear();
+    if (part.repaired) {
+      const Polygon2 rest = largest(left);
+      for (const auto* list : {&pieces, &left})
+        for (const auto& c : *list)
+          if (polygon_area(c) > significant && c != kept && c != rest)
+            lost.push_back(c);
+    }
     // Pinches closed: a cavity joined to the outside only through a slit of zero width (where a
     // widened slit stopped at a tooth) would be skipped by the laser path around the part.
     part.designed = largest(polygon_offset(polygon_offset({largest(left)}, 1e-3), -1e-3));
