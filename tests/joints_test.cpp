@@ -299,8 +299,7 @@ TEST(Joints, BothSidesOfABorderMeasureFromTheSamePlace) {
   const border::Pieces bp = border::make_pieces(s, f);
   auto point = [&](const border::Side& side, double at) {
     const border::Ring& ring = bp.rings[side.patch];
-    std::size_t j = 0;
-    while (j + 2 < side.s.size() && side.s[j + 1] < at) ++j;
+    const std::size_t j = static_cast<std::size_t>(side.edge_at(at));
     const auto& e = ring.edges[side.ring_edges[j]];
     Vec3 a = s.vertices[bp.locals[side.patch][e.v[0]]], b = s.vertices[bp.locals[side.patch][e.v[1]]];
     if (side.reversed) std::swap(a, b);

@@ -18,6 +18,24 @@ void make_counter_clockwise(Polygon2& polygon) {
   if (polygon_area(polygon) < 0) std::reverse(polygon.begin(), polygon.end());
 }
 
+Polygon2 clip_half_plane(const Polygon2& convex, const Vec2& at, const Vec2& m) {
+  Polygon2 out;
+  for (std::size_t i = 0; i < convex.size(); ++i) {
+    const Vec2 &p = convex[i], &q = convex[(i + 1) % convex.size()];
+    const double dp = (p - at).dot(m), dq = (q - at).dot(m);
+    if (dp <= 0) out.push_back(p);
+    if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
+  }
+  return out;
+}
+
+Polygon2 largest_polygon(const std::vector<Polygon2>& polygons) {
+  const Polygon2* best = nullptr;
+  for (const auto& c : polygons)
+    if (polygon_area(c) > 0 && (!best || polygon_area(c) > polygon_area(*best))) best = &c;
+  return best ? *best : Polygon2{};
+}
+
 StripFrame::StripFrame(const std::vector<Vec2>& points, int faces)
     : x(points), n(faces), s(faces + 1, 0.0) {
   for (int i = 0; i < n; ++i) s[i + 1] = s[i] + (mid(i + 1) - mid(i)).norm();

@@ -20,6 +20,13 @@ double polygon_area(const Polygon2& polygon);
 /// counter-clockwise, or overlaps cancel out).
 void make_counter_clockwise(Polygon2& polygon);
 
+/// The part of convex polygon \p convex with (p - at).m <= 0.
+Polygon2 clip_half_plane(const Polygon2& convex, const Vec2& at, const Vec2& m);
+
+/// The polygon of largest positive area among \p polygons (holes, clockwise, never), or an
+/// empty polygon if none has a positive area.
+Polygon2 largest_polygon(const std::vector<Polygon2>& polygons);
+
 /// A flattened patch seen along its length: the strip coordinate is the arc length through the
 /// rulings' midpoints (shared by the kerf cuts and the labels placed between them).
 struct StripFrame {

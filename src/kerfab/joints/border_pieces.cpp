@@ -177,10 +177,15 @@ Vec3 slerp_normal(const Vec3& a, const Vec3& b, double t) {
   return (std::sin((1 - t) * w) / sw * a + std::sin(t * w) / sw * b).normalized();
 }
 
-Vec3 Side::normal_at(double at) const {
-  const int m = static_cast<int>(n0.size());
+int Side::edge_at(double at) const {
+  const int m = static_cast<int>(ring_edges.size());
   int j = 0;
   while (j + 1 < m && s[j + 1] < at) ++j;
+  return j;
+}
+
+Vec3 Side::normal_at(double at) const {
+  const int j = edge_at(at);
   const double len = s[j + 1] - s[j];
   const double t = len > 0 ? std::clamp((at - s[j]) / len, 0.0, 1.0) : 0.5;
   return slerp_normal(n0[j], n1[j], t);

@@ -28,6 +28,9 @@ struct Side {
   bool reversed = false;        // piece order runs against the ring
   std::vector<double> s;        // arc length at the polyline's vertices, piece order
   std::vector<Vec3> n0, n1;     // per edge: part normal at its start and end (piece order)
+  /// Index (into ring_edges, s - 1) of the edge arc length \p at falls on (the first or last
+  /// edge beyond the ends).
+  int edge_at(double at) const;
   /// The part normal at arc length \p at (interpolated along the edge it falls on).
   Vec3 normal_at(double at) const;
 };

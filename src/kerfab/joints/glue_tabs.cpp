@@ -24,25 +24,6 @@ Polygon2 ccw(Polygon2 p) {
   return p;
 }
 
-/// The part of convex polygon \p poly with (p - at).m <= 0.
-Polygon2 clip_half_plane(const Polygon2& poly, const Vec2& at, const Vec2& m) {
-  Polygon2 out;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vec2 &p = poly[i], &q = poly[(i + 1) % poly.size()];
-    const double dp = (p - at).dot(m), dq = (q - at).dot(m);
-    if (dp <= 0) out.push_back(p);
-    if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
-  }
-  return out;
-}
-
-Polygon2 largest(const std::vector<Polygon2>& polys) {
-  const Polygon2* best = nullptr;
-  for (const auto& c : polys)
-    if (polygon_area(c) > 0 && (!best || polygon_area(c) > polygon_area(*best))) best = &c;
-  return best ? *best : Polygon2{};
-}
-
 double total_area(const std::vector<Polygon2>& polys) {
   double a = 0;
   for (const auto& c : polys) a += polygon_area(c);
@@ -53,7 +34,8 @@ double total_area(const std::vector<Polygon2>& polys) {
 struct Rigid {
   double c = 1, s = 0;
   Vec2 t{0, 0};
-  Vec2 apply(const Vec2& p) const { return Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y()) + t; }
+  Vec2 turn(const Vec2& d) const { return {c * d.x() - s * d.y(), s * d.x() + c * d.y()}; }
+  Vec2 apply(const Vec2& p) const { return turn(p) + t; }
   Vec2 inverse(const Vec2& q) const {
     const Vec2 d = q - t;
     return {c * d.x() + s * d.y(), -s * d.x() + c * d.y()};
@@ -63,7 +45,6 @@ struct Rigid {
     for (const Vec2& p : poly) out.push_back(apply(p));
     return out;
   }
-  Vec2 turn(const Vec2& d) const { return {c * d.x() - s * d.y(), s * d.x() + c * d.y()}; }
   Polygon2 inverse(const Polygon2& poly) const {
     Polygon2 out;
     for (const Vec2& p : poly) out.push_back(inverse(p));
@@ -140,8 +121,16 @@ class GlueBuilder {
 
   Joints run() {
     const std::size_t parts = bp_.rings.size();
-    for (const Ring& ring : bp_.rings) body_.push_back(ccw(ring.start));
+    for (const Ring& ring : bp_.rings) {
+      body_.push_back(ccw(ring.start));
+      inner_.push_back(polygon_offset({body_.back()}, -2 * kOverlap));
+      std::vector<Polygon2> room;
+      for (auto& r : polygon_offset({body_.back()}, -kGlueTabGap))
+        if (polygon_area(r) > 0) room.push_back(std::move(r));
+      room_.push_back(std::move(room));
+    }
     own_.resize(parts);
+    clear_.resize(parts);
     under_.resize(parts);
     spans_.resize(parts);
     folds_.resize(parts);
@@ -170,7 +159,11 @@ class GlueBuilder {
   const JointOptions& o_;
   const border::Pieces bp_;
   std::vector<Polygon2> body_;                // per part: its flattened outline
+  std::vector<std::vector<Polygon2>> inner_;  // per part: the body 2 um in (a tab's overlap)
+  std::vector<std::vector<Polygon2>> room_;   // per part: the body kGlueTabGap in
   std::vector<std::vector<Polygon2>> own_;    // per part: its tabs, in its frame
+  std::vector<std::vector<Polygon2>> clear_;  // per part: its tabs grown by kGlueTabGap (kept
+                                              // with own_, not grown again per candidate)
   std::vector<std::vector<Polygon2>> under_;  // per part: tabs glued under it, in its frame
   std::vector<std::vector<JointSpan>> spans_;
   std::vector<std::vector<FoldLine>> folds_;
@@ -178,9 +171,7 @@ class GlueBuilder {
 
   SidePoint at(const Side& side, double s) const {
     const Ring& ring = bp_.rings[side.patch];
-    const int m = static_cast<int>(side.ring_edges.size());
-    int j = 0;
-    while (j + 1 < m && side.s[j + 1] < s) ++j;
+    const int j = side.edge_at(s);
     const double len = side.s[j + 1] - side.s[j];
     const double t = len > 0 ? std::clamp((s - side.s[j]) / len, 0.0, 1.0) : 0.5;
     const int k = side.ring_edges[j];
@@ -283,14 +274,12 @@ class GlueBuilder {
     const double ideal = total_area(shape);
     if (!(ideal > 0)) return std::nullopt;
     // Off its own part (but for the overlap along the root) and its other tabs on the sheet.
-    std::vector<Polygon2> remove = polygon_offset({body_[p]}, -2 * kOverlap);
-    for (auto& c : polygon_offset(own_[p], kGlueTabGap)) remove.push_back(std::move(c));
-    Polygon2 tab = largest(polygon_difference(shape, remove));
+    std::vector<Polygon2> remove = inner_[p];
+    remove.insert(remove.end(), clear_[p].begin(), clear_[p].end());
+    Polygon2 tab = largest_polygon(polygon_difference(shape, remove));
     if (tab.size() < 3) return std::nullopt;
     // The room: the mate kept the gap inside its edges, but for the stretch along this border.
-    std::vector<Polygon2> room;
-    for (auto& r : polygon_offset({body_[q]}, -kGlueTabGap))
-      if (polygon_area(r) > 0) room.push_back(std::move(r));
+    std::vector<Polygon2> room = room_[q];
     for (const auto& c : trapezoid(side, s0, s1, kGlueTabGap + 0.01))
       room.push_back(onto.apply(c));
     room = polygon_union(room);
@@ -300,11 +289,11 @@ class GlueBuilder {
         for (auto& c : polygon_intersection(onto.apply(tab), r)) inside.push_back(std::move(c));
     inside = polygon_union(inside);
     if (!under_[q].empty()) inside = polygon_difference(inside, under_[q]);
-    Polygon2 under = largest(inside);
+    Polygon2 under = largest_polygon(inside);
     if (under.size() < 3) return std::nullopt;
     // Without spikes and slivers narrower than 0.6 times the gap (what the clipping leaves at
     // corners): they would tear off, and are no cut a blade or laser makes cleanly.
-    under = largest(polygon_offset(polygon_offset({under}, -0.3 * kGlueTabGap), 0.3 * kGlueTabGap));
+    under = largest_polygon(polygon_offset(polygon_offset({under}, -0.3 * kGlueTabGap), 0.3 * kGlueTabGap));
     if (under.size() < 3) return std::nullopt;
     tab = onto.inverse(under);
     const double area = polygon_area(tab);
@@ -395,6 +384,7 @@ class GlueBuilder {
     const Side& side = piece.sides[owner];
     const int p = side.patch, q = piece.sides[1 - owner].patch;
     own_[p].push_back(tab.region);
+    clear_[p] = polygon_offset(own_[p], kGlueTabGap);
     for (auto& c : polygon_offset({tab.under}, 0.5 * kGlueTabGap)) under_[q].push_back(std::move(c));
     FoldLine fold;
     fold.kind = FoldLine::Kind::kTabRoot;
@@ -455,11 +445,11 @@ class GlueBuilder {
     std::vector<Polygon2> all = {body_[p]};
     all.insert(all.end(), own_[p].begin(), own_[p].end());
     const auto united = polygon_union(all);
-    part.designed = largest(united);
+    part.designed = largest_polygon(united);
     int pieces = 0;
     for (const auto& c : united) pieces += polygon_area(c) > 0 ? 1 : 0;
     part.repaired = pieces != 1;
-    part.cut = largest(polygon_offset({part.designed}, 0.5 * kerf_width_));
+    part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
     part.spans = std::move(spans_[p]);
     part.folds = std::move(folds_[p]);
     if (o_.score_rulings)

@@ -21,18 +21,6 @@ using border::s_of;
 using border::s_range;
 using border::Side;
 
-/// The part of convex polygon \p poly with (p - at).m <= 0.
-Polygon2 clip_half_plane(const Polygon2& poly, const Vec2& at, const Vec2& m) {
-  Polygon2 out;
-  for (std::size_t i = 0; i < poly.size(); ++i) {
-    const Vec2 &p = poly[i], &q = poly[(i + 1) % poly.size()];
-    const double dp = (p - at).dot(m), dq = (q - at).dot(m);
-    if (dp <= 0) out.push_back(p);
-    if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) out.push_back(p + (q - p) * (dp / (dp - dq)));
-  }
-  return out;
-}
-
 
 class Builder {
  public:
@@ -486,7 +474,7 @@ class Builder {
       make_counter_clockwise(region);
       Polygon2 ccw = wedge;
       make_counter_clockwise(ccw);
-      before.region = largest(polygon_union({region, ccw}));
+      before.region = largest_polygon(polygon_union({region, ccw}));
     }
     // Non-zero filling: every polygon counter-clockwise, or overlaps would cancel out.
     for (auto* list : {&add, &cut})
@@ -559,7 +547,7 @@ class Builder {
           make_counter_clockwise(region);
           std::vector<Polygon2> grown = {region};
           if (!gain.empty()) grown = polygon_union({region, gain});
-          best->region = largest(polygon_difference(grown, {loss}));
+          best->region = largest_polygon(polygon_difference(grown, {loss}));
         }
       }
     }
@@ -572,8 +560,9 @@ class Builder {
     const auto lost = lost_.find(p);
     if (lost == lost_.end() || lost->second.empty()) return;
     const auto near = polygon_offset(lost->second, 1.0);
-    const Shapes sh = shapes(p);
-    for (const JointSpan& sp : sh.spans) {
+    // The spans of the same drawing as the lost pieces; intervals another part has made plain
+    // since are skipped by their owner.
+    for (const JointSpan& sp : out_.parts[p].spans) {
       BorderJoint& b = out_.borders[sp.border];
       JointInterval& in = b.intervals[sp.interval];
       if (in.owner < 0) continue;
@@ -667,13 +656,6 @@ class Builder {
     return f;
   }
 
-  static Polygon2 largest(const std::vector<Polygon2>& polys) {
-    const Polygon2* best = nullptr;
-    for (const auto& c : polys)
-      if (polygon_area(c) > 0 && (!best || polygon_area(c) > polygon_area(*best))) best = &c;
-    return best ? *best : Polygon2{};
-  }
-
   PartOutline outline(int p) {
     Shapes sh = shapes(p);
     PartOutline part;
@@ -690,7 +672,7 @@ class Builder {
     const double significant = 0.25 * o_.tooth_width * std::max(o_.min_depth, 0.1);
     int outer = 0;
     for (const auto& c : pieces) outer += polygon_area(c) > significant ? 1 : 0;
-    const Polygon2 kept = largest(pieces);
+    const Polygon2 kept = largest_polygon(pieces);
     const auto left = without_thin_features(kept, part.spans);
     for (const auto& c : left) outer += polygon_area(c) > significant ? 1 : 0;
     part.repaired = outer != 2;  // one piece from the Booleans, one after the cleanup
@@ -698,7 +680,7 @@ class Builder {
     std::vector<Polygon2>& lost = lost_[p];
     lost.clear();
     if (part.repaired) {
-      const Polygon2 rest = largest(left);
+      const Polygon2 rest = largest_polygon(left);
       for (const auto* list : {&pieces, &left})
         for (const auto& c : *list)
           if (polygon_area(c) > significant && c != kept && c != rest)
@@ -706,8 +688,8 @@ class Builder {
     }
     // Pinches closed: a cavity joined to the outside only through a slit of zero width (where a
     // widened slit stopped at a tooth) would be skipped by the laser path around the part.
-    part.designed = largest(polygon_offset(polygon_offset({largest(left)}, 1e-3), -1e-3));
-    part.cut = largest(polygon_offset({part.designed}, 0.5 * kerf_width_));
+    part.designed = largest_polygon(polygon_offset(polygon_offset({largest_polygon(left)}, 1e-3), -1e-3));
+    part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
     return part;
   }
 

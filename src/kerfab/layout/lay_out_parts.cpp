@@ -27,11 +27,10 @@ LayoutResult lay_out_parts(const Strips& strips, const Flattening& flat, const J
         tabs.push_back(std::move(t));
       }
     Polygon2 outline = joints.parts[p].designed;
-    if (!tabs.empty()) {
-      double best = 0;
-      for (auto& c : polygon_difference({outline}, polygon_offset(tabs, 0.01)))
-        if (polygon_area(c) > best) best = polygon_area(c), outline = c;
-    }
+    if (!tabs.empty())
+      if (Polygon2 body = largest_polygon(polygon_difference({outline}, polygon_offset(tabs, 0.01)));
+          !body.empty())
+        outline = std::move(body);
     out.labels.push_back(part_label(strips, flat, kerf, outline, p));
     out.engravings.push_back(
         border_labels(strips, flat, kerf, joints, outline, p, out.labels.back()));
