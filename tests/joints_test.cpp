@@ -29,17 +29,18 @@ struct Case {
 };
 
 // A 100 x 100 mm sheet folded by `fold_deg` along v = 0.5, strips forced across the fold and
-// split there (split angle below the fold): every strip meets its other half at the fold.
+// split there (split angle below the fold): every strip meets its other half at the fold. `nu`
+// strips side by side (100 / nu mm wide: the borders at the fold are that long, between corners).
 Case folded_sheet(double fold_deg, const JointOptions& options = {},
-                  const Material& material = kMdf) {
+                  const Material& material = kMdf, int nu = 6) {
   const double f = fold_deg * kPi / 180;
   auto sheet = [f](double u, double v) {
     if (v <= 0.5) return Vec3(100 * u, 100 * v, 0);
     const double w = 100 * (v - 0.5);
     return Vec3(100 * u, 50 + w * std::cos(f), w * std::sin(f));
   };
-  const PolyMesh quads = test::grid_mesh(6, 6, false, false, sheet);
-  const TargetSurface target(triangulate(test::grid_mesh(24, 24, false, false, sheet)));
+  const PolyMesh quads = test::grid_mesh(nu, 6, false, false, sheet);
+  const TargetSurface target(triangulate(test::grid_mesh(4 * nu, 24, false, false, sheet)));
   const BendingOptions bo = test::force_bendable(
       quads, [](const Vec3& a, const Vec3& b) { return std::abs(b.x() - a.x()) < 1e-9; });
   StripsOptions so;
@@ -431,6 +432,32 @@ TEST(Joints, EveryFoldGetsAJoint) {
     expect_teeth_fit_slots(c.strips, c.flat, c.joints);
     EXPECT_EQ(points_inside_other_parts(c, h), 0);
   }
+}
+
+// Short borders between two corners: strips 5 and 4 mm wide meet their other halves at the fold
+// along borders that short, their ends in the corners where the 0 degree borders between the
+// strips come in (whose joint bands leave 2-3 mm between them). Each still gets a tooth or tab
+// that fits its slot, and in 3D no plate reaches into another.
+TEST(Joints, ShortBordersBetweenCornersGetAJoint) {
+  const double h = kMdf.thickness;
+  for (int nu : {16, 20})
+    for (double deg : {4.0, 12.0, 30.0, 90.0, 150.0}) {
+      SCOPED_TRACE(std::to_string(nu) + " strips, " + std::to_string(deg) + " degrees");
+      const Case c = folded_sheet(deg, {}, kMdf, nu);
+      int at_fold = 0;
+      for (const BorderJoint& b : c.joints.borders) {
+        EXPECT_GT(b.teeth, 0) << "border at edge " << b.edge << ", " << b.length << " mm";
+        if (b.intervals.front().fold > 1e-6) {
+          ++at_fold;
+          EXPECT_NEAR(b.length, 100.0 / nu, 1e-6);
+        }
+      }
+      EXPECT_EQ(at_fold, nu);
+      EXPECT_EQ(c.joints.borders_without_joint, 0);
+      expect_sound_joints(c.strips, c.flat, c.joints);
+      expect_teeth_fit_slots(c.strips, c.flat, c.joints);
+      EXPECT_EQ(points_inside_other_parts(c, h), 0);
+    }
 }
 
 // Dovetail tabs lock in the plane (the head is wider than the neck) and the mate's socket has

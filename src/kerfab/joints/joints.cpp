@@ -88,6 +88,7 @@ class Builder {
       }
     }
     redraw(redo);
+    give_stubs_a_tooth(forbidden);
     for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
     for (std::size_t b = 0; b < out_.borders.size(); ++b) {
       std::vector<TabFlare> flares;
@@ -266,6 +267,133 @@ class Builder {
     int phase = -1;         // side whose turn it is for a tooth (0 or 1); -1: plain
     bool lone = false;      // the only tooth stretch of its free run
   };
+
+  /// A border that has no tooth, tab or glue line yet (a short stretch between two corners,
+  /// where the free room between the corners' bands is narrower than a tooth plus the usual
+  /// margins) gets one tooth in that room if both parts, drawn with it, stay whole and no tooth of
+  /// either is bitten: the margins guard against slits and tails next to a tooth, and the outline
+  /// cleanup (without_thin_features) already widens such slits and cuts such tails off where they
+  /// occur, so here the drawn outlines decide. The room is the band-free stretch (the bands keep
+  /// the tooth out of third parts, as for every tooth); widest first, then with a margin of
+  /// half the smallest feature, then none; the tooth is as wide as the tooth width allows and at
+  /// least 1 mm (the narrowest --tooth-width accepts).
+  void give_stubs_a_tooth(const std::vector<std::vector<std::array<double, 2>>>& forbidden) {
+    for (std::size_t i = 0; i < out_.borders.size(); ++i) {
+      BorderJoint& b = out_.borders[i];
+      if (b.teeth > 0) continue;
+      const Piece& piece = pieces_[i];
+      std::vector<std::array<double, 2>> blocked;
+      for (int side = 0; side < 2; ++side)
+        for (const auto& f : forbidden[2 * i + side])
+          if (std::min(f[1], piece.length) - std::max(f[0], 0.0) > 1e-9)
+            blocked.push_back({std::max(f[0], 0.0), std::min(f[1], piece.length)});
+      std::sort(blocked.begin(), blocked.end());
+      std::vector<std::array<double, 2>> room;  // free stretches, widest first
+      double at = 0;
+      for (const auto& f : blocked) {
+        if (f[0] > at) room.push_back({at, f[0]});
+        at = std::max(at, f[1]);
+      }
+      if (piece.length > at) room.push_back({at, piece.length});
+      std::sort(room.begin(), room.end(), [](const auto& x, const auto& y) {
+        return x[1] - x[0] > y[1] - y[0];
+      });
+      b.free_room = room.empty() ? 0.0 : room.front()[1] - room.front()[0];
+      if (out_.parts[b.patches[0]].repaired || out_.parts[b.patches[1]].repaired) continue;
+      bool done = false;
+      for (const auto& r : room) {
+        for (double margin : {o_.min_feature, 0.5 * o_.min_feature, 0.0}) {
+          // Ends of the border are corners of both parts, not bands: no margin there.
+          const double lo = r[0] > 1e-9 ? r[0] + margin : r[0];
+          const double hi = r[1] < piece.length - 1e-9 ? r[1] - margin : r[1];
+          const double width = std::min(o_.tooth_width, hi - lo);
+          if (width < 1.0 - 1e-6) continue;
+          const double mid = 0.5 * (lo + hi);
+          if (try_tooth(static_cast<int>(i), mid - 0.5 * width, mid + 0.5 * width)) {
+            done = true;
+            break;
+          }
+        }
+        if (done) break;
+      }
+    }
+  }
+
+  /// Border \p i (all plain) with a tooth on [s0, s1] instead, kept if one of its sides can own
+  /// it with both parts whole and no tooth of theirs bitten; otherwise everything as before.
+  bool try_tooth(int i, double s0, double s1) {
+    BorderJoint& b = out_.borders[i];
+    const Piece& piece = pieces_[i];
+    JointInterval in;
+    in.s0 = s0;
+    in.s1 = s1;
+    in.fold = piece.fold_at(0.5 * (s0 + s1));
+    const JointKind kind = kind_for(in.fold);
+    if (kind == JointKind::kNone) return false;
+    in.offsets = offsets_of(kind, in.fold);
+    in.plain = plain_offset(in.fold, thickness_);
+    for (double s : {s0, s1}) {
+      const ToothOffsets e = offsets_of(kind, piece.fold_at(s));
+      in.offsets.tip = std::min(in.offsets.tip, e.tip);
+      in.offsets.slot = std::min(in.offsets.slot, e.slot);
+      in.plain = std::min(in.plain, plain_offset(piece.fold_at(s), thickness_));
+    }
+    if (in.offsets.tip - in.offsets.slot < o_.min_depth) return false;
+    // The plain intervals around it keep their offsets.
+    std::vector<JointInterval> with;
+    for (const JointInterval& old : b.intervals) {
+      for (const auto& [lo, hi] : {std::pair{old.s0, std::min(old.s1, s0)},
+                                   std::pair{std::max(old.s0, s1), old.s1}}) {
+        if (hi - lo <= 1e-9) continue;
+        JointInterval part = old;
+        part.s0 = lo, part.s1 = hi;
+        with.push_back(part);
+      }
+    }
+    with.push_back(in);
+    std::sort(with.begin(), with.end(),
+              [](const JointInterval& x, const JointInterval& y) { return x.s0 < y.s0; });
+    const std::vector<JointInterval> before = b.intervals;
+    const std::array<PartOutline, 2> drawn = {out_.parts[b.patches[0]], out_.parts[b.patches[1]]};
+    const std::array<std::vector<Polygon2>, 2> lost = {lost_[b.patches[0]], lost_[b.patches[1]]};
+    for (int owner : {0, 1}) {
+      if (untrimmed_owner(i, in, owner) != owner) continue;
+      b.intervals = with;
+      for (JointInterval& x : b.intervals)
+        if (x.s0 == s0 && x.s1 == s1) x.owner = owner, x.kind = kind;
+      bool sound = true;
+      for (int p : b.patches) {
+        out_.parts[p] = outline(p);
+        sound = sound && !out_.parts[p].repaired && bitten_teeth(p).empty();
+      }
+      if (sound) {
+        b.free_room = -1;
+        ++b.teeth, ++out_.teeth;
+        out_.toothed_length += s1 - s0;
+        if (kind == JointKind::kTab) ++b.tabs, ++out_.tabs, out_.tab_length += s1 - s0;
+        return true;
+      }
+    }
+    b.intervals = before;
+    for (int k = 0; k < 2; ++k) out_.parts[b.patches[k]] = drawn[k], lost_[b.patches[k]] = lost[k];
+    return false;
+  }
+
+  /// The teeth of part \p p (border, interval) that a cut-back of the part bites into by more
+  /// than the fit tolerance (0.05 mm of the tooth's width).
+  std::vector<std::pair<int, int>> bitten_teeth(int p) const {
+    std::vector<std::pair<int, int>> bitten;
+    const Shapes sh = shapes(p);
+    for (const JointSpan& sp : sh.spans) {
+      if (!sp.tooth || sp.region.size() < 3) continue;
+      double lost = 0;
+      for (const auto& c : sh.cut)
+        for (const auto& overlap : polygon_intersection(sp.region, c))
+          lost += std::abs(polygon_area(overlap));
+      if (lost > 0.05 * std::abs(sp.offset)) bitten.emplace_back(sp.border, sp.interval);
+    }
+    return bitten;
+  }
 
   /// The side that gets the tooth of interval \p in laid out as \p st, or -1: the side whose
   /// turn it is, unless its tooth would be trimmed at a corner; a lone tooth has no neighbours
@@ -598,18 +726,8 @@ class Builder {
     bool changed = false;
     for (int round = 0; round < 64; ++round) {
       std::vector<std::pair<int, int>> bitten;  // (border, interval)
-      for (std::size_t p = 0; p < rings_.size(); ++p) {
-        const Shapes sh = shapes(static_cast<int>(p));
-        for (const JointSpan& sp : sh.spans) {
-          if (!sp.tooth || sp.region.size() < 3) continue;
-          double lost = 0;
-          for (const auto& c : sh.cut)
-            for (const auto& overlap : polygon_intersection(sp.region, c))
-              lost += std::abs(polygon_area(overlap));
-          // More than the fit tolerance (0.05 mm of the tooth's width) bitten off.
-          if (lost > 0.05 * std::abs(sp.offset)) bitten.emplace_back(sp.border, sp.interval);
-        }
-      }
+      for (std::size_t p = 0; p < rings_.size(); ++p)
+        for (const auto& t : bitten_teeth(static_cast<int>(p))) bitten.push_back(t);
       if (bitten.empty()) break;
       changed = true;
       for (const auto& [border, interval] : bitten)

@@ -76,6 +76,10 @@ struct BorderJoint {
   int glue = 0;     ///< paper: glue tabs
   int blocked = 0;  ///< intervals without teeth because of collisions
   int shallow = 0;  ///< intervals without teeth because tip - slot < min_depth
+  /// For a border left without a joint: its widest stretch clear of the joint bands of its
+  /// parts' other borders at its corners [mm] (a tooth needs 1 mm and both parts whole); -1 for
+  /// the others
+  double free_room = -1;
   /// "box", "tab", "box+tab", "glue" or "none" (no tooth, tab or glue tab: nothing locates or
   /// holds the two parts)
   std::string kind() const;

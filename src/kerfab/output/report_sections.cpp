@@ -279,6 +279,7 @@ json joints_section(const Joints& jt, const Material& material) {
                        {"tabs", b.tabs},
                        {"glue_tabs", b.glue},
                        {"dovetail_sides", flares}});
+    if (b.kind() == "none" && b.free_room >= 0) borders.back()["free_room_mm"] = b.free_room;
   }
   return {{"thickness_mm", material.thickness},
           {"teeth", jt.teeth - jt.tabs},
