@@ -2,6 +2,7 @@
 // checked on generated shapes with exact answers and on real meshes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "kerfab/adapters/target_surface.h"
@@ -166,6 +167,35 @@ TEST(Quads, RealMeshesBecomeSoundQuadMeshesOfTheSameTopology) {
     EXPECT_NE(r.method.find("lattice"), std::string::npos) << r.method;
     EXPECT_LT(r.irregular_vertices, 0.25 * static_cast<double>(r.quads.n_vertices()));
   }
+}
+
+// Polished quads: on Spot's triangle mesh (bundled) every corner lies between 25 and 155
+// degrees and no edge is shorter than a tenth of the median edge, measured here. Before the
+// doublets were removed and the quads polished: corners from 3.5 to 177 degrees (94 under 30,
+// 96 over 150 of 4168) and edges down to 0.4 mm of a median 11 mm.
+TEST(Quads, SpotsQuadsHaveNoSliverCorners) {
+  TriangleMesh t = triangulate(read_mesh(test::real_mesh("spot_triangulated.obj")));
+  const double side = bounding_box(t).largest_side();
+  for (auto& v : t.vertices) v *= 250.0 / side;
+  const QuadMeshResult r = mesh_of(t);
+  expect_sound_quads(r.quads);
+  std::vector<double> edges;
+  double lo = 180, hi = 0;
+  for (auto f : r.quads.faces()) {
+    const auto v = quad_vertices(r.quads, f);
+    for (int c = 0; c < 4; ++c) {
+      const Vec3 p = to_eigen(r.quads.point(OpenMesh::VertexHandle(v[c])));
+      const Vec3 a = to_eigen(r.quads.point(OpenMesh::VertexHandle(v[(c + 1) % 4]))) - p;
+      const Vec3 b = to_eigen(r.quads.point(OpenMesh::VertexHandle(v[(c + 3) % 4]))) - p;
+      const double angle = std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+      lo = std::min(lo, angle * 180 / M_PI), hi = std::max(hi, angle * 180 / M_PI);
+      edges.push_back(a.norm());
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  EXPECT_GT(lo, 25.0);
+  EXPECT_LT(hi, 155.0);
+  EXPECT_GT(edges.front(), 0.1 * edges[edges.size() / 2]);
 }
 
 }  // namespace

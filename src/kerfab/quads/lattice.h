@@ -29,6 +29,10 @@ struct LatticeInput {
   std::function<Vec3(const Vec3&)> project;
   /// The target's unit normal at the closest point to a point (faces are untangled against it).
   std::function<Vec3(const Vec3&)> normal_at;
+  /// Polish the quads: doublets (inner vertices of two quads) removed, and free vertices moved,
+  /// each at most 0.4 of its mean edge, toward corners of 30 to 150 degrees and edges at least
+  /// a quarter of their quad's mean edge (never making the worst quad around a vertex worse).
+  bool polish = true;
 };
 
 struct LatticeResult {

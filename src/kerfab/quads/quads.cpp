@@ -330,10 +330,14 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
     const std::vector<Vec3> positions =
         quads::position_field(surface, cross, spacing, o.smoothing_iterations);
 
-    for (const bool on_surface : {true, false}) {
+    // Polished quads first; where polishing moved a thin part's tip out of reach (the check's
+    // gap), the quads as untangled.
+    for (const auto& [on_surface, polish] :
+         {std::pair{true, true}, std::pair{true, false}, std::pair{false, true},
+          std::pair{false, false}}) {
       quads::LatticeInput li{&surface,   cross, positions, remeshed.features, spacing, mode,
                              on_surface, [&](const Vec3& p) { return target.closest(p).point; },
-                             [&](const Vec3& p) { return target.closest(p).normal; }};
+                             [&](const Vec3& p) { return target.closest(p).normal; }, polish};
       quads::LatticeResult lattice = quads::extract_quads(li);
       r.lattice_quads = lattice.lattice_quads;
       r.lattice_triangles = lattice.lattice_triangles;
