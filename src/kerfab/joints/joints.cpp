@@ -6,9 +6,13 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <atomic>
+#include <exception>
+#include <thread>
 #include <string>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/core/parallel.h"
 #include "kerfab/joints/border_pieces.h"
 #include "kerfab/joints/glue_tabs.h"
 
@@ -33,16 +37,19 @@ class Builder {
         o_(o),
         bp_(border::make_pieces(s, f)),
         rings_(bp_.rings),
-        pieces_(bp_.pieces) {}
+        pieces_(bp_.pieces),
+        lost_(rings_.size()) {}
 
   Joints run() {
     std::vector<std::vector<std::array<double, 2>>> forbidden(pieces_.size() * 2);
     for (std::size_t p = 0; p < rings_.size(); ++p)
       restrict_by_bands(static_cast<int>(p), forbidden);
     place_teeth(forbidden);
-    drop_bitten_teeth();
-    for (std::size_t p = 0; p < rings_.size(); ++p)
-      out_.parts.push_back(outline(static_cast<int>(p)));
+    std::set<int> all;
+    for (std::size_t p = 0; p < rings_.size(); ++p) all.insert(static_cast<int>(p));
+    drop_bitten_teeth(all);
+    out_.parts.resize(rings_.size());
+    draw(all);
     // A part so thin that its slots cut it through takes the teeth of its borders instead: its
     // outline then grows where it was cut back (its mates, larger as a rule, get the slots).
     std::set<int> swapped;
@@ -108,7 +115,7 @@ class Builder {
   const border::Pieces bp_;
   const std::vector<Ring>& rings_;
   const std::vector<Piece>& pieces_;
-  std::map<int, std::vector<Polygon2>> lost_;  // per part: the pieces it lost when last drawn
+  std::vector<std::vector<Polygon2>> lost_;  // per part: the pieces it lost when last drawn
   Joints out_;
 
 
@@ -685,9 +692,8 @@ class Builder {
   /// its border line out to its offset) comes within a millimetre of a piece the part lost when
   /// it was cut, made plain; the parts on both sides go into \p changed.
   void plain_where_lost(int p, std::set<int>& changed) {
-    const auto lost = lost_.find(p);
-    if (lost == lost_.end() || lost->second.empty()) return;
-    const auto near = polygon_offset(lost->second, 1.0);
+    if (lost_[p].empty()) return;
+    const auto near = polygon_offset(lost_[p], 1.0);
     // The spans of the same drawing as the lost pieces; intervals another part has made plain
     // since are skipped by their owner.
     for (const JointSpan& sp : out_.parts[p].spans) {
@@ -708,32 +714,65 @@ class Builder {
     }
   }
 
-  /// The outlines of \p changed parts (whose joints changed) drawn again; if the change let a
-  /// cut-back bite into teeth elsewhere (plain cut-backs where slots were), all of them.
+  /// The outlines of \p changed parts (whose joints changed) drawn again, and of the parts
+  /// whose teeth that let a cut-back bite into (plain cut-backs where slots were) and their mates.
+  /// A part's outline depends on its own borders' intervals only, so no other part changes.
   void redraw(const std::set<int>& changed) {
     if (changed.empty()) return;
-    if (drop_bitten_teeth()) {
-      for (std::size_t p = 0; p < rings_.size(); ++p) out_.parts[p] = outline(static_cast<int>(p));
-    } else {
-      for (int p : changed) out_.parts[p] = outline(p);
-    }
+    std::set<int> parts = drop_bitten_teeth(changed);
+    parts.insert(changed.begin(), changed.end());
+    draw(parts);
+  }
+
+  /// The outlines of \p parts, drawn on as many threads as the machine has (each part's outline
+  /// and lost pieces are its own).
+  void draw(const std::set<int>& parts) {
+    const std::vector<int> list(parts.begin(), parts.end());
+    for_each_of(list, [&](int p) { out_.parts[p] = outline(p); });
+  }
+
+  /// work(p) for every p of \p list, spread over the machine's threads; \p work must touch
+  /// only what belongs to p.
+  template <class Work>
+  static void for_each_of(const std::vector<int>& list, const Work& work) {
+    const int n = static_cast<int>(list.size());
+    const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = std::clamp(hw, 1, std::max(1, n));
+    std::atomic<int> next{0};
+    std::vector<std::exception_ptr> errors(threads);
+    run_parallel(threads, [&](int id) {
+      try {
+        for (int i = next++; i < n; i = next++) work(list[i]);
+      } catch (...) {
+        errors[id] = std::current_exception();
+      }
+    });
+    for (const auto& e : errors)
+      if (e) std::rethrow_exception(e);
   }
 
   /// Teeth that a cut-back of their own part bites into (at an acute corner the mitre of the
   /// next border reaches across this one) would no longer fill their slots: such intervals are
-  /// made plain, on both parts, until no tooth is bitten.
-  bool drop_bitten_teeth() {
-    bool changed = false;
-    for (int round = 0; round < 64; ++round) {
-      std::vector<std::pair<int, int>> bitten;  // (border, interval)
-      for (std::size_t p = 0; p < rings_.size(); ++p)
-        for (const auto& t : bitten_teeth(static_cast<int>(p))) bitten.push_back(t);
-      if (bitten.empty()) break;
-      changed = true;
-      for (const auto& [border, interval] : bitten)
-        make_plain(out_.borders[border], out_.borders[border].intervals[interval]);
+  /// made plain, on both parts, until no tooth is bitten. Only the parts in \p check are looked
+  /// at (the others' intervals have not changed since they were); returns the parts whose
+  /// intervals this changed.
+  std::set<int> drop_bitten_teeth(std::set<int> check) {
+    std::set<int> touched;
+    for (int round = 0; round < 64 && !check.empty(); ++round) {
+      const std::vector<int> list(check.begin(), check.end());
+      std::vector<std::vector<std::pair<int, int>>> of(rings_.size());  // (border, interval)
+      for_each_of(list, [&](int p) { of[p] = bitten_teeth(p); });
+      std::set<int> next;
+      for (int p : list)
+        for (const auto& [border, interval] : of[p]) {
+          make_plain(out_.borders[border], out_.borders[border].intervals[interval]);
+          next.insert(out_.borders[border].patches[0]);
+          next.insert(out_.borders[border].patches[1]);
+        }
+      touched.insert(next.begin(), next.end());
+      check = std::move(next);
     }
-    return changed;
+    return touched;
   }
 
   /// Interval \p in of border \p b without its tooth (counted as blocked), if it had one.
