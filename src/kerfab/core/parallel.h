@@ -1,6 +1,9 @@
 #pragma once
 // Work spread over threads that still finishes when the machine will not start them.
 
+#include <algorithm>
+#include <atomic>
+#include <exception>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -23,6 +26,30 @@ void run_parallel(int n, const Work& work) {
   }
   work(0);
   for (int id = started; id < n; ++id) work(id);
+}
+
+/// The machine's hardware threads, at least 1.
+inline int hardware_threads() {
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+/// work(i) for every i in [0, n), taken from a shared queue by up to \p threads threads (at
+/// most n). A thread whose work throws stops taking more; once all are done, the first
+/// exception (by thread) is rethrown here.
+template <class Work>
+void for_each_index(int n, int threads, const Work& work) {
+  threads = std::clamp(threads, 1, std::max(1, n));
+  std::atomic<int> next{0};
+  std::vector<std::exception_ptr> errors(threads);
+  run_parallel(threads, [&](int id) {
+    try {
+      for (int i = next++; i < n; i = next++) work(i);
+    } catch (...) {
+      errors[id] = std::current_exception();
+    }
+  });
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
 }
 
 }  // namespace kerfab

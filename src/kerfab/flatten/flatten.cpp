@@ -5,7 +5,6 @@
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <map>
 
@@ -503,21 +502,9 @@ Flattening flatten_patches(const Strips& strips, const FlattenOptions& options) 
   Flattening flat;
   const int np = static_cast<int>(strips.patches.size());
   flat.patches.resize(np);
-  const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int threads = std::clamp(options.threads > 0 ? options.threads : hw, 1, std::max(1, np));
-  std::atomic<int> next{0};
-  std::vector<std::exception_ptr> errors(threads);
-  auto work = [&](int id) {
-    try {
-      for (int p = next++; p < np; p = next++)
-        flat.patches[p] = flatten_one(strips, strips.patches[p], options);
-    } catch (...) {
-      errors[id] = std::current_exception();
-    }
-  };
-  run_parallel(threads, work);
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
+  for_each_index(np, options.threads > 0 ? options.threads : hardware_threads(), [&](int p) {
+    flat.patches[p] = flatten_one(strips, strips.patches[p], options);
+  });
   for (const auto& p : flat.patches) {
     flat.max_angle_error = std::max(flat.max_angle_error, p.max_angle_error);
     flat.max_border_length_error_rel =

@@ -6,9 +6,6 @@
 #include <map>
 #include <optional>
 #include <set>
-#include <atomic>
-#include <exception>
-#include <thread>
 #include <string>
 
 #include "kerfab/core/errors.h"
@@ -217,6 +214,27 @@ class Builder {
     }
   }
 
+  /// Interval [s0, s1] of \p piece, not yet owned, with the fold at its middle, \p kind the
+  /// joint that fold calls for, and the offsets of that kind (box where none) taken
+  /// conservatively over the interval: the shortest tip, the deepest slot and plain cut-back.
+  JointInterval interval_on(const Piece& piece, double s0, double s1, JointKind& kind) const {
+    JointInterval in;
+    in.s0 = s0;
+    in.s1 = s1;
+    in.fold = piece.fold_at(0.5 * (s0 + s1));
+    in.plain = plain_offset(in.fold, thickness_);
+    kind = kind_for(in.fold);
+    const JointKind shape = drawn_as(kind);
+    in.offsets = offsets_of(shape, in.fold);
+    for (double at : {s0, s1}) {
+      const ToothOffsets e = offsets_of(shape, piece.fold_at(at));
+      in.offsets.tip = std::min(in.offsets.tip, e.tip);
+      in.offsets.slot = std::min(in.offsets.slot, e.slot);
+      in.plain = std::min(in.plain, plain_offset(piece.fold_at(at), thickness_));
+    }
+    return in;
+  }
+
   void place_teeth(const std::vector<std::vector<std::array<double, 2>>>& forbidden) {
     for (std::size_t i = 0; i < pieces_.size(); ++i) {
       const Piece& piece = pieces_[i];
@@ -227,22 +245,8 @@ class Builder {
       b.length = piece.length;
       for (const Stretch& st :
            tooth_stretches(piece.length, forbidden[2 * i], forbidden[2 * i + 1])) {
-        JointInterval in;
-        in.s0 = st.s0;
-        in.s1 = st.s1;
-        const double mid = 0.5 * (in.s0 + in.s1);
-        in.fold = piece.fold_at(mid);
-        in.plain = plain_offset(in.fold, thickness_);
-        // Conservative over the interval: the shortest tip and the deepest slot.
-        const JointKind kind = kind_for(in.fold);
-        const JointKind shape = drawn_as(kind);
-        in.offsets = offsets_of(shape, in.fold);
-        for (double at : {in.s0, in.s1}) {
-          const ToothOffsets e = offsets_of(shape, piece.fold_at(at));
-          in.offsets.tip = std::min(in.offsets.tip, e.tip);
-          in.offsets.slot = std::min(in.offsets.slot, e.slot);
-          in.plain = std::min(in.plain, plain_offset(piece.fold_at(at), thickness_));
-        }
+        JointKind kind;
+        JointInterval in = interval_on(piece, st.s0, st.s1, kind);
         bool free = true;
         for (int side = 0; side < 2 && free; ++side)
           for (const auto& f : forbidden[2 * i + side])
@@ -289,17 +293,11 @@ class Builder {
       BorderJoint& b = out_.borders[i];
       if (b.teeth > 0) continue;
       const Piece& piece = pieces_[i];
-      std::vector<std::array<double, 2>> blocked;
-      for (int side = 0; side < 2; ++side)
-        for (const auto& f : forbidden[2 * i + side])
-          if (std::min(f[1], piece.length) - std::max(f[0], 0.0) > 1e-9)
-            blocked.push_back({std::max(f[0], 0.0), std::min(f[1], piece.length)});
-      std::sort(blocked.begin(), blocked.end());
       std::vector<std::array<double, 2>> room;  // free stretches, widest first
       double at = 0;
-      for (const auto& f : blocked) {
+      for (const auto& f : blocked(piece.length, forbidden[2 * i], forbidden[2 * i + 1])) {
         if (f[0] > at) room.push_back({at, f[0]});
-        at = std::max(at, f[1]);
+        at = f[1];
       }
       if (piece.length > at) room.push_back({at, piece.length});
       std::sort(room.begin(), room.end(), [](const auto& x, const auto& y) {
@@ -330,22 +328,9 @@ class Builder {
   /// it with both parts whole and no tooth of theirs bitten; otherwise everything as before.
   bool try_tooth(int i, double s0, double s1) {
     BorderJoint& b = out_.borders[i];
-    const Piece& piece = pieces_[i];
-    JointInterval in;
-    in.s0 = s0;
-    in.s1 = s1;
-    in.fold = piece.fold_at(0.5 * (s0 + s1));
-    const JointKind kind = kind_for(in.fold);
-    if (kind == JointKind::kNone) return false;
-    in.offsets = offsets_of(kind, in.fold);
-    in.plain = plain_offset(in.fold, thickness_);
-    for (double s : {s0, s1}) {
-      const ToothOffsets e = offsets_of(kind, piece.fold_at(s));
-      in.offsets.tip = std::min(in.offsets.tip, e.tip);
-      in.offsets.slot = std::min(in.offsets.slot, e.slot);
-      in.plain = std::min(in.plain, plain_offset(piece.fold_at(s), thickness_));
-    }
-    if (in.offsets.tip - in.offsets.slot < o_.min_depth) return false;
+    JointKind kind;
+    const JointInterval in = interval_on(pieces_[i], s0, s1, kind);
+    if (kind == JointKind::kNone || in.offsets.tip - in.offsets.slot < o_.min_depth) return false;
     // The plain intervals around it keep their offsets.
     std::vector<JointInterval> with;
     for (const JointInterval& old : b.intervals) {
@@ -412,6 +397,26 @@ class Builder {
     return owner;
   }
 
+  /// The stretches of a border piece of \p length where side \p a or \p b forbids teeth, within
+  /// [0, length], merged (touching within a nanometre) and in order.
+  static std::vector<std::array<double, 2>> blocked(
+      double length, const std::vector<std::array<double, 2>>& a,
+      const std::vector<std::array<double, 2>>& b) {
+    std::vector<std::array<double, 2>> all;
+    for (const auto* list : {&a, &b})
+      for (const auto& f : *list)
+        if (std::min(f[1], length) - std::max(f[0], 0.0) > 1e-9)
+          all.push_back({std::max(f[0], 0.0), std::min(f[1], length)});
+    std::sort(all.begin(), all.end());
+    std::vector<std::array<double, 2>> merged;
+    for (const auto& f : all)
+      if (!merged.empty() && f[0] <= merged.back()[1] + 1e-9)
+        merged.back()[1] = std::max(merged.back()[1], f[1]);
+      else
+        merged.push_back(f);
+    return merged;
+  }
+
   /// The intervals of a border piece of \p length: where neither side forbids teeth, stretches
   /// of about the tooth width (teeth alternate sides); the forbidden stretches between them, and
   /// free ones too short for a tooth, plain. Teeth fill the room that is free instead of a fixed
@@ -419,18 +424,7 @@ class Builder {
   std::vector<Stretch> tooth_stretches(
       double length, const std::vector<std::array<double, 2>>& a,
       const std::vector<std::array<double, 2>>& b) const {
-    std::vector<std::array<double, 2>> blocked;
-    for (const auto* list : {&a, &b})
-      for (const auto& f : *list)
-        if (std::min(f[1], length) - std::max(f[0], 0.0) > 1e-9)
-          blocked.push_back({std::max(f[0], 0.0), std::min(f[1], length)});
-    std::sort(blocked.begin(), blocked.end());
-    std::vector<std::array<double, 2>> merged;
-    for (const auto& f : blocked)
-      if (!merged.empty() && f[0] <= merged.back()[1] + 1e-9)
-        merged.back()[1] = std::max(merged.back()[1], f[1]);
-      else
-        merged.push_back(f);
+    std::vector<std::array<double, 2>> merged = blocked(length, a, b);
     // The narrowest tooth that stands: half the tooth width, at least 1 mm.
     const double narrowest = std::max(1.0, 0.5 * o_.tooth_width);
     std::vector<Stretch> out;
@@ -735,20 +729,8 @@ class Builder {
   /// only what belongs to p.
   template <class Work>
   static void for_each_of(const std::vector<int>& list, const Work& work) {
-    const int n = static_cast<int>(list.size());
-    const int hw = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const int threads = std::clamp(hw, 1, std::max(1, n));
-    std::atomic<int> next{0};
-    std::vector<std::exception_ptr> errors(threads);
-    run_parallel(threads, [&](int id) {
-      try {
-        for (int i = next++; i < n; i = next++) work(list[i]);
-      } catch (...) {
-        errors[id] = std::current_exception();
-      }
-    });
-    for (const auto& e : errors)
-      if (e) std::rethrow_exception(e);
+    for_each_index(static_cast<int>(list.size()), hardware_threads(),
+                   [&](int i) { work(list[i]); });
   }
 
   /// Teeth that a cut-back of their own part bites into (at an acute corner the mitre of the
