@@ -534,23 +534,35 @@ class Extractor {
     if (!in_.polish) return;
     // A vertex that stands out of its neighbours' plane (the tip of an ear or a horn) stays:
     // moved toward their middle it would slide back along the target and the quads would no
-    // longer reach the tip.
+    // longer reach the tip. (Only with the new points on the target: off it, as plain midpoints
+    // and centres, nothing is held.)
     std::vector<char> held = pinned;
-    for (auto v : out.vertices()) {
-      Vec3 mean = Vec3::Zero();
-      double edge = 0;
-      int n = 0;
-      for (auto w : v.vertices()) {
-        mean += to_eigen(out.point(w));
-        edge += (to_eigen(out.point(w)) - to_eigen(out.point(v))).norm();
-        ++n;
+    if (in_.on_surface)
+      for (auto v : out.vertices()) {
+        const Neighbours nb = neighbours(out, v);
+        const Vec3 here = to_eigen(out.point(v));
+        if (nb.count > 0 && std::abs((here - nb.mean).dot(in_.normal_at(here))) > kTip * nb.edge)
+          held[v.idx()] = 1;
       }
-      if (n == 0) continue;
-      const Vec3 normal = in_.on_surface ? in_.normal_at(to_eigen(out.point(v))) : Vec3::Zero();
-      if (std::abs((to_eigen(out.point(v)) - mean / n).dot(normal)) > kTip * edge / n)
-        held[v.idx()] = 1;
-    }
     untangle(out, held, 0.5, kPolishReach, true);
+  }
+
+  /// The vertices joined to \p v by an edge: how many, their mean, the mean edge length.
+  struct Neighbours {
+    int count = 0;
+    Vec3 mean = Vec3::Zero();
+    double edge = 0;  // [mm]
+  };
+  static Neighbours neighbours(const PolyMesh& out, OpenMesh::VertexHandle v) {
+    Neighbours nb;
+    const Vec3 here = to_eigen(out.point(v));
+    for (auto w : out.vv_range(v)) {
+      nb.mean += to_eigen(out.point(w));
+      nb.edge += (to_eigen(out.point(w)) - here).norm();
+      ++nb.count;
+    }
+    if (nb.count > 0) nb.mean /= nb.count, nb.edge /= nb.count;
+    return nb;
   }
 
   /// How far out of its neighbours' plane a vertex stands before polishing leaves it where it
@@ -653,14 +665,9 @@ class Extractor {
     for (int it = 0; it < 3; ++it)
       for (auto v : out.vertices()) {
         if (pinned[v.idx()] || out.is_boundary(v)) continue;
-        Vec3 mean = Vec3::Zero();
-        int n = 0;
-        for (auto w : v.vertices()) {
-          mean += to_eigen(out.point(w));
-          ++n;
-        }
-        if (n == 0) continue;
-        const Vec3 target = in_.project(mean / n);
+        const Neighbours nb = neighbours(out, v);
+        if (nb.count == 0) continue;
+        const Vec3 target = in_.project(nb.mean);
         const Vec3 here = to_eigen(out.point(v));
         bool ok = true;
         for (auto f : v.faces()) {
@@ -721,7 +728,6 @@ class Extractor {
   /// from where the pass found them (all on the target, unless on_surface is false).
   void untangle(PolyMesh& out, const std::vector<char>& pinned, double good, double reach,
                 bool edges) const {
-    const double kGood = good;
     const OpenMesh::VertexHandle none;
     std::vector<Vec3> origin;
     for (auto v : out.vertices()) origin.push_back(to_eigen(out.point(v)));
@@ -729,7 +735,7 @@ class Extractor {
       std::vector<char> involved(out.n_vertices(), 0);
       bool any = false;
       for (auto f : out.faces())
-        if (quality(out, f, none, Vec3::Zero(), edges) < kGood) {
+        if (quality(out, f, none, Vec3::Zero(), edges) < good) {
           any = true;
           for (auto v : out.fv_range(f)) involved[v.idx()] = 1;
         }
@@ -743,27 +749,22 @@ class Extractor {
           return q;
         };
         const Vec3 here = to_eigen(out.point(v));
-        Vec3 mean = Vec3::Zero(), centres = Vec3::Zero();
-        int n = 0, m = 0;
-        for (auto w : v.vertices()) {
-          mean += to_eigen(out.point(w));
-          ++n;
-        }
+        const Neighbours nb = neighbours(out, v);
+        const Vec3& mean = nb.mean;
+        const double edge = nb.edge;
+        Vec3 centres = Vec3::Zero();
+        int m = 0;
         for (auto f : v.faces())
           for (auto w : f.vertices())
             if (w != v) {
               centres += to_eigen(out.point(w));
               ++m;
             }
-        if (n == 0 || m == 0) continue;
-        mean /= n;
+        if (nb.count == 0 || m == 0) continue;
         centres /= m;
         std::vector<Vec3> options{mean, centres, 0.5 * (here + mean), 0.5 * (here + centres)};
         if (in_.on_surface)
           for (Vec3& p : options) p = in_.project(p);
-        double edge = 0;
-        for (auto w : v.vertices()) edge += (to_eigen(out.point(w)) - here).norm();
-        edge /= n;
         // How far from where it started this pass the vertex may go.
         auto within = [&](const Vec3& p) { return (p - origin[v.idx()]).norm() <= reach * edge; };
         double best = worst(here);
@@ -779,7 +780,7 @@ class Extractor {
         // Then a pattern search in the tangent plane, steps from half the mean edge down.
         const Vec3 normal = in_.normal_at(at);
         const Vec3 t1 = normal.unitOrthogonal(), t2 = normal.cross(t1);
-        for (double step = 0.5 * edge; step > 0.01 * edge && best < kGood;) {
+        for (double step = 0.5 * edge; step > 0.01 * edge && best < good;) {
           bool better = false;
           for (int d = 0; d < 8; ++d) {
             const double a = d * kPi / 4;
