@@ -11,6 +11,7 @@
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/joints/border_pieces.h"
 #include "kerfab/joints/glue_tabs.h"
+#include "kerfab/joints/plates.h"
 #include "polygon_probe.h"
 #include "shapes.h"
 #include "test_util.h"
@@ -434,13 +435,14 @@ TEST(Joints, EveryFoldGetsAJoint) {
   }
 }
 
-// Short borders between two corners: strips 5 and 4 mm wide meet their other halves at the fold
-// along borders that short, their ends in the corners where the 0 degree borders between the
-// strips come in (whose joint bands leave 2-3 mm between them). Each still gets a tooth or tab
-// that fits its slot, and in 3D no plate reaches into another.
+// Short borders between two corners: strips 6.25, 5, 4 and 3 mm wide meet their other halves at
+// the fold along borders that short, their ends in the corners where the 0 degree borders between
+// the strips come in (whose joint bands leave 2-3 mm between them, or nothing for the last two:
+// there the tooth is checked in 3D instead). Each still gets a tooth or tab that fits its slot,
+// and in 3D no plate reaches into another.
 TEST(Joints, ShortBordersBetweenCornersGetAJoint) {
   const double h = kMdf.thickness;
-  for (int nu : {16, 20})
+  for (int nu : {16, 20, 25, 33})
     for (double deg : {4.0, 12.0, 30.0, 90.0, 150.0}) {
       SCOPED_TRACE(std::to_string(nu) + " strips, " + std::to_string(deg) + " degrees");
       const Case c = folded_sheet(deg, {}, kMdf, nu);
@@ -710,4 +712,155 @@ TEST(Joints, RejectsBadOptions) {
 }
 
 }  // namespace
+// A part's plate near one place, fitted independently of the joint code's per-sub-quad frames:
+// the affine map from the flattened to the 3D positions of the part's vertices within \p radius
+// of that place (least squares), its normal from the fitted axes.
+struct LocalPlate {
+  Vec3 origin, e1, e2, normal;
+  bool ok = false;
+  Vec3 to3d(const Vec2& p, double w) const { return origin + p.x() * e1 + p.y() * e2 + w * normal; }
+  Vec3 local(const Vec3& q) const {
+    Eigen::Matrix3d m;
+    m << e1, e2, normal;
+    return m.colPivHouseholderQr().solve(q - origin);
+  }
+};
+
+LocalPlate plate_near(const Strips& s, const Flattening& f, int p, const Vec3& at, double radius) {
+  const auto locals = s.patches[p].local_vertices();
+  std::vector<int> use;
+  for (std::size_t i = 0; i < locals.size(); ++i)
+    if ((s.vertices[locals[i]] - at).norm() < radius) use.push_back(static_cast<int>(i));
+  LocalPlate pl;
+  if (use.size() < 3) return pl;
+  Eigen::MatrixXd a(static_cast<int>(use.size()), 3), b(static_cast<int>(use.size()), 3);
+  for (std::size_t k = 0; k < use.size(); ++k) {
+    const Vec2 x = f.patches[p].points[use[k]];
+    a.row(static_cast<int>(k)) << x.x(), x.y(), 1.0;
+    b.row(static_cast<int>(k)) = s.vertices[locals[use[k]]].transpose();
+  }
+  const Eigen::MatrixXd sol = a.colPivHouseholderQr().solve(b);
+  pl.e1 = sol.row(0).transpose();
+  pl.e2 = sol.row(1).transpose();
+  pl.origin = sol.row(2).transpose();
+  pl.normal = pl.e1.cross(pl.e2).normalized();
+  pl.ok = pl.normal.allFinite();
+  return pl;
+}
+
+// Issue 16 on a real mesh: on Spot's strips every border of the final joints has a joint, and the
+// teeth of the short borders (under 8 mm, between corners: where the joint bands leave no room
+// and teeth are checked in 3D) reach no deeper than 0.1 mm into any third part's plate, measured
+// with plates fitted independently (vertices within 6 mm) on a 0.1 mm grid at three heights.
+TEST(Joints, ShortBorderTeethOnSpotStayOutOfThirdParts) {
+  const PreparedInput in = test::load(test::spot());
+  const Strips s = test::real_strips(in);
+  const Flattening f = flatten_patches(s, {});
+  const Joints j = make_joints(s, f, kMdf, kLaser, {});
+  const double h = kMdf.thickness;
+  int short_teeth = 0, without = 0;
+  double deepest = 0;
+  for (std::size_t p = 0; p < j.parts.size(); ++p) {
+    for (const JointSpan& sp : j.parts[p].spans) {
+      const BorderJoint& b = j.borders[sp.border];
+      if (!sp.tooth || b.length >= 8) continue;
+      ++short_teeth;
+      const JointInterval& iv = b.intervals[sp.interval];
+      const Vec2 mid = 0.5 * (sp.from + sp.to);
+      // The part's plate near the tooth: fitted around the 3D point of the nearest vertex.
+      const auto locals = s.patches[p].local_vertices();
+      std::size_t nearest = 0;
+      for (std::size_t i = 0; i < locals.size(); ++i)
+        if ((f.patches[p].points[i] - mid).norm() < (f.patches[p].points[nearest] - mid).norm())
+          nearest = i;
+      const Vec3 centre = s.vertices[locals[nearest]];
+      const LocalPlate own = plate_near(s, f, static_cast<int>(p), centre, 6);
+      ASSERT_TRUE(own.ok);
+      for (std::size_t o = 0; o < j.parts.size(); ++o) {
+        if (static_cast<int>(o) == b.patches[0] || static_cast<int>(o) == b.patches[1]) continue;
+        const LocalPlate other = plate_near(s, f, static_cast<int>(o), centre, 8);
+        if (!other.ok) continue;
+        const Vec2 along = sp.to - sp.from;
+        const double lo = std::min(iv.plain, 0.0), hi = iv.offsets.tip;
+        for (double u = 0; u <= 1; u += 0.1 / std::max(along.norm(), 0.1))
+          for (double v = lo; v <= hi; v += 0.1) {
+            const Vec2 x = sp.from + u * along + v * sp.normal;
+            if (!test::inside_even_odd(x, j.parts[p].designed)) continue;
+            for (double w : {-0.45 * h, 0.0, 0.45 * h}) {
+              const Vec3 l = other.local(own.to3d(x, w));
+              const double face = 0.5 * h - std::abs(l.z());
+              const Vec2 m(l.x(), l.y());
+              if (face <= 0 || !test::inside_even_odd(m, j.parts[o].designed)) continue;
+              deepest = std::max(deepest,
+                                 std::min(face, test::distance_to_outline(m, j.parts[o].designed)));
+            }
+          }
+      }
+    }
+  }
+  // (On these raw strips 7 short borders of parts that fall apart stay plain; the resolve stage
+  // removes those ends. Without the 3D check, only the bands: 30 short teeth.)
+  for (const BorderJoint& b : j.borders) without += b.teeth == 0 && b.length < 8 ? 1 : 0;
+  EXPECT_LE(without, 7);
+  EXPECT_GE(short_teeth, 45);
+  EXPECT_LT(deepest, 0.2);
+}
+
+// The plates the joints check short-border teeth against: a flattened point goes to its 3D
+// place and back, heights along the part's normal, and depths count from the nearer face or the
+// outline (up to 1 mm), negative outside. Folded sheet at 90 degrees: the far half stands in the
+// plane y = 50 (its points (x, 50, w)).
+TEST(Joints, PlatesPlaceFlatPointsIn3D) {
+  const Case c = folded_sheet(90);
+  const double h = kMdf.thickness;
+  const border::Plates plates(c.strips, c.flat, h);
+  double worst = 0;
+  for (std::size_t p = 0; p < c.strips.patches.size(); ++p) {
+    const auto locals = c.strips.patches[p].local_vertices();
+    double y = 0;
+    for (int v : locals) y += c.strips.vertices[v].y() / static_cast<double>(locals.size());
+    for (std::size_t i = 0; i < locals.size(); ++i) {
+      const Vec3 q = plates.to3d(static_cast<int>(p), c.flat.patches[p].points[i], 0.0);
+      worst = std::max(worst, (q - c.strips.vertices[locals[i]]).norm());
+      const Vec3 up = plates.to3d(static_cast<int>(p), c.flat.patches[p].points[i], 1.0);
+      // Off the surface by 1 mm along the part's plane normal (z on the flat half, y on the other).
+      const Vec3 d = up - q;
+      EXPECT_NEAR(d.norm(), 1.0, 1e-9);
+      EXPECT_NEAR(std::abs(y < 49 ? d.z() : d.y()), 1.0, 1e-9);
+      const auto w = plates.window(static_cast<int>(p), q, q);
+      EXPECT_LT((plates.local(w, up) - Vec3(c.flat.patches[p].points[i].x(),
+                                           c.flat.patches[p].points[i].y(), 1.0))
+                    .norm(),
+                1e-9);
+    }
+  }
+  EXPECT_LT(worst, 1e-9);
+  // Depths in the part holding (41, 25, w), in the middle of a strip of the flat half.
+  int p = -1;
+  for (std::size_t k = 0; k < c.joints.parts.size() && p < 0; ++k) {
+    const Vec3 mid(41, 25, 0);
+    const auto w = plates.window(static_cast<int>(k), mid, mid);
+    if (w.frames.empty()) continue;
+    const Vec3 l = plates.local(w, mid);
+    if (std::abs(l.z()) < 1e-9 && test::inside_even_odd(Vec2(l.x(), l.y()), c.joints.parts[k].designed) &&
+        test::distance_to_outline(Vec2(l.x(), l.y()), c.joints.parts[k].designed) > 2)
+      p = static_cast<int>(k);
+  }
+  ASSERT_GE(p, 0);
+  const Polygon2& outline = c.joints.parts[p].designed;
+  auto depth = [&](const Vec3& q) { return plates.deepest_in(plates.window(p, q, q), {q}, outline); };
+  EXPECT_NEAR(depth(Vec3(41, 25, 0)), 1.0, 1e-9);     // 1.5 from the faces, outline counted to 1
+  EXPECT_NEAR(std::abs(depth(Vec3(41, 25, 1.2))), 0.3, 1e-9);   // 0.3 from a face
+  EXPECT_NEAR(depth(Vec3(41, 25, 1.2)), depth(Vec3(41, 25, -1.2)), 1e-9);
+  EXPECT_NEAR(depth(Vec3(41, 25, -2.0)), -0.5, 1e-9);  // 0.5 beyond the bottom face
+  // In its plane, 3 mm beyond its outline on the side toward x = 50 (where its strip ends):
+  // outside, by up to the 1 mm the outline is counted to.
+  double x_end = -1e300;
+  for (const Vec2& v : outline) x_end = std::max(x_end, v.x());
+  const auto w = plates.window(p, Vec3(41, 25, 0), Vec3(41, 25, 0));
+  const Vec3 l = plates.local(w, Vec3(41, 25, 0));
+  EXPECT_LT(depth(Vec3(41 + (x_end - l.x()) + 3, 25, 0)), 0);
+}
+
+
 }  // namespace kerfab

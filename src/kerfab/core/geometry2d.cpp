@@ -1,6 +1,7 @@
 #include "kerfab/core/geometry2d.h"
 
 #include <algorithm>
+#include <limits>
 
 namespace kerfab {
 
@@ -12,6 +13,32 @@ double polygon_area(const Polygon2& p) {
     a += u.x() * v.y() - u.y() * v.x();
   }
   return 0.5 * a;
+}
+
+bool inside(const Vec2& p, const std::vector<Polygon2>& polygons) {
+  int winding = 0;
+  for (const auto& poly : polygons)
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+      const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+      const double c = cross2(b - a, p - a);
+      if (a.y() <= p.y() && b.y() > p.y() && c > 0) ++winding;
+      if (a.y() > p.y() && b.y() <= p.y() && c < 0) --winding;
+    }
+  return winding != 0;
+}
+
+double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 e = b - a;
+  const double t =
+      e.squaredNorm() > 0 ? std::clamp((p - a).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (p - (a + t * e)).norm();
+}
+
+double distance_to_boundary(const Vec2& p, const Polygon2& polygon) {
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < polygon.size(); ++i)
+    d = std::min(d, distance_to_segment(p, polygon[i], polygon[(i + 1) % polygon.size()]));
+  return d;
 }
 
 void make_counter_clockwise(Polygon2& polygon) {

@@ -23,6 +23,15 @@ void make_counter_clockwise(Polygon2& polygon);
 /// The part of convex polygon \p convex with (p - at).m <= 0.
 Polygon2 clip_half_plane(const Polygon2& convex, const Vec2& at, const Vec2& m);
 
+/// Whether \p p lies inside \p polygons (non-zero winding over all their rings).
+bool inside(const Vec2& p, const std::vector<Polygon2>& polygons);
+
+/// Distance from \p p to the segment from \p a to \p b [mm].
+double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b);
+
+/// Distance from \p p to the boundary of \p polygon [mm].
+double distance_to_boundary(const Vec2& p, const Polygon2& polygon);
+
 /// The polygon of largest positive area among \p polygons (holes, clockwise, never), or an
 /// empty polygon if none has a positive area.
 Polygon2 largest_polygon(const std::vector<Polygon2>& polygons);

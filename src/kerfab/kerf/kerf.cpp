@@ -37,28 +37,10 @@ std::vector<double> crossings(const Vec2& a, const Vec2& b, const std::vector<Po
 }
 
 double segment_distance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  auto point_segment = [](const Vec2& p, const Vec2& u, const Vec2& v) {
-    const Vec2 e = v - u;
-    const double t =
-        e.squaredNorm() > 0 ? std::clamp((p - u).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
-    return (p - (u + t * e)).norm();
-  };
   auto side = [](const Vec2& o, const Vec2& p, const Vec2& q) { return cross2(p - o, q - o); };
   if (side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0) return 0.0;
-  return std::min({point_segment(a, c, d), point_segment(b, c, d), point_segment(c, a, b),
-                   point_segment(d, a, b)});
-}
-
-bool inside(const Vec2& p, const std::vector<Polygon2>& polys) {  // non-zero over all rings
-  int winding = 0;
-  for (const auto& poly : polys)
-    for (std::size_t i = 0; i < poly.size(); ++i) {
-      const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
-      const double c = (b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y());
-      if (a.y() <= p.y() && b.y() > p.y() && c > 0) ++winding;
-      if (a.y() > p.y() && b.y() <= p.y() && c < 0) --winding;
-    }
-  return winding != 0;
+  return std::min({distance_to_segment(a, c, d), distance_to_segment(b, c, d),
+                   distance_to_segment(c, a, b), distance_to_segment(d, a, b)});
 }
 
 /// The twist the strip takes along its length: each internal ruling's fold spread evenly over

@@ -114,18 +114,6 @@ bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) 
   return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0));
 }
 
-bool inside(const Vec2& p, const std::vector<Polygon2>& polys) {
-  int winding = 0;
-  for (const auto& poly : polys)
-    for (std::size_t i = 0; i < poly.size(); ++i) {
-      const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
-      const double c = cross2(b - a, p - a);
-      if (a.y() <= p.y() && b.y() > p.y() && c > 0) ++winding;
-      if (a.y() > p.y() && b.y() <= p.y() && c < 0) --winding;
-    }
-  return winding != 0;
-}
-
 /// Where engraving may go on one part: inside its outline (slots and teeth included) by the
 /// clearance, off its kerf cuts by the clearance, and off labels already placed.
 class LabelRoom {
