@@ -15,17 +15,27 @@ double polygon_area(const Polygon2& p) {
   return 0.5 * a;
 }
 
-bool inside(const Vec2& p, const std::vector<Polygon2>& polygons) {
-  int winding = 0;
-  for (const auto& poly : polygons)
-    for (std::size_t i = 0; i < poly.size(); ++i) {
-      const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
-      const double c = cross2(b - a, p - a);
-      if (a.y() <= p.y() && b.y() > p.y() && c > 0) ++winding;
-      if (a.y() > p.y() && b.y() <= p.y() && c < 0) --winding;
-    }
-  return winding != 0;
+namespace {
+/// Winding number of \p poly around \p p.
+int winding(const Vec2& p, const Polygon2& poly) {
+  int w = 0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2 a = poly[i], b = poly[(i + 1) % poly.size()];
+    const double c = cross2(b - a, p - a);
+    if (a.y() <= p.y() && b.y() > p.y() && c > 0) ++w;
+    if (a.y() > p.y() && b.y() <= p.y() && c < 0) --w;
+  }
+  return w;
 }
+}  // namespace
+
+bool inside(const Vec2& p, const std::vector<Polygon2>& polygons) {
+  int w = 0;
+  for (const auto& poly : polygons) w += winding(p, poly);
+  return w != 0;
+}
+
+bool inside(const Vec2& p, const Polygon2& polygon) { return winding(p, polygon) != 0; }
 
 double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 e = b - a;

@@ -25,6 +25,8 @@ Polygon2 clip_half_plane(const Polygon2& convex, const Vec2& at, const Vec2& m);
 
 /// Whether \p p lies inside \p polygons (non-zero winding over all their rings).
 bool inside(const Vec2& p, const std::vector<Polygon2>& polygons);
+/// Whether \p p lies inside \p polygon (non-zero winding).
+bool inside(const Vec2& p, const Polygon2& polygon);
 
 /// Distance from \p p to the segment from \p a to \p b [mm].
 double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b);

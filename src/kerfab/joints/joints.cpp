@@ -476,9 +476,10 @@ class Builder {
         for (int b = 0; b <= nv; ++b) {
           const Vec2 v = z.from + along * (static_cast<double>(a) / nu) +
                          (lo + (hi - lo) * b / nv) * z.normal;
-          if (within && !inside(v, {*within})) continue;
+          if (within && !inside(v, *within)) continue;
+          const auto [at, normal] = plates_.place(p, v);
           for (double w : {-0.45, 0.0, 0.45}) {
-            const Vec3 q = plates_.to3d(p, v, w * thickness_);
+            const Vec3 q = at + w * thickness_ * normal;
             points.push_back(q);
             bmin = bmin.cwiseMin(q), bmax = bmax.cwiseMax(q);
           }

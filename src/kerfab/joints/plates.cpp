@@ -49,19 +49,25 @@ Plates::Plates(const Strips& strips, const Flattening& flat, double thickness)
   }
 }
 
-Vec3 Plates::to3d(int p, const Vec2& v, double w) const {
+std::pair<Vec3, Vec3> Plates::place(int p, const Vec2& v) const {
   const Frame* best = nullptr;
   double nearest = std::numeric_limits<double>::infinity();
   for (const Frame& f : frames_[p]) {
-    if (inside(v, {f.flat})) {
+    if (inside(v, f.flat)) {
       best = &f;
       break;
     }
     const double d = (f.centre2 - v).squaredNorm();
     if (d < nearest) nearest = d, best = &f;
   }
-  if (!best) return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
-  return best->origin + v.x() * best->e1 + v.y() * best->e2 + w * best->n;
+  const Vec3 nan = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  if (!best) return {nan, nan};
+  return {best->origin + v.x() * best->e1 + v.y() * best->e2, best->n};
+}
+
+Vec3 Plates::to3d(int p, const Vec2& v, double w) const {
+  const auto [at, normal] = place(p, v);
+  return at + w * normal;
 }
 
 Plates::Window Plates::window(int p, const Vec3& lo, const Vec3& hi) const {
@@ -94,7 +100,7 @@ Vec3 Plates::local(const Window& w, const Vec3& q) const {
   for (const auto& [d, f] : nearest) {
     if (!f) break;
     const Vec3 l = f->inverse * (q - f->origin);
-    if (inside(Vec2(l.x(), l.y()), {f->flat})) return l;
+    if (inside(Vec2(l.x(), l.y()), f->flat)) return l;
     if (!first.allFinite()) first = l;
   }
   return first;
@@ -140,7 +146,7 @@ double Plates::deepest_in(const Window& w, const std::vector<Vec3>& qs,
     edges.push_back({a, b});
   }
   const Vec2 ref = 0.5 * (lo + hi);
-  const bool ref_inside = inside(ref, {outline});
+  const bool ref_inside = inside(ref, outline);
   for (const auto& [v, face] : in_plate) {
     bool in = ref_inside;
     double d = kReach;

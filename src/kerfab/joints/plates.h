@@ -7,6 +7,7 @@
 /// through the sub-quad that holds it (the nearest one beyond the outline), a 3D point into a
 /// part's flat frame through the part's nearest sub-quad.
 #include <array>
+#include <utility>
 #include <vector>
 
 #include "kerfab/core/geometry2d.h"
@@ -19,6 +20,9 @@ class Plates {
  public:
   Plates(const Strips& strips, const Flattening& flat, double thickness);
 
+  /// Point \p v of part \p p's flat frame on its mid-surface in 3D [mm], and the unit normal
+  /// there (NaN if the part has no sub-quad).
+  std::pair<Vec3, Vec3> place(int p, const Vec2& v) const;
   /// Point \p v of part \p p's flat frame at height \p w off its mid-surface, in 3D [mm].
   Vec3 to3d(int p, const Vec2& v, double w) const;
   /// Part \p p's sub-quads whose centre lies within a sub-quad's size (and the thickness) of the
