@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <set>
@@ -586,61 +585,6 @@ TEST(Cli, TooTightShapesAreResolvedIntoCleanSheets) {
               static_cast<std::size_t>(res["critical_before"].get<int>()));
     EXPECT_NE(paper.err.find("remain critical"), std::string::npos) << paper.err;
   }
-}
-
-// A strip that comes apart at a neck (a ring of four rows, 24 quads around, radius 60 mm; the
-// second row narrows to 0.6 mm over three quads) while the strips beside it change along its
-// length (the rows around it are split by guidance at other places): the resolver merges just
-// the narrow stretch sideways with the neighbour beside it, and nothing is lost. Without the
-// resolver the part falls apart and keeps only its larger piece.
-TEST(Cli, AStripThatComesApartAtANeckIsMergedThereWithItsNeighbour) {
-  const fs::path scratch = test::fresh_dir();
-  constexpr int kAround = 24;
-  const PolyMesh ring = test::grid_mesh(kAround, 4, true, false, [](double u, double v) {
-    const int i = static_cast<int>(std::lround(u * kAround)), j = static_cast<int>(std::lround(v * 4));
-    double z = 40 * v;
-    if (j == 2 && (i == 5 || i == 6)) z = 10.6;  // 0.6 mm above the rail below
-    if (j == 2 && (i == 4 || i == 7)) z = 15;
-    return Vec3(60 * std::cos(2 * M_PI * u), 60 * std::sin(2 * M_PI * u), z);
-  });
-  const fs::path target = scratch / "ring.obj", guidance = scratch / "split.json";
-  write_mesh(ring, target);
-  auto vertex = [](int i, int j) { return j * kAround + i; };
-  std::ofstream(guidance) << "{\"split\": [[" << vertex(10, 2) << "," << vertex(10, 3) << "],["
-                          << vertex(20, 2) << "," << vertex(20, 3) << "],[" << vertex(2, 0) << ","
-                          << vertex(2, 1) << "],[" << vertex(14, 0) << "," << vertex(14, 1)
-                          << "]]}";
-  const std::string args =
-      "run --target " + target.string() + " --guidance " + guidance.string() + " --size 120";
-  const CliRun plain = run_cli(args + " --no-resolve --out " + (scratch / "plain").string(), scratch);
-  ASSERT_EQ(plain.exit_code, 0) << plain.err;
-  EXPECT_EQ(read_report(scratch / "plain")["joints"]["repaired_parts"].get<int>(), 1);
-
-  const CliRun r = run_cli(args + " --out " + (scratch / "out").string(), scratch);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto report = read_report(scratch / "out");
-  EXPECT_EQ(report["status"], "ok");
-  EXPECT_EQ(report["joints"]["repaired_parts"].get<int>(), 0);
-  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
-  const auto& res = report["resolve"];
-  EXPECT_EQ(res["small_parts_after"].get<int>(), 0);
-  // The merge takes the narrow stretch (quads 28-30 of the second row), not the whole row.
-  int merges = 0;
-  for (const auto& change : res["changes"]) {
-    EXPECT_NE(change["action"], "unresolved");
-    if (change["action"] != "merge") continue;
-    ++merges;
-    for (const auto& q : change["quads"]) {
-      EXPECT_GE(q.get<int>(), kAround + 3);
-      EXPECT_LE(q.get<int>(), kAround + 7);
-    }
-  }
-  EXPECT_EQ(merges, 1);
-  EXPECT_LT(res["added"]["merge_edges"].get<int>(), kAround);
-  EXPECT_LT(report["quality"]["hausdorff_rel"].get<double>(), 1e-3);
-  const auto audit = test::audit_sheets(scratch / "out" / "cut");
-  EXPECT_EQ(audit.parts, res["parts_after"].get<int>());
-  EXPECT_TRUE(audit.clean()) << (audit.findings.empty() ? "" : audit.findings[0]);
 }
 
 }  // namespace

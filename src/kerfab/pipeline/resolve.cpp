@@ -53,25 +53,11 @@ std::vector<int> column_starts(const Strips& s, const Patch& p) {
   return starts;
 }
 
-std::vector<int> sorted(std::vector<int> v) {
-  std::sort(v.begin(), v.end());
-  return v;
-}
-
 int column_of(const std::vector<int>& starts, int interval) {
   return std::clamp(
       static_cast<int>(std::upper_bound(starts.begin(), starts.end(), interval) - starts.begin()) -
           1,
       0, static_cast<int>(starts.size()) - 2);
-}
-
-/// The strips' options with the guidance's splits, merges and facets added.
-StripsOptions strips_options(const PartsOptions& o, const Guidance& g) {
-  StripsOptions strips = o.strips;
-  strips.split_edges.insert(strips.split_edges.end(), g.split.begin(), g.split.end());
-  strips.merge_edges.insert(strips.merge_edges.end(), g.merge.begin(), g.merge.end());
-  strips.facets.insert(strips.facets.end(), g.facets.begin(), g.facets.end());
-  return strips;
 }
 
 Region region_of(const Strips& s, const Flattening& f, const CriticalRegion& c) {
@@ -112,44 +98,6 @@ Region part_region(const Strips& s, int p) {
   for (int v : vertices) r.centre += s.vertices[v];
   r.centre /= std::max<std::size_t>(1, vertices.size());
   return r;
-}
-
-/// The runs of columns of strip part \p p narrower somewhere than \p width as flattened (from
-/// rail 0 straight across to the last rail) [mm]: where a part that falls apart or is too narrow
-/// to handle comes apart. Each run is a region of its own, so a merge sideways can take just
-/// that stretch with the neighbour beside it (the rest of the strip stays as it is); empty for a
-/// facet or a strip nowhere that narrow.
-std::vector<Region> narrow_runs(const Strips& s, const Flattening& f, int p, double width) {
-  const Patch& patch = s.patches[p];
-  std::vector<Region> out;
-  if (patch.flat) return out;
-  const auto& pts = f.patches[p].points;
-  const auto starts = column_starts(s, patch);
-  const int columns = static_cast<int>(patch.quads.size());
-  auto narrow = [&](int col) {
-    for (int i = starts[col]; i <= starts[col + 1]; ++i)
-      if ((pts[patch.local(patch.rows(), i)] - pts[patch.local(0, i)]).norm() < width) return true;
-    return false;
-  };
-  for (int col = 0; col < columns; ++col) {
-    if (!narrow(col)) continue;
-    Region r;
-    r.patch = p;
-    r.small_part = true;
-    r.c0 = col;
-    while (col + 1 < columns && narrow(col + 1)) ++col;
-    r.c1 = col;
-    int n = 0;
-    for (int c = r.c0; c <= r.c1; ++c) {
-      r.quads.push_back(patch.quads[c]);
-      for (const PatchRow& row : patch.more_rows) r.quads.push_back(row.quads[c]);
-    }
-    for (int i = starts[r.c0]; i <= starts[r.c1 + 1]; ++i, n += 2)
-      r.centre += s.vertices[patch.rulings[i][0]] + s.vertices[patch.rulings[i][1]];
-    r.centre /= n;
-    out.push_back(std::move(r));
-  }
-  return out;
 }
 
 /// Largest fold across ruling \p i of patch \p p, over its rows' rail vertices [rad].
@@ -231,22 +179,7 @@ class Resolver {
       if (g.bendable) user_bendable_.insert(edge_between(m_, {g.v0, g.v1}));
     for (const auto& v : o_.strips.merge_edges) user_merge_.insert(edge_between(m_, v));
     for (const auto& v : o_.strips.split_edges) user_split_.insert(edge_between(m_, v));
-    // Where a crease split or a merge did not resolve: quads of critical bends, and the exact
-    // stretches of small parts (a part that grew by a merge is tried again).
-    std::set<int> cheap_failed;
-    std::set<std::vector<int>> small_failed;
-    auto mark_failed = [&](const Region& r) {
-      if (r.small_part)
-        small_failed.insert(sorted(r.quads));
-      else
-        cheap_failed.insert(r.quads.begin(), r.quads.end());
-    };
-    auto failed_before = [&](const Region& r) {
-      if (r.small_part) return small_failed.count(sorted(r.quads)) > 0;
-      for (int q : r.quads)
-        if (cheap_failed.count(q)) return true;
-      return false;
-    };
+    std::set<int> cheap_failed;  // quads where a crease split or a merge did not resolve
     for (int round = 0; r_.enabled && round < r_.max_rounds; ++round) {
       std::vector<Region> pending = current_regions();
       if (pending.empty()) break;
@@ -254,7 +187,9 @@ class Resolver {
       Added trial = accepted_;
       std::vector<std::tuple<Region, Added, Remedy>> applied;
       for (const Region& region : pending) {
-        if (failed_before(region)) continue;
+        bool failed = false;
+        for (int q : region.quads) failed = failed || cheap_failed.count(q);
+        if (failed) continue;
         for (Remedy remedy : {Remedy::kSplit, Remedy::kMerge}) {
           Added own;
           if (apply(remedy, region, trial, own)) {
@@ -263,25 +198,6 @@ class Resolver {
           }
         }
       }
-      // Remedies the strips refuse (a merge that would close a tube or pass a singularity)
-      // are found before the costly rebuild, one at a time, so they do not take the others
-      // down with them.
-      if (!applied.empty() && !strips_accept(trial)) {
-        Added ok = accepted_;
-        std::vector<std::tuple<Region, Added, Remedy>> accepted;
-        for (auto& a : applied) {
-          Added t = ok;
-          merge_into(t, std::get<1>(a));
-          if (strips_accept(t)) {
-            ok = std::move(t);
-            accepted.push_back(std::move(a));
-          } else {
-            mark_failed(std::get<0>(a));
-          }
-        }
-        trial = std::move(ok);
-        applied = std::move(accepted);
-      }
       if (!applied.empty()) {
         std::optional<PartsBuild> tried;
         try {
@@ -289,35 +205,19 @@ class Resolver {
           ++out_.rounds;
         } catch (const InvalidInput&) {  // the strips refused a merge (a branch or a tube)
           for (const auto& a : applied)
-            mark_failed(std::get<0>(a));
+            cheap_failed.insert(std::get<0>(a).quads.begin(), std::get<0>(a).quads.end());
         }
         if (tried) {
           const std::set<int> still = critical_quads(*tried);
-          const std::set<int> small_now = small_part_quads(*tried);
-          const std::set<int> small_before = small_part_quads(build_);
           const Added before = accepted_;
           const std::size_t recorded = out_.changes.size();
           std::size_t kept = 0;
           for (const auto& [region, own, remedy] : applied) {
             bool resolved = true;
-            // A part too small or narrow is resolved once its quads lie in parts a maker can
-            // handle (a bend there too dense to cut is a region of its own, next round); a
-            // merge that leaves fewer of the quads around it in such parts is kept as a step:
-            // the next round merges what is still too narrow further.
-            if (region.small_part) {
-              int now = 0, was = 0;
-              for (int q : region.quads)
-                for (int n : with_neighbours(q)) {
-                  now += small_now.count(n) ? 1 : 0;
-                  was += small_before.count(n) ? 1 : 0;
-                }
-              resolved = now < was;
-            } else {
-              for (int q : region.quads)
-                for (int n : with_neighbours(q)) resolved = resolved && !still.count(n);
-            }
+            for (int q : region.quads)
+              for (int n : with_neighbours(q)) resolved = resolved && !still.count(n);
             if (!resolved) {
-              mark_failed(region);
+              cheap_failed.insert(region.quads.begin(), region.quads.end());
               continue;
             }
             merge_into(accepted_, own);
@@ -334,7 +234,7 @@ class Resolver {
               accepted_ = before;
               out_.changes.resize(recorded);
               for (const auto& a : applied)
-                mark_failed(std::get<0>(a));
+                cheap_failed.insert(std::get<0>(a).quads.begin(), std::get<0>(a).quads.end());
             }
           }
         }
@@ -345,17 +245,13 @@ class Resolver {
       const std::size_t recorded = out_.changes.size();
       std::set<int> tried;
       int made = 0;
-      std::set<int> whole;  // small parts given to facets whole
-      for (const Region& stretch : pending) {
-        const bool failed = failed_before(stretch);
+      for (const Region& region : pending) {
+        bool failed = false;
+        for (int q : region.quads) failed = failed || cheap_failed.count(q);
         Added scratch = accepted_, ignore;
-        const bool cheap = apply(Remedy::kSplit, stretch, scratch, ignore) ||
-                           apply(Remedy::kMerge, stretch, scratch, ignore);
+        const bool cheap = apply(Remedy::kSplit, region, scratch, ignore) ||
+                           apply(Remedy::kMerge, region, scratch, ignore);
         if (cheap && !failed) continue;  // its cheap remedy comes first, next round
-        // Facets grow from a whole small part (a narrow stretch alone was for the merge).
-        if (stretch.small_part && !whole.insert(stretch.patch).second) continue;
-        const Region region =
-            stretch.small_part ? part_region(strips(), stretch.patch) : stretch;
         bool given_up = true;
         for (int q : region.quads) given_up = given_up && stuck_.count(q);
         if (given_up) continue;
@@ -431,17 +327,6 @@ class Resolver {
             : nullptr);
   }
 
-  /// Whether the strips take the splits, merges and facets of \p a on the current bending
-  /// (cheap: the strips are a small part of a rebuild).
-  bool strips_accept(const Added& a) const {
-    try {
-      build_strips(in_.quads, build_.bending, in_.surface, strips_options(o_, a.guidance));
-      return true;
-    } catch (const InvalidInput&) {
-      return false;
-    }
-  }
-
   static void merge_into(Added& into, const Added& from) {
     auto& g = into.guidance;
     g.edges.insert(g.edges.end(), from.guidance.edges.begin(), from.guidance.edges.end());
@@ -465,38 +350,18 @@ class Resolver {
       const Patch& patch = build_.flat.strips.patches[p];
       bool tried = patch.flat;
       for (int q : patch.all_quads()) tried = tried && stuck_.count(q);
-      if (tried) continue;
-      // Where it is narrower than a part may be, if anywhere: that stretch alone.
-      auto runs = narrow_runs(build_.flat.strips, build_.flat.flattening, p, r_.min_part_width);
-      if (runs.empty() || runs.front().quads.size() == patch.all_quads().size())
-        out.push_back(part_region(build_.flat.strips, p));
-      else
-        out.insert(out.end(), runs.begin(), runs.end());
+      if (!tried) out.push_back(part_region(build_.flat.strips, p));
     }
     return out;
   }
 
   /// Quads of the critical regions and small parts of \p b.
   std::set<int> critical_quads(const PartsBuild& b) const {
-    std::set<int> out = bend_quads(b);
-    const std::set<int> small = small_part_quads(b);
-    out.insert(small.begin(), small.end());
-    return out;
-  }
-
-  /// Quads of the critical regions of \p b (bends the laser cannot make bendable enough).
-  static std::set<int> bend_quads(const PartsBuild& b) {
     std::set<int> out;
     for (const CriticalRegion& c : b.kerf.critical) {
       const Region r = region_of(b.flat.strips, b.flat.flattening, c);
       out.insert(r.quads.begin(), r.quads.end());
     }
-    return out;
-  }
-
-  /// Quads of the parts of \p b too small or narrow to handle.
-  std::set<int> small_part_quads(const PartsBuild& b) const {
-    std::set<int> out;
     for (int p : small_parts(b, r_.min_part_area, r_.min_part_width)) {
       const auto quads = b.flat.strips.patches[p].all_quads();
       out.insert(quads.begin(), quads.end());
@@ -1117,7 +982,11 @@ PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const 
     bending.guidance.insert(bending.guidance.end(), g.edges.begin(), g.edges.end());
     b.bending = choose_bending_edges(input.quads, input.surface, bending);
   }
-  b.strips = build_strips(input.quads, b.bending, input.surface, strips_options(o, g));
+  StripsOptions strips = o.strips;
+  strips.split_edges.insert(strips.split_edges.end(), g.split.begin(), g.split.end());
+  strips.merge_edges.insert(strips.merge_edges.end(), g.merge.begin(), g.merge.end());
+  strips.facets.insert(strips.facets.end(), g.facets.begin(), g.facets.end());
+  b.strips = build_strips(input.quads, b.bending, input.surface, strips);
   b.flat = flatten_cuttable(b.strips, o.flatten, o.usable, o.deformation_spacing);
   b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints);
   b.kerf =

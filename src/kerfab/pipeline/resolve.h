@@ -7,9 +7,7 @@
 ///      fold (one more part, no loss of fidelity);
 ///   2. merge the strip sideways with an aligned neighbour (paper Sec. 3.5): longer beams need
 ///      fewer cuts; the inner rail moves onto the straight rulings (fidelity loss measured first
-///      and bounded). A part too narrow over a stretch (where it comes apart when cut) merges
-///      just that stretch, with the strip beside it, and again next round while still too
-///      narrow;
+///      and bounded);
 ///   3. re-solve the bending program with the region's bending edges forced stiff: the strips
 ///      there turn the other way;
 ///   4. planar facets: every edge of the region's quads stiff, split at every fold: flat parts
