@@ -837,9 +837,9 @@ TEST(Joints, PlatesPlaceFlatPointsIn3D) {
     double y = 0;
     for (int v : locals) y += c.strips.vertices[v].y() / static_cast<double>(locals.size());
     for (std::size_t i = 0; i < locals.size(); ++i) {
-      const Vec3 q = plates.to3d(static_cast<int>(p), c.flat.patches[p].points[i], 0.0);
+      const auto [q, normal] = plates.place(static_cast<int>(p), c.flat.patches[p].points[i]);
       worst = std::max(worst, (q - c.strips.vertices[locals[i]]).norm());
-      const Vec3 up = plates.to3d(static_cast<int>(p), c.flat.patches[p].points[i], 1.0);
+      const Vec3 up = q + normal;
       // Off the surface by 1 mm along the part's plane normal (z on the flat half, y on the other).
       const Vec3 d = up - q;
       EXPECT_NEAR(d.norm(), 1.0, 1e-9);

@@ -65,11 +65,6 @@ std::pair<Vec3, Vec3> Plates::place(int p, const Vec2& v) const {
   return {best->origin + v.x() * best->e1 + v.y() * best->e2, best->n};
 }
 
-Vec3 Plates::to3d(int p, const Vec2& v, double w) const {
-  const auto [at, normal] = place(p, v);
-  return at + w * normal;
-}
-
 Plates::Window Plates::window(int p, const Vec3& lo, const Vec3& hi) const {
   Window w;
   w.part = p;

@@ -23,8 +23,6 @@ class Plates {
   /// Point \p v of part \p p's flat frame on its mid-surface in 3D [mm], and the unit normal
   /// there (NaN if the part has no sub-quad).
   std::pair<Vec3, Vec3> place(int p, const Vec2& v) const;
-  /// Point \p v of part \p p's flat frame at height \p w off its mid-surface, in 3D [mm].
-  Vec3 to3d(int p, const Vec2& v, double w) const;
   /// Part \p p's sub-quads whose centre lies within a sub-quad's size (and the thickness) of the
   /// box [lo, hi]: all that local() needs for points in that box.
   struct Window {
