@@ -17,6 +17,8 @@ int main(int argc, char** argv) {
             << "; cut pairs closer than the spacing " << a.close_cut_pairs << " (closest "
             << a.closest_cuts << " mm), short cuts " << a.short_cuts << ", small parts "
             << a.small_parts << ", narrow parts " << a.narrow_parts << ", thin tails/slits "
-            << a.thin_features << ", engraving off part/over cuts " << a.labels_off_part << "\n";
+            << a.thin_features << ", engraving off part/over cuts " << a.labels_off_part
+            << ", parts closer than the gap " << a.close_part_pairs << " (closest "
+            << a.closest_parts << " mm)\n";
   return a.clean() ? 0 : 1;
 }

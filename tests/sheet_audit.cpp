@@ -181,6 +181,40 @@ SheetAudit audit_sheets(const std::filesystem::path& cut_dir, const AuditLimits&
       }
     }
   }
+  // Between parts: the laser paths of two parts on one sheet keep min_part_gap apart (closer,
+  // the scrap between them burns away and the parts rattle or scorch). Exact segment distances,
+  // after a bounding-box test.
+  struct Bounds {
+    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+  };
+  std::vector<Bounds> bounds(parts.size());
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    for (const Vec2& v : parts[i].outline) {
+      bounds[i].x0 = std::min(bounds[i].x0, v.x()), bounds[i].x1 = std::max(bounds[i].x1, v.x());
+      bounds[i].y0 = std::min(bounds[i].y0, v.y()), bounds[i].y1 = std::max(bounds[i].y1, v.y());
+    }
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    for (std::size_t j = i + 1; j < parts.size(); ++j) {
+      if (parts[i].sheet != parts[j].sheet) continue;
+      const Bounds &b = bounds[i], &c = bounds[j];
+      const double g = lim.min_part_gap;
+      if (b.x0 > c.x1 + g || c.x0 > b.x1 + g || b.y0 > c.y1 + g || c.y0 > b.y1 + g) continue;
+      const Polygon2 &p = parts[i].outline, &q = parts[j].outline;
+      double d = 1e300;
+      Vec2 at = p.empty() ? Vec2(0, 0) : p[0];
+      for (std::size_t k = 0; k < p.size(); ++k)
+        for (std::size_t m = 0; m < q.size(); ++m) {
+          const double e = segment_distance(p[k], p[(k + 1) % p.size()], q[m], q[(m + 1) % q.size()]);
+          if (e < d) d = e, at = p[k];
+        }
+      // One inside the other (a part in another's hole) without touching: still apart.
+      a.closest_parts = std::min(a.closest_parts, d);
+      if (d < g - 1e-6) {
+        ++a.close_part_pairs;
+        a.findings.push_back(parts[j].id + " " + std::to_string(d) + " mm from " +
+                             where(parts[i], at));
+      }
+    }
   return a;
 }
 

@@ -2,7 +2,7 @@
 // An independent check of written cut sheets: reads cut/sheet-NNN.svg back (its own parser, not
 // kerfab's writer) and measures what a maker would find at the laser: cuts closer than the
 // laser can make, cuts too short to cut, parts too small or narrow to handle, thin tails and
-// slits in outlines, engraving off its part or across a cut.
+// slits in outlines, engraving off its part or across a cut, parts laid out too close together.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -19,6 +19,8 @@ struct AuditLimits {
   double min_feature = 1.0;      ///< tails and slits narrower than this [mm]
   double label_clearance = 0.2;  ///< engraving keeps this far inside the outline and off cuts [mm]
   double kerf_width = 0.15;      ///< the laser path runs half of it outside the part [mm]
+  double min_part_gap = 1.0;     ///< between two parts' laser paths on one sheet, so the strip
+                                 ///< of scrap between them does not burn away [mm]
 };
 
 struct SheetPart {
@@ -43,10 +45,12 @@ struct SheetAudit {
   int narrow_parts = 0;     ///< nothing left after shrinking by min_part_width / 2
   int thin_features = 0;    ///< tails or slits narrower than min_feature
   int labels_off_part = 0;  ///< engraving strokes outside the part's inset or across a cut
+  int close_part_pairs = 0;  ///< pairs of parts on one sheet closer than min_part_gap
+  double closest_parts = 1e300;  ///< smallest gap between two parts' laser paths [mm]
   std::vector<std::string> findings;  ///< one line per defect, naming part and place
   bool clean() const {
     return close_cut_pairs + short_cuts + small_parts + narrow_parts + thin_features +
-               labels_off_part ==
+               labels_off_part + close_part_pairs ==
            0;
   }
 };

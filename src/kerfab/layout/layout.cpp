@@ -224,6 +224,7 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   const int hi_x = static_cast<int>(std::floor((o.sheet_width - o.margin) / cell));
   const int lo_y = lo_x, hi_y = static_cast<int>(std::floor((o.sheet_height - o.margin) / cell));
   std::vector<SheetGrid> sheets;
+  double fitting_area = 0, grown_area = 0;  // of the parts that fit a sheet [mm^2]
   for (int i : order) {
     const Polygon2& part = outlines[i];
     if (part.size() < 3 || !fits_sheet(part, o)) {
@@ -232,6 +233,8 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     }
     const auto grown = polygon_offset({part}, 0.5 * o.spacing);
     const Polygon2 inflated = grown.empty() ? part : grown.front();
+    fitting_area += area[i];
+    grown_area += std::abs(polygon_area(inflated));
     const double base = -min_area_rect(part).angle;
     std::vector<Raster> rasters;
     std::vector<Box> boxes;  // the turned part itself (not grown), for the margins
@@ -283,6 +286,14 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     if (!placed) result.unplaced.push_back(i);
   }
   result.sheets = static_cast<int>(sheets.size());
+  // Bounds on the sheets any nesting needs: the parts' area over the usable area, and with the
+  // spacing (the parts grown by half of it are disjoint and lie in the usable area grown alike).
+  const double usable = (o.sheet_width - 2 * o.margin) * (o.sheet_height - 2 * o.margin);
+  const double usable_grown =
+      (o.sheet_width - 2 * o.margin + o.spacing) * (o.sheet_height - 2 * o.margin + o.spacing);
+  result.sheets_lower_bound = static_cast<int>(std::ceil(fitting_area / usable - 1e-9));
+  result.sheets_lower_bound_spaced =
+      static_cast<int>(std::ceil(grown_area / usable_grown - 1e-9));
   if (result.sheets == 0 && n > 0) {
     // Nothing fits: the sheet is the problem, not the parts. Say what would fit the smallest.
     double need = 1e300;

@@ -31,6 +31,13 @@ struct LayoutResult {
   std::vector<Placement> placements;  ///< per part; sheet -1: does not fit any sheet
   int sheets = 0;
   double utilization = 0;  ///< parts' area / sheets' area [-]
+  /// No nesting can use fewer sheets than this: the placed parts' area over one sheet's usable
+  /// area (inside the margins), rounded up.
+  int sheets_lower_bound = 0;
+  /// The same with the spacing counted: parts grown by half the spacing do not overlap and lie
+  /// within the usable area grown by half the spacing, so their area over that one's is a
+  /// lower bound as well, and a tighter one.
+  int sheets_lower_bound_spaced = 0;
   std::vector<int> unplaced;
   // Filled by lay_out_parts (not by nest_parts):
   std::vector<std::optional<Label>> labels;       ///< per part: its number, if it fits
@@ -58,8 +65,8 @@ bool fits_sheet(const Polygon2& outline, const LayoutOptions& options);
 
 /// Places the parts (largest first, bottom-left, trying the minimum-rectangle orientation and
 /// its quarter turns) on an occupancy grid of the outlines grown by half the spacing (every cell
-/// an outline touches counts as taken, so concave parts interlock but never overlap). \throw
-/// InvalidInput options out of range.
+/// an outline touches counts as taken, so concave parts interlock but never overlap), and
+/// computes the two lower bounds on the sheets. \throw InvalidInput options out of range.
 LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& options);
 
 /// Per part: neighbour part -> total shared border length [mm] (3D length of the border pieces).
