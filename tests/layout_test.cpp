@@ -256,6 +256,16 @@ TEST(Layout, EveryTestShapeGivesSoundSheets) {
       expect_clean_paths(dir / svg);
     }
     EXPECT_GT(run.layout->utilization, 0.05);
+    // The bounds hold (an independent sum over the written parts' areas) and the nest stays
+    // within one sheet of the spaced bound.
+    double area = 0;
+    for (const auto& part : run.joints->parts) area += std::abs(polygon_area(part.cut));
+    EXPECT_EQ(run.layout->sheets_lower_bound,
+              static_cast<int>(std::ceil(area / (280.0 * 180.0) - 1e-9)));
+    EXPECT_LE(run.layout->sheets_lower_bound, run.layout->sheets_lower_bound_spaced);
+    EXPECT_LE(run.layout->sheets_lower_bound_spaced, run.layout->sheets);
+    EXPECT_LE(run.layout->sheets, run.layout->sheets_lower_bound_spaced + 1)
+        << run.layout->sheets << " sheets for " << run.joints->parts.size() << " parts";
   }
 }
 

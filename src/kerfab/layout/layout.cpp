@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/core/parallel.h"
 
 namespace kerfab {
 namespace {
@@ -201,47 +202,48 @@ struct SheetGrid {
 
 }  // namespace
 
-LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& o) {
-  if (!(o.sheet_width > 0) || !(o.sheet_height > 0))
-    throw InvalidInput("--sheet: width and height must be > 0 mm");
-  if (!(o.margin >= 0) || !(o.spacing >= 0))
-    throw InvalidInput("--margin and --spacing must be >= 0 mm");
-  if (!(o.step > 0)) throw InvalidInput("layout step must be > 0 mm");
-  if (2 * o.margin >= std::min(o.sheet_width, o.sheet_height))
-    throw InvalidInput("--margin leaves no room on the sheet");
-  const int n = static_cast<int>(outlines.size());
-  LayoutResult result;
-  result.placements.resize(n);
-  std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
-  std::vector<double> area(n);
-  for (int i = 0; i < n; ++i) area[i] = std::abs(polygon_area(outlines[i]));
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
+namespace {
+
+/// A part ready for placing: its rasters and turned boxes at the minimum-rectangle angle and
+/// its quarter turns.
+struct Prepared {
+  bool fits = false;
+  double area = 0, grown_area = 0, rect_area = 0, length = 0;
+  std::vector<Raster> rasters;
+  std::vector<Box> boxes;  ///< the turned part itself (not grown), for the margins
+};
+
+/// One bottom-left first-fit pass over the parts in \p order: each on the first sheet with
+/// room, there at the lowest, then leftmost position over its orientations.
+struct Pass {
+  std::vector<Placement> placements;
+  std::vector<int> unplaced;
+  std::vector<double> sheet_area;  ///< parts' area per sheet [mm^2]
+  int sheets() const { return static_cast<int>(sheet_area.size()); }
+  /// Fewer parts left out, then fewer sheets, then less on the last sheet.
+  bool better_than(const Pass& b) const {
+    if (unplaced.size() != b.unplaced.size()) return unplaced.size() < b.unplaced.size();
+    if (sheets() != b.sheets()) return sheets() < b.sheets();
+    return sheets() > 0 && sheet_area.back() < b.sheet_area.back() - 1e-6;
+  }
+};
+
+Pass place_in_order(const std::vector<int>& order, const std::vector<Prepared>& parts,
+                    const LayoutOptions& o) {
   const double cell = o.step;
   const int gw = static_cast<int>(std::floor(o.sheet_width / cell));
   const int gh = static_cast<int>(std::floor(o.sheet_height / cell));
-  const int lo_x = static_cast<int>(std::ceil(o.margin / cell));
-  const int hi_x = static_cast<int>(std::floor((o.sheet_width - o.margin) / cell));
-  const int lo_y = lo_x, hi_y = static_cast<int>(std::floor((o.sheet_height - o.margin) / cell));
+  Pass pass;
+  pass.placements.resize(parts.size());
   std::vector<SheetGrid> sheets;
-  double fitting_area = 0, grown_area = 0;  // of the parts that fit a sheet [mm^2]
   for (int i : order) {
-    const Polygon2& part = outlines[i];
-    if (part.size() < 3 || !fits_sheet(part, o)) {
-      result.unplaced.push_back(i);
+    const Prepared& part = parts[i];
+    if (!part.fits) {
+      pass.unplaced.push_back(i);
       continue;
     }
-    const auto grown = polygon_offset({part}, 0.5 * o.spacing);
-    const Polygon2 inflated = grown.empty() ? part : grown.front();
-    fitting_area += area[i];
-    grown_area += std::abs(polygon_area(inflated));
-    const double base = -min_area_rect(part).angle;
-    std::vector<Raster> rasters;
-    std::vector<Box> boxes;  // the turned part itself (not grown), for the margins
-    for (int quarter = 0; quarter < 4; ++quarter) {
-      rasters.push_back(rasterise(inflated, base + quarter * M_PI / 2, cell));
-      boxes.push_back(box_of(transformed(part, base + quarter * M_PI / 2, Vec2(0, 0))));
-    }
+    const std::vector<Raster>& rasters = part.rasters;
+    const std::vector<Box>& boxes = part.boxes;
     bool placed = false;
     for (std::size_t s = 0; s <= sheets.size() && !placed; ++s) {
       const bool fresh = s == sheets.size();
@@ -269,7 +271,6 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
           break;
         }
       }
-      (void)lo_x, (void)hi_x, (void)lo_y, (void)hi_y;
       if (best_q < 0) {
         if (fresh) {
           sheets.pop_back();
@@ -280,20 +281,83 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
       grid.mark(rasters[best_q], best_x, best_y);
       // Turned part frame -> sheet: shift so the raster's corner lands on its grid cell.
       const Vec2 shift = Vec2(best_x * cell, best_y * cell) - rasters[best_q].corner;
-      result.placements[i] = {static_cast<int>(s), rasters[best_q].angle, shift};
+      pass.placements[i] = {static_cast<int>(s), rasters[best_q].angle, shift};
+      if (pass.sheet_area.size() <= s) pass.sheet_area.resize(s + 1, 0.0);
+      pass.sheet_area[s] += part.area;
       placed = true;
     }
-    if (!placed) result.unplaced.push_back(i);
+    if (!placed) pass.unplaced.push_back(i);
   }
-  result.sheets = static_cast<int>(sheets.size());
+  pass.sheet_area.resize(sheets.size(), 0.0);
+  return pass;
+}
+
+}  // namespace
+
+LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& o) {
+  if (!(o.sheet_width > 0) || !(o.sheet_height > 0))
+    throw InvalidInput("--sheet: width and height must be > 0 mm");
+  if (!(o.margin >= 0) || !(o.spacing >= 0))
+    throw InvalidInput("--margin and --spacing must be >= 0 mm");
+  if (!(o.step > 0)) throw InvalidInput("layout step must be > 0 mm");
+  if (2 * o.margin >= std::min(o.sheet_width, o.sheet_height))
+    throw InvalidInput("--margin leaves no room on the sheet");
+  const int n = static_cast<int>(outlines.size());
+  std::vector<Prepared> parts(n);
+  for_each_index(n, hardware_threads(), [&](int i) {
+    const Polygon2& outline = outlines[i];
+    Prepared& p = parts[i];
+    p.area = std::abs(polygon_area(outline));
+    if (outline.size() < 3 || !fits_sheet(outline, o)) return;
+    p.fits = true;
+    const auto grown = polygon_offset({outline}, 0.5 * o.spacing);
+    const Polygon2 inflated = grown.empty() ? outline : grown.front();
+    p.grown_area = std::abs(polygon_area(inflated));
+    const MinRect rect = min_area_rect(outline);
+    p.rect_area = rect.width * rect.height;
+    p.length = std::max(rect.width, rect.height);
+    for (int quarter = 0; quarter < 4; ++quarter) {
+      p.rasters.push_back(rasterise(inflated, -rect.angle + quarter * M_PI / 2, o.step));
+      p.boxes.push_back(box_of(transformed(outline, -rect.angle + quarter * M_PI / 2, Vec2(0, 0))));
+    }
+  });
+  LayoutResult result;
   // Bounds on the sheets any nesting needs: the parts' area over the usable area, and with the
   // spacing (the parts grown by half of it are disjoint and lie in the usable area grown alike).
+  double fitting_area = 0, grown_area = 0;  // of the parts that fit a sheet [mm^2]
+  for (const Prepared& p : parts)
+    if (p.fits) fitting_area += p.area, grown_area += p.grown_area;
   const double usable = (o.sheet_width - 2 * o.margin) * (o.sheet_height - 2 * o.margin);
   const double usable_grown =
       (o.sheet_width - 2 * o.margin + o.spacing) * (o.sheet_height - 2 * o.margin + o.spacing);
   result.sheets_lower_bound = static_cast<int>(std::ceil(fitting_area / usable - 1e-9));
   result.sheets_lower_bound_spaced =
       static_cast<int>(std::ceil(grown_area / usable_grown - 1e-9));
+  // Largest area first; while that needs more sheets than the spaced bound, also the parts with
+  // the largest minimum rectangle first (long thin and curved parts, which otherwise come last
+  // and open sheets of their own) and the longest first. The best pass is kept.
+  auto order_by = [&](auto key) {
+    std::vector<int> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) > key(b); });
+    return order;
+  };
+  Pass best = place_in_order(order_by([&](int i) { return parts[i].area; }), parts, o);
+  if (best.sheets() > result.sheets_lower_bound_spaced) {
+    std::vector<Pass> more(2);
+    for_each_index(2, hardware_threads(), [&](int k) {
+      more[k] = place_in_order(
+          k == 0 ? order_by([&](int i) { return parts[i].rect_area; })
+                 : order_by([&](int i) { return parts[i].length; }),
+          parts, o);
+    });
+    for (Pass& p : more)
+      if (p.better_than(best)) best = std::move(p);
+  }
+  result.placements = std::move(best.placements);
+  result.unplaced = std::move(best.unplaced);
+  std::sort(result.unplaced.begin(), result.unplaced.end());
+  result.sheets = best.sheets();
   if (result.sheets == 0 && n > 0) {
     // Nothing fits: the sheet is the problem, not the parts. Say what would fit the smallest.
     double need = 1e300;
@@ -312,7 +376,7 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   }
   double total = 0;
   for (int i = 0; i < n; ++i)
-    if (result.placements[i].sheet >= 0) total += area[i];
+    if (result.placements[i].sheet >= 0) total += parts[i].area;
   result.utilization =
       result.sheets > 0 ? total / (result.sheets * o.sheet_width * o.sheet_height) : 0.0;
   return result;

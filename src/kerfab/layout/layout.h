@@ -66,7 +66,10 @@ bool fits_sheet(const Polygon2& outline, const LayoutOptions& options);
 /// Places the parts (largest first, bottom-left, trying the minimum-rectangle orientation and
 /// its quarter turns) on an occupancy grid of the outlines grown by half the spacing (every cell
 /// an outline touches counts as taken, so concave parts interlock but never overlap), and
-/// computes the two lower bounds on the sheets. \throw InvalidInput options out of range.
+/// computes the two lower bounds on the sheets. When that needs more sheets than the spaced
+/// bound, it also tries the parts with the largest minimum rectangle first and the longest
+/// first, and keeps the pass with the fewest sheets (then the emptiest last sheet). \throw
+/// InvalidInput options out of range.
 LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& options);
 
 /// Per part: neighbour part -> total shared border length [mm] (3D length of the border pieces).
