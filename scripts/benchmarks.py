@@ -5,9 +5,9 @@ writes docs/benchmarks.md with its plots (docs/images/bench-*.svg, drawn by gnup
 Every number in that file comes from one run of this script on the machine it names. Models
 from ../shared/data/meshes are skipped (and listed as skipped) when that folder is absent.
 
-  scripts/benchmarks.py [--quick] [--out-doc docs/benchmarks.md]
+  scripts/benchmarks.py [--quick] [--out-doc docs/benchmarks.md] [--limit S] [--from-runs]
 
---quick: the scaling series stops at 2 Catmull-Clark steps (~2,900 quads) and the extra
+--quick: two models and the scaling series to 2 Catmull-Clark steps (~2,900 quads); the extra
 comparisons are left out; for trying the script, not for the docs.
 """
 import argparse
@@ -36,15 +36,20 @@ def log(*a):
     print("benchmarks:", *a, file=sys.stderr, flush=True)
 
 
-def run(name, args):
-    """One kerfab run into WORK/name: its report, wall time and peak memory (GNU time)."""
+def run(name, args, timeout=None):
+    """One kerfab run into WORK/name: its report, wall time and peak memory (GNU time). A run
+    still going after `timeout` seconds is stopped and recorded as such."""
     out = WORK / name
     if out.exists():
         shutil.rmtree(out)
     cmd = ["/usr/bin/time", "-f", "KERFAB_BENCH %M %e", str(KERFAB)] + args + ["--out", str(out)]
     log("run", name, " ".join(args))
     start = time.monotonic()
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        log(f"{name}: stopped after {timeout} s")
+        return {"name": name, "args": args, "failed": "timeout", "wall": timeout}
     wall = time.monotonic() - start
     peak_kb = None
     for line in p.stderr.splitlines():
@@ -71,6 +76,13 @@ def fmt(x, digits=1):
     if isinstance(x, int):
         return str(x)
     return f"{x:.{digits}f}"
+
+
+def failure(r, limit):
+    """A table cell saying why run r has no report."""
+    if r["failed"] == "timeout":
+        return f"not finished after {fmt(limit, 0)} s"
+    return f"run failed (exit {r['failed']})"
 
 
 def gnuplot(script):
@@ -126,7 +138,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--out-doc", default=str(ROOT / "docs" / "benchmarks.md"))
+    ap.add_argument("--from-runs", action="store_true",
+                    help="write the doc again from build/benchmarks/runs.json, running nothing")
+    ap.add_argument("--limit", type=float, default=600,
+                    help="stop a whole scaling run after this many seconds, a --no-resolve one "
+                         "after twice that [s]")
     args = ap.parse_args()
+    if args.from_runs:  # the doc again from the last run's results (no kerfab runs)
+        runs = json.loads((WORK / "runs.json").read_text())
+        write_doc(Path(args.out_doc), runs["model_runs"], runs["multi"],
+                  [tuple(d) for d in runs["density"]], runs["scaling"], runs["whole"],
+                  runs["skipped"], runs["quick"], runs["limit"], runs["machine"])
+        return
     if not KERFAB.exists():
         sys.exit("benchmarks: build/kerfab is missing; run scripts/build.sh first")
     WORK.mkdir(parents=True, exist_ok=True)
@@ -198,28 +221,45 @@ def main():
             density.append((r, c, n))
 
     # 4. Scaling: spot's control mesh with 1 to 4 Catmull-Clark steps (732 to 46,848 quads),
-    # 500 mm so that the finest strips stay buildable.
+    # 500 mm so that the finest strips stay buildable: every stage without the resolve step
+    # (--no-resolve), then whole runs as a user makes them, each stopped after `limit` s.
     steps = [1, 2] if args.quick else [1, 2, 3, 4]
     scaling = []
     for s in steps:
-        r = run(f"scale_{s}", ["run", "--target", spot, "--quad", spot_quad, "--subdivide", str(s),
-                               "--size", "500"])
+        r = run(f"scale_{s}_no_resolve",
+                ["run", "--target", spot, "--quad", spot_quad, "--subdivide", str(s), "--size",
+                 "500", "--no-resolve"], timeout=2 * args.limit)
         r["steps"] = s
         scaling.append(r)
+    whole = []
+    for s in steps[:3]:
+        r = run(f"scale_{s}", ["run", "--target", spot, "--quad", spot_quad, "--subdivide", str(s),
+                               "--size", "500"], timeout=args.limit)
+        r["steps"] = s
+        whole.append(r)
+        if r["failed"]:
+            break  # finer meshes take longer still
 
-    write_doc(Path(args.out_doc), model_runs, multi, density, scaling, skipped, args.quick)
+    runs = {"model_runs": model_runs, "multi": multi, "density": density, "scaling": scaling,
+            "whole": whole, "skipped": skipped, "quick": args.quick, "limit": args.limit,
+            "machine": machine()}
+    (WORK / "runs.json").write_text(json.dumps(runs))
+    write_doc(Path(args.out_doc), model_runs, multi, density, scaling, whole, skipped,
+              args.quick, args.limit, runs["machine"])
 
 
-def write_doc(path, model_runs, multi, density, scaling, skipped, quick):
+def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, limit, where):
     L = []
     L.append("# Benchmarks")
     L.append("")
     L.append("Written by `scripts/benchmarks.sh` (README); every number below comes from the run "
-             "named here, not by hand. Machine: " + machine() + ".")
+             "named here, not by hand. Machine: " + where + ".")
     L.append("")
     L.append("All runs: 3 mm MDF, default options (600 x 450 mm sheets, 10 mm margins, 3 mm "
              "spacing, ILP time limit 60 s), `--size` as given. Times are wall-clock seconds from "
              "the report (`timings_s`); peak memory is the maximum resident set (GNU time). "
+             "'Stages s' is the report's sum over the pipeline's stages; 'wall s' adds reading the "
+             "files and writing every output (sheets, previews, pictures, guide). "
              "The machine is shared, so compare ratios rather than single seconds.")
     if skipped:
         L.append("")
@@ -228,14 +268,53 @@ def write_doc(path, model_runs, multi, density, scaling, skipped, quick):
         L.append("")
         L.append("**--quick run**: a subset only.")
 
+    # The goals of issue 18, checked against this run.
+    L.append("")
+    L.append("## Goals against this run")
+    L.append("")
+    L.append("| goal | measured | met |")
+    L.append("|---|---|---|")
+    demo = next((r for r in model_runs if r["name"] == "spot" and not r["failed"]), None)
+    if demo:
+        t = demo["report"]["timings_s"]
+        L.append(f"| demo end to end under 2 s | {fmt(demo['wall'])} s wall, {fmt(t['total'])} s "
+                 f"in the stages | {'yes' if demo['wall'] < 2 else 'no'} |")
+        over = [f"{s} {100 * t[s] / t['total']:.0f} %" for s in STAGES
+                if s != "bending" and t.get(s, 0.0) > 0.25 * t["total"]]
+        L.append(f"| no stage above 25 % of the demo (bending excepted) | "
+                 f"{', '.join(over) or 'none'} | {'no' if over else 'yes'} |")
+    big = next((r for r in scaling if r["steps"] == 4), None)
+    if big:
+        if big["failed"]:
+            L.append(f"| 47k quads under 60 s and 2 GB | {failure(big, 2 * limit)} "
+                     f"(`--no-resolve`) | no |")
+        else:
+            ok = big["wall"] < 60 and big["peak_mb"] < 2048
+            L.append(f"| 47k quads under 60 s and 2 GB | {fmt(big['wall'])} s, "
+                     f"{fmt(big['peak_mb'], 0)} MB (`--no-resolve`) | {'yes' if ok else 'no'} |")
+    timed = [r for r in model_runs + multi + scaling + whole if not r["failed"]]
+    within = [r for r in timed if r["report"]["timings_s"].get("bending", 0.0)
+              <= 1.1 * r["report"]["options"]["ilp_time_limit_s"]]
+    L.append(f"| bending stage within its time limit + 10 % | {len(within)} of {len(timed)} runs "
+             f"| {'yes' if len(within) == len(timed) else 'no'} |")
+    jobs = [r for r in model_runs + multi + scaling
+            if not r["failed"] and r["report"]["layout"]["sheets"] > 1]
+    by_area = [r for r in jobs if r["report"]["layout"]["sheets"]
+               <= r["report"]["layout"]["sheets_lower_bound"] + 1]
+    by_spaced = [r for r in jobs if r["report"]["layout"]["sheets"]
+                 <= r["report"]["layout"]["sheets_lower_bound_spaced"] + 1]
+    L.append(f"| multi-sheet jobs: sheets ≤ area bound + 1 | {len(by_area)} of {len(jobs)} "
+             f"(≤ spaced bound + 1: {len(by_spaced)} of {len(jobs)}) | "
+             f"{'yes' if len(by_area) == len(jobs) else 'no'} |")
+
     # Models.
     L.append("")
     L.append("## Models at 250 mm")
     L.append("")
     L.append("| model | quads | parts | critical regions before → after resolve | Hausdorff % "
-             "diag | borders without joint | cut length m | cut time min | sheets | total s | "
-             "peak MB |")
-    L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+             "diag | borders without joint | cut length m | cut time min | sheets | stages s | "
+             "wall s | peak MB |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in model_runs:
         if r["failed"]:
             L.append(f"| {r['label']} | run failed (exit {r['failed']}) |||||||||| ")
@@ -244,7 +323,7 @@ def write_doc(path, model_runs, multi, density, scaling, skipped, quick):
         L.append(f"| {r['label']} | {m['quads']} | {m['parts']} | {fmt(m['critical_before'])} → "
                  f"{m['critical']} | {fmt(m['hausdorff'], 2)} | {fmt(m['no_joint'])} of "
                  f"{fmt(m['borders'])} | {fmt(m['cut_m'])} | {fmt(m['minutes'])} | {m['sheets']} | "
-                 f"{fmt(m['total_s'])} | {fmt(m['peak_mb'], 0)} |")
+                 f"{fmt(m['total_s'])} | {fmt(r['wall'])} | {fmt(m['peak_mb'], 0)} |")
 
     # Stage shares.
     L.append("")
@@ -275,15 +354,16 @@ def write_doc(path, model_runs, multi, density, scaling, skipped, quick):
     L.append("")
     L.append("| run | quads | bending s | ILP status | within limit + 10 % |")
     L.append("|---|---|---|---|---|")
-    for r in model_runs + multi + scaling:
+    for r in model_runs + multi + scaling + whole:
         if r["failed"]:
             continue
         rep = r["report"]
         b = rep["timings_s"].get("bending", 0.0)
-        limit = rep["options"]["ilp_time_limit_s"]
-        label = r.get("label") or f"spot, {r['steps']} CC steps, 500 mm"
+        ilp_limit = rep["options"]["ilp_time_limit_s"]
+        label = r.get("label") or (f"spot, {r['steps']} CC steps, 500 mm"
+                                   + (", --no-resolve" if "--no-resolve" in r["args"] else ""))
         L.append(f"| {label} | {rep['input']['quads']} | {fmt(b, 2)} | "
-                 f"{rep['bending']['status']} | {'yes' if b <= 1.1 * limit else '**no**'} |")
+                 f"{rep['bending']['status']} | {'yes' if b <= 1.1 * ilp_limit else '**no**'} |")
 
     # Nesting.
     if multi or model_runs:
@@ -331,24 +411,47 @@ def write_doc(path, model_runs, multi, density, scaling, skipped, quick):
 
     # Scaling.
     ok = [r for r in scaling if not r["failed"]]
-    if ok:
+    if scaling:
         L.append("")
         L.append("## Scaling with the quad count")
         L.append("")
-        L.append("Spot's control mesh with 1 to 4 Catmull-Clark steps, 500 mm.")
+        L.append("Spot's control mesh with 1 to 4 Catmull-Clark steps, 500 mm. First every stage "
+                 "of one pass through the pipeline (`--no-resolve`: critical regions and small "
+                 "parts reported, not resolved):")
         L.append("")
-        L.append("| CC steps | quads | parts | " + " | ".join(STAGES) + " | total s | peak MB |")
-        L.append("|---|---|---|" + "---|" * (len(STAGES) + 2))
+        L.append("| CC steps | quads | parts | sheets (spaced bound) | " + " | ".join(STAGES)
+                 + " | stages s | wall s | peak MB |")
+        L.append("|---|---|---|---|" + "---|" * (len(STAGES) + 3))
         for r in scaling:
             if r["failed"]:
-                L.append(f"| {r['steps']} | run failed (exit {r['failed']}, "
-                         f"{fmt(r['wall'])} s) |")
+                L.append(f"| {r['steps']} | {failure(r, 2 * limit)} |")
                 continue
             rep = r["report"]
             t = rep["timings_s"]
-            L.append(f"| {r['steps']} | {rep['input']['quads']} | {len(rep['layout']['parts'])} | "
+            lay = rep["layout"]
+            L.append(f"| {r['steps']} | {rep['input']['quads']} | {len(lay['parts'])} | "
+                     f"{lay['sheets']} ({fmt(lay.get('sheets_lower_bound_spaced'))}) | "
                      + " | ".join(fmt(t.get(s, 0.0), 2) for s in STAGES)
-                     + f" | {fmt(t['total'])} | {fmt(r['peak_mb'], 0)} |")
+                     + f" | {fmt(t['total'])} | {fmt(r['wall'])} | {fmt(r['peak_mb'], 0)} |")
+    if whole:
+        L.append("")
+        L.append("Then whole runs as a user makes them (with the resolve step), each stopped "
+                 f"after {fmt(limit, 0)} s; the next finer mesh is not tried once one stops:")
+        L.append("")
+        L.append("| CC steps | quads | resolve rounds | critical regions before → after | parts "
+                 "| resolve s | stages s | wall s | peak MB |")
+        L.append("|---|---|---|---|---|---|---|---|---|")
+        for r in whole:
+            if r["failed"]:
+                L.append(f"| {r['steps']} | {failure(r, limit)} |")
+                continue
+            rep = r["report"]
+            t, res = rep["timings_s"], rep["resolve"]
+            L.append(f"| {r['steps']} | {rep['input']['quads']} | {res['rounds']} | "
+                     f"{res['critical_before']} → {res['critical_after']} | "
+                     f"{len(rep['layout']['parts'])} | {fmt(t.get('resolve', 0.0))} | "
+                     f"{fmt(t['total'])} | {fmt(r['wall'])} | {fmt(r['peak_mb'], 0)} |")
+    if ok:
         data = WORK / "scaling.dat"
         with data.open("w") as f:
             f.write("# quads total peak_mb " + " ".join(STAGES) + "\n")
@@ -369,7 +472,7 @@ set xlabel 'quads'
 set ylabel 'seconds'
 set key outside right
 set grid
-set title 'Time per stage against quad count (spot, 500 mm)'
+set title 'Time per stage against quad count (spot, 500 mm, --no-resolve)'
 plot {', '.join(plots)}
 """)
             gnuplot(f"""set terminal svg size 800,400 font 'sans,12' background rgb 'white'
@@ -378,7 +481,7 @@ set logscale x
 set xlabel 'quads'
 set ylabel 'peak resident memory [MB]'
 set grid
-set title 'Peak memory against quad count (spot, 500 mm)'
+set title 'Peak memory against quad count (spot, 500 mm, --no-resolve)'
 plot '{data}' using 1:3 with linespoints lw 3 notitle
 """)
             L.append("")

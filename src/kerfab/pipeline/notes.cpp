@@ -201,8 +201,8 @@ StageNotes notes(const LayoutResult& l, const LayoutOptions& options) {
   os << l.placements.size() << " parts on " << l.sheets << " sheets of " << options.sheet_width
      << " x " << options.sheet_height << " mm, material used " << 100 * l.utilization << "%";
   if (l.sheets > 1)
-    os << " (no nesting needs fewer than " << l.sheets_lower_bound_spaced
-       << " sheets with this spacing, " << l.sheets_lower_bound << " by area alone)";
+    os << " (no nesting fits them on fewer than " << l.sheets_lower_bound_spaced
+       << " with this spacing, " << l.sheets_lower_bound << " by area alone)";
   n.lines.push_back(os.str());
   if (!l.unplaced.empty())
     n.warnings.push_back(std::to_string(l.unplaced.size()) +
