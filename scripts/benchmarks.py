@@ -85,6 +85,12 @@ def failure(r, limit):
     return f"run failed (exit {r['failed']})"
 
 
+def header(L, *columns):
+    """A markdown table's header row and its separator, one column per argument."""
+    L.append("| " + " | ".join(columns) + " |")
+    L.append("|" + "---|" * len(columns))
+
+
 def gnuplot(script):
     subprocess.run(["gnuplot"], input=script, text=True, check=True)
 
@@ -272,8 +278,7 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
     L.append("")
     L.append("## Goals against this run")
     L.append("")
-    L.append("| goal | measured | met |")
-    L.append("|---|---|---|")
+    header(L, "goal", "measured", "met")
     demo = next((r for r in model_runs if r["name"] == "spot" and not r["failed"]), None)
     if demo:
         t = demo["report"]["timings_s"]
@@ -311,10 +316,9 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
     L.append("")
     L.append("## Models at 250 mm")
     L.append("")
-    L.append("| model | quads | parts | critical regions before → after resolve | Hausdorff % "
-             "diag | borders without joint | cut length m | cut time min | sheets | stages s | "
-             "wall s | peak MB |")
-    L.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    header(L, "model", "quads", "parts", "critical regions before → after resolve",
+           "Hausdorff % diag", "borders without joint", "cut length m", "cut time min", "sheets",
+           "stages s", "wall s", "peak MB")
     for r in model_runs:
         if r["failed"]:
             L.append(f"| {r['label']} | run failed (exit {r['failed']}) |||||||||| ")
@@ -332,8 +336,7 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
     L.append("Seconds per stage; **bold**: above 25 % of the run (the issue's limit, the bending "
              "program excepted where proven optimal).")
     L.append("")
-    L.append("| model | " + " | ".join(STAGES) + " | total |")
-    L.append("|---|" + "---|" * (len(STAGES) + 1))
+    header(L, "model", *STAGES, "total")
     for r in model_runs:
         if r["failed"]:
             continue
@@ -352,8 +355,7 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
     L.append("The bending stage (seams, rings, separation and CBC) against `--ilp-time-limit` "
              "(60 s): the promise is at most 10 % over.")
     L.append("")
-    L.append("| run | quads | bending s | ILP status | within limit + 10 % |")
-    L.append("|---|---|---|---|---|")
+    header(L, "run", "quads", "bending s", "ILP status", "within limit + 10 %")
     for r in model_runs + multi + scaling + whole:
         if r["failed"]:
             continue
@@ -376,8 +378,8 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
                  "spacing apart, so the grown parts are disjoint); tighter, because box teeth give "
                  "parts long outlines. Utilisation: parts' area over the sheets' whole area.")
         L.append("")
-        L.append("| job | parts | sheets | area bound | spaced bound | utilisation | unplaced |")
-        L.append("|---|---|---|---|---|---|---|")
+        header(L, "job", "parts", "sheets", "area bound", "spaced bound", "utilisation",
+               "unplaced")
         for r in model_runs + multi:
             if r["failed"]:
                 continue
@@ -394,9 +396,9 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
                  "quad (`kerf.max_cuts_per_quad`), the least constant density that keeps every "
                  "beam within yield (the paper's baseline, Sec. 5).")
         L.append("")
-        L.append("| model | cuts per quad | kerf cuts adaptive / constant | cut length m adaptive "
-                 "/ constant | cut time min adaptive / constant | critical regions after |")
-        L.append("|---|---|---|---|---|---|")
+        header(L, "model", "cuts per quad", "kerf cuts adaptive / constant",
+               "cut length m adaptive / constant", "cut time min adaptive / constant",
+               "critical regions after")
         for a, c, n in density:
             if c["failed"]:
                 L.append(f"| {a['label']} | {n} | constant run failed (exit {c['failed']}) ||||")
@@ -419,9 +421,8 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
                  "of one pass through the pipeline (`--no-resolve`: critical regions and small "
                  "parts reported, not resolved):")
         L.append("")
-        L.append("| CC steps | quads | parts | sheets (spaced bound) | " + " | ".join(STAGES)
-                 + " | stages s | wall s | peak MB |")
-        L.append("|---|---|---|---|" + "---|" * (len(STAGES) + 3))
+        header(L, "CC steps", "quads", "parts", "sheets (spaced bound)", *STAGES, "stages s",
+               "wall s", "peak MB")
         for r in scaling:
             if r["failed"]:
                 L.append(f"| {r['steps']} | {failure(r, 2 * limit)} |")
@@ -438,9 +439,8 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
         L.append("Then whole runs as a user makes them (with the resolve step), each stopped "
                  f"after {fmt(limit, 0)} s; the next finer mesh is not tried once one stops:")
         L.append("")
-        L.append("| CC steps | quads | resolve rounds | critical regions before → after | parts "
-                 "| resolve s | stages s | wall s | peak MB |")
-        L.append("|---|---|---|---|---|---|---|---|---|")
+        header(L, "CC steps", "quads", "resolve rounds", "critical regions before → after",
+               "parts", "resolve s", "stages s", "wall s", "peak MB")
         for r in whole:
             if r["failed"]:
                 L.append(f"| {r['steps']} | {failure(r, limit)} |")

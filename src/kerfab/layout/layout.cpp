@@ -374,9 +374,7 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     os << "; use a larger --sheet";
     throw InvalidInput(os.str());
   }
-  double total = 0;
-  for (int i = 0; i < n; ++i)
-    if (result.placements[i].sheet >= 0) total += parts[i].area;
+  const double total = std::accumulate(best.sheet_area.begin(), best.sheet_area.end(), 0.0);
   result.utilization =
       result.sheets > 0 ? total / (result.sheets * o.sheet_width * o.sheet_height) : 0.0;
   return result;
