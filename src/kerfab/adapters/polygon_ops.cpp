@@ -1,7 +1,12 @@
 #include "kerfab/adapters/polygon_ops.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <functional>
 #include <polyclipping/clipper.hpp>
+#include <unordered_map>
+#include <utility>
 
 namespace kerfab {
 namespace {
@@ -14,6 +19,101 @@ ClipperLib::Path to_path(const Polygon2& p) {
   for (const auto& v : p)
     out.emplace_back(static_cast<ClipperLib::cInt>(std::llround(v.x() * kScale)),
                      static_cast<ClipperLib::cInt>(std::llround(v.y() * kScale)));
+  return out;
+}
+
+/// \p ring with a vertex inserted wherever one of its vertices touches the inside of one of its
+/// edges, the way Clipper's scan line sees a touch: the edge's x at the vertex's y, rounded to
+/// the grid, is the vertex's x. A sweep in y keeps the edges spanning the current y.
+ClipperLib::Path with_touch_points(const ClipperLib::Path& ring) {
+  const std::size_t n = ring.size();
+  if (n < 4) return ring;
+  std::vector<std::size_t> by_low(n), by_y(n);  // edges by their lower y, vertices by y
+  for (std::size_t i = 0; i < n; ++i) by_low[i] = by_y[i] = i;
+  auto low = [&](std::size_t e) { return std::min(ring[e].Y, ring[(e + 1) % n].Y); };
+  auto high = [&](std::size_t e) { return std::max(ring[e].Y, ring[(e + 1) % n].Y); };
+  std::sort(by_low.begin(), by_low.end(), [&](auto a, auto b) { return low(a) < low(b); });
+  std::sort(by_y.begin(), by_y.end(), [&](auto a, auto b) { return ring[a].Y < ring[b].Y; });
+  std::vector<std::size_t> active;
+  std::vector<std::pair<std::size_t, std::size_t>> touches;  // (edge, vertex)
+  std::size_t next = 0;
+  for (std::size_t v : by_y) {
+    const ClipperLib::IntPoint& p = ring[v];
+    while (next < n && low(by_low[next]) <= p.Y) active.push_back(by_low[next++]);
+    std::erase_if(active, [&](std::size_t e) { return high(e) < p.Y; });
+    for (std::size_t e : active) {
+      const ClipperLib::IntPoint &a = ring[e], &b = ring[(e + 1) % n];
+      if (a == p || b == p) continue;  // its own edges, or a repeated point (split later)
+      bool touch;
+      if (a.Y == b.Y) {
+        touch = p.Y == a.Y && std::min(a.X, b.X) < p.X && p.X < std::max(a.X, b.X);
+      } else {
+        const ClipperLib::IntPoint& bot = a.Y > b.Y ? a : b;
+        const ClipperLib::IntPoint& top = a.Y > b.Y ? b : a;
+        if (!(top.Y < p.Y && p.Y < bot.Y)) continue;
+        const double dx = static_cast<double>(top.X - bot.X) / static_cast<double>(top.Y - bot.Y);
+        touch = bot.X + std::llround(dx * static_cast<double>(p.Y - bot.Y)) == p.X;
+      }
+      if (touch) touches.emplace_back(e, v);
+    }
+  }
+  if (touches.empty()) return ring;
+  // Inserted in order along each edge.
+  auto along = [&](const std::pair<std::size_t, std::size_t>& t) {
+    const ClipperLib::IntPoint &a = ring[t.first], &p = ring[t.second];
+    return std::abs(static_cast<double>(p.X - a.X)) + std::abs(static_cast<double>(p.Y - a.Y));
+  };
+  std::sort(touches.begin(), touches.end(), [&](const auto& s, const auto& t) {
+    return s.first != t.first ? s.first < t.first : along(s) < along(t);
+  });
+  ClipperLib::Path out;
+  out.reserve(n + touches.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    out.push_back(ring[i]);
+    for (; k < touches.size() && touches[k].first == i; ++k) out.push_back(ring[touches[k].second]);
+  }
+  return out;
+}
+
+/// Every ring of \p paths that passes through one point twice, split there into the loops it
+/// is made of, so that no ring touches itself (what Clipper's StrictlySimple does, but in
+/// linear time: Clipper compares every pair of points of a ring, which made the Booleans of
+/// parts with thousands of vertices quadratic). Each loop keeps its direction, so a pinched-off
+/// lobe stays an outer ring and a hole touching its outer ring at a vertex becomes a hole.
+ClipperLib::Paths split_at_repeated_points(ClipperLib::Paths paths) {
+  struct Hash {
+    std::size_t operator()(const ClipperLib::IntPoint& p) const {
+      return std::hash<std::uint64_t>()(static_cast<std::uint64_t>(p.X) * 0x9E3779B97F4A7C15ULL ^
+                                        static_cast<std::uint64_t>(p.Y));
+    }
+  };
+  ClipperLib::Paths out;
+  out.reserve(paths.size());
+  std::unordered_map<ClipperLib::IntPoint, std::size_t, Hash> at;  // point -> place on `stack`
+  ClipperLib::Path stack;
+  for (auto& given : paths) {
+    ClipperLib::Path path = with_touch_points(given);
+    at.clear();
+    stack.clear();
+    for (const auto& p : path) {
+      const auto [it, fresh] = at.try_emplace(p, stack.size());
+      if (fresh) {
+        stack.push_back(p);
+        continue;
+      }
+      // The loop from the first visit of p to here closes: cut it out, p stays on the stack.
+      const std::size_t first = it->second;
+      ClipperLib::Path loop(stack.begin() + static_cast<std::ptrdiff_t>(first), stack.end());
+      for (std::size_t i = first + 1; i < stack.size(); ++i) at.erase(stack[i]);
+      stack.resize(first + 1);
+      out.push_back(std::move(loop));
+    }
+    if (stack.size() < path.size())
+      out.push_back(stack);
+    else
+      out.push_back(std::move(path));
+  }
   return out;
 }
 
@@ -33,36 +133,93 @@ std::vector<Polygon2> from_paths(ClipperLib::Paths paths) {
   return out;
 }
 
+/// Winding number of the closed paths \p paths around the point (x, y) [grid units].
+int winding(const ClipperLib::Paths& paths, double x, double y) {
+  int w = 0;
+  for (const auto& path : paths)
+    for (std::size_t i = 0, n = path.size(); i < n; ++i) {
+      const auto &a = path[i], &b = path[(i + 1) % n];
+      const double ay = static_cast<double>(a.Y), by = static_cast<double>(b.Y);
+      if ((ay <= y) == (by <= y)) continue;
+      const double ax = static_cast<double>(a.X), bx = static_cast<double>(b.X);
+      const double cross = (bx - ax) * (y - ay) - (by - ay) * (x - ax);
+      if (by > ay && cross > 0) ++w;
+      if (by < ay && cross < 0) --w;
+    }
+  return w;
+}
+
+/// Clipper 1 can hand back a ring with the wrong direction where touching corners abound (an
+/// island of material alone in a hole came back clockwise, as a hole; tests/polygon_ops_test).
+/// Each ring is checked against the fill rule on the inputs: just left of its longest edge must
+/// be inside the result; if only the right side is, the ring is turned round.
+void orient_by_fill(ClipperLib::Paths& rings, const std::function<bool(double, double)>& inside) {
+  for (auto& ring : rings) {
+    const std::size_t n = ring.size();
+    if (n < 3) continue;
+    std::size_t longest = 0;
+    double best = -1;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double dx = static_cast<double>(ring[(i + 1) % n].X - ring[i].X);
+      const double dy = static_cast<double>(ring[(i + 1) % n].Y - ring[i].Y);
+      if (dx * dx + dy * dy > best) best = dx * dx + dy * dy, longest = i;
+    }
+    const auto &a = ring[longest], &b = ring[(longest + 1) % n];
+    const double len = std::sqrt(best);
+    if (len < 20) continue;  // a speck of rounding debris: CleanPolygons' business
+    // 2 grid units off the edge: beyond the half unit by which Clipper rounds its vertices.
+    const double mx = 0.5 * static_cast<double>(a.X + b.X), my = 0.5 * static_cast<double>(a.Y + b.Y);
+    const double nx = -static_cast<double>(b.Y - a.Y) / len * 2, ny = static_cast<double>(b.X - a.X) / len * 2;
+    if (!inside(mx + nx, my + ny) && inside(mx - nx, my - ny)) std::reverse(ring.begin(), ring.end());
+  }
+}
+
+enum class Op { kIntersection, kUnion, kDifference };
+
+/// One Boolean of \p subject and \p clip (non-zero fill), strictly simple and oriented.
+std::vector<Polygon2> boolean(Op op, const ClipperLib::Paths& subject,
+                              const ClipperLib::Paths& clip) {
+  ClipperLib::Clipper c;
+  c.AddPaths(subject, ClipperLib::ptSubject, true);
+  if (!clip.empty()) c.AddPaths(clip, ClipperLib::ptClip, true);
+  ClipperLib::Paths out;
+  const ClipperLib::ClipType type = op == Op::kIntersection ? ClipperLib::ctIntersection
+                                    : op == Op::kUnion      ? ClipperLib::ctUnion
+                                                            : ClipperLib::ctDifference;
+  c.Execute(type, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  out = split_at_repeated_points(std::move(out));
+  orient_by_fill(out, [&](double x, double y) {
+    const bool in_subject = winding(subject, x, y) != 0;
+    switch (op) {
+      case Op::kIntersection: return in_subject && winding(clip, x, y) != 0;
+      case Op::kUnion: return in_subject;
+      case Op::kDifference: return in_subject && winding(clip, x, y) == 0;
+    }
+    return false;
+  });
+  return from_paths(std::move(out));
+}
+
+ClipperLib::Paths to_paths(const std::vector<Polygon2>& polygons) {
+  ClipperLib::Paths out;
+  out.reserve(polygons.size());
+  for (const auto& p : polygons) out.push_back(to_path(p));
+  return out;
+}
+
 }  // namespace
 
 std::vector<Polygon2> polygon_intersection(const Polygon2& a, const Polygon2& b) {
-  ClipperLib::Clipper c;
-  c.StrictlySimple(true);
-  c.AddPath(to_path(a), ClipperLib::ptSubject, true);
-  c.AddPath(to_path(b), ClipperLib::ptClip, true);
-  ClipperLib::Paths out;
-  c.Execute(ClipperLib::ctIntersection, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return from_paths(out);
+  return boolean(Op::kIntersection, {to_path(a)}, {to_path(b)});
 }
 
 std::vector<Polygon2> polygon_union(const std::vector<Polygon2>& polygons) {
-  ClipperLib::Clipper c;
-  c.StrictlySimple(true);
-  for (const auto& p : polygons) c.AddPath(to_path(p), ClipperLib::ptSubject, true);
-  ClipperLib::Paths out;
-  c.Execute(ClipperLib::ctUnion, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return from_paths(out);
+  return boolean(Op::kUnion, to_paths(polygons), {});
 }
 
 std::vector<Polygon2> polygon_difference(const std::vector<Polygon2>& a,
                                          const std::vector<Polygon2>& b) {
-  ClipperLib::Clipper c;
-  c.StrictlySimple(true);
-  for (const auto& p : a) c.AddPath(to_path(p), ClipperLib::ptSubject, true);
-  for (const auto& p : b) c.AddPath(to_path(p), ClipperLib::ptClip, true);
-  ClipperLib::Paths out;
-  c.Execute(ClipperLib::ctDifference, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  return from_paths(out);
+  return boolean(Op::kDifference, to_paths(a), to_paths(b));
 }
 
 std::vector<Polygon2> polygon_offset(const std::vector<Polygon2>& polygons, double delta) {

@@ -1,7 +1,9 @@
 #pragma once
 /// \file 2D polygon Booleans and offsets (Clipper behind this interface; no Clipper type leaks
 /// out). Coordinates in millimetres, rounded internally to 10 nm. Boolean results are strictly
-/// simple: polygons that would touch themselves at a vertex come out split there.
+/// simple: polygons that would touch themselves at a vertex come out split there (in linear time
+/// per ring; Clipper's own StrictlySimple is quadratic), and every ring's direction is checked
+/// against the fill rule (outer rings counter-clockwise, holes clockwise).
 #include <vector>
 
 #include "kerfab/core/geometry2d.h"
