@@ -3,6 +3,7 @@
 /// orthographic view of the model, its up axis vertical, turned and tilted, faces flat-shaded
 /// (Lambert) and drawn far to near, each followed by its edge strokes.
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "kerfab/core/mesh.h"
@@ -57,6 +58,32 @@ class View3 {
 /// Draws \p faces into \p cr in \p view: far to near, lit from the upper left front; faces seen
 /// from behind are drawn darker.
 void draw_faces(_cairo* cr, const View3& view, const std::vector<Face3>& faces);
+
+/// Faces turned, shaded and sorted far to near once, for drawing many pictures of subsets of them
+/// in one view (the assembly steps: a picture per step of the parts placed so far).
+class FacePainter {
+ public:
+  FacePainter(const View3& view, const std::vector<Face3>& faces);
+  /// The fill of face \p f in this picture, or false to leave it out.
+  using Fill = std::function<bool(const Face3& f, Rgb& fill)>;
+  /// Draws the faces that \p fill keeps, far to near, each followed by its side strokes (widths
+  /// times \p line_scale). Smooth: antialiased, each face stroked with a hairline over the seams
+  /// to its neighbours. Flat (for thumbnails of many faces): without antialiasing, so that
+  /// neighbours meet without seams and need no hairline; far cheaper, meant to be drawn large
+  /// and scaled down.
+  void draw(_cairo* cr, const Fill& fill, bool flat = false, double line_scale = 1) const;
+
+ private:
+  struct Drawn {
+    double depth;
+    std::size_t face;
+    double shade;
+    std::size_t first;  // its corners on the picture, from screen_[first] on
+  };
+  const std::vector<Face3>& faces_;
+  std::vector<Drawn> order_;
+  std::vector<std::array<double, 2>> screen_;
+};
 
 /// Every corner of \p faces (to fit a view).
 std::vector<Vec3> corners_of(const std::vector<Face3>& faces);
