@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -15,6 +16,7 @@
 #include <set>
 #include <sstream>
 
+#include "kerfab/output/render3d.h"
 #include "kerfab/output/run_output.h"
 #include "kerfab/pipeline/pipeline.h"
 #include "fixtures.h"
@@ -72,6 +74,64 @@ std::pair<long, int> ink(const fs::path& png, int x0 = 0, int x1 = 1 << 30) {
       colours.insert((p[0] / 32) * 64 + (p[1] / 32) * 8 + p[2] / 32);
     }
   return {count, static_cast<int>(colours.size())};
+}
+
+using CairoSurfaceForTest = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
+
+/// The colour of pixel (x, y) of an RGB24 image surface.
+std::array<int, 3> pixel(cairo_surface_t* image, double x, double y) {
+  cairo_surface_flush(image);
+  const unsigned char* data = cairo_image_surface_get_data(image);
+  const int stride = cairo_image_surface_get_stride(image);
+  const auto v = *reinterpret_cast<const std::uint32_t*>(
+      data + static_cast<int>(y) * stride + 4 * static_cast<int>(x));
+  return {static_cast<int>(v >> 16 & 255), static_cast<int>(v >> 8 & 255),
+          static_cast<int>(v & 255)};
+}
+
+TEST(Guide, StepPicturesShowTheNearestPlacedFaceWhateverTheOrderOfPlacing) {
+  // Two squares facing the viewer, seen straight on (z up, looking along +y): A (tag 0) at
+  // depth 1 over x, z in [0, 2] with a stroke along its top side, B (tag 1) nearer, at depth 0
+  // over [1, 3]. B is placed first, then A: where they overlap B must stay in front, and A's
+  // stroke must show only where B does not cover it.
+  Face3 a, b;
+  a.corners = {{0, 1, 0}, {2, 1, 0}, {2, 1, 2}, {0, 1, 2}};
+  a.tag = 0;
+  a.sides.push_back({2, {0, 0, 0}, 4.0, 1.0});  // corner 2 -> 3: the top, z = 2
+  b.corners = {{1, 0, 1}, {3, 0, 1}, {3, 0, 3}, {1, 0, 3}};
+  b.tag = 1;
+  const std::vector<Face3> faces{a, b};
+  ViewOptions straight;
+  straight.up = 2;
+  straight.azimuth = 0;
+  straight.elevation = 0;
+  const View3 view(corners_of(faces), straight, 0, 0, 300, 300);
+  const FacePainter painter(view, faces);
+  LayeredPicture picture(painter, 300, 300);
+  CairoSurfaceForTest image(cairo_image_surface_create(CAIRO_FORMAT_RGB24, 300, 300),
+                            cairo_surface_destroy);
+  const auto colour = [](int tag) { return tag == 0 ? Rgb{1, 0, 0} : Rgb{0, 0, 1}; };
+  const auto at = [&](double x, double z) {
+    const auto s = view.screen({x, 0.5, z});
+    return pixel(image.get(), s[0], s[1]);
+  };
+  const std::array<int, 3> white{255, 255, 255};
+  picture.paint(image.get(), colour);
+  EXPECT_EQ(at(0.5, 0.5), white);  // nothing placed yet
+  picture.add(1);
+  picture.paint(image.get(), colour);
+  EXPECT_EQ(at(0.5, 0.5), white);
+  EXPECT_GT(at(1.5, 1.5)[2], 100);  // B
+  EXPECT_EQ(at(1.5, 1.5)[0], 0);
+  picture.add(0);
+  picture.paint(image.get(), colour);
+  EXPECT_GT(at(0.5, 0.5)[0], 100);  // A where B is not
+  EXPECT_EQ(at(0.5, 0.5)[2], 0);
+  EXPECT_GT(at(1.5, 1.5)[2], 100);  // B in front of A, though placed first
+  EXPECT_EQ(at(1.5, 1.5)[0], 0);
+  EXPECT_EQ(at(0.5, 2.0), (std::array<int, 3>{0, 0, 0}));  // A's stroke in the open
+  EXPECT_GT(at(1.5, 2.0)[2], 100);                         // and hidden behind B
+  EXPECT_EQ(at(2.5, 0.5), white);
 }
 
 TEST(Guide, EveryRunWritesTheGuideAndPictures) {

@@ -177,17 +177,15 @@ void write_steps_pdf(const RunResult& run, const fs::path& path) {
   cairo_pdf_surface_set_metadata(pdf.get(), CAIRO_PDF_METADATA_TITLE, "kerfab assembly steps");
   CairoContext cr(cairo_create(pdf.get()), cairo_destroy);
   cairo_t* c = cr.get();
-  std::vector<char> placed(strips.patches.size(), 0);
   const int pic_w = static_cast<int>(cell_w * px), pic_h = static_cast<int>((cell_h - caption) * px);
-  // Each step's picture is drawn flat at twice the size and scaled down: antialiased edges
-  // without the seams of antialiased neighbours, and no hairline stroke around every face
-  // (steps times faces grows with the square of the model's size).
+  // The step pictures are drawn at twice the size, faces added part by part as they are
+  // placed (steps times faces would grow with the square of the model), and scaled down.
   const int ss = 2;
   const FacePainter painter(View3(corners, view, 0, 0, ss * pic_w, ss * pic_h), all);
+  LayeredPicture layers(painter, ss * pic_w, ss * pic_h, ss);
   const std::size_t per_page = cols * rows;
   for (std::size_t k = 0; k < plan.steps.size(); ++k) {
     const AssemblyStep& step = plan.steps[k];
-    placed[step.part] = 1;
     const std::size_t slot = k % per_page;
     if (slot == 0) {
       if (k > 0) cairo_show_page(c);
@@ -203,20 +201,14 @@ void write_steps_pdf(const RunResult& run, const fs::path& path) {
     }
     std::vector<char> joined(strips.patches.size(), 0);
     for (const PartContact& j : step.joins) joined[j.part] = 1;
+    layers.add(step.part);
     auto [big, bc] = white_picture(ss * pic_w, ss * pic_h);
-    painter.draw(
-        bc.get(),
-        [&](const Face3& f, Rgb& fill) {
-          const int p = f.tag;
-          if (p < 0 || !placed[p]) return false;
-          fill = p == step.part ? Rgb{1.0, 0.5, 0.05}
-                 : joined[p]    ? Rgb{0.62, 0.66, 0.75}
-                                : Rgb{0.88, 0.88, 0.88};
-          return true;
-        },
-        true, ss);
+    layers.paint(big.get(), [&](int p) {
+      return p == step.part ? Rgb{1.0, 0.5, 0.05}
+             : joined[p]    ? Rgb{0.62, 0.66, 0.75}
+                            : Rgb{0.88, 0.88, 0.88};
+    });
     bc.reset();
-    cairo_surface_flush(big.get());
     auto [image, ic] = white_picture(pic_w, pic_h);
     cairo_scale(ic.get(), 1.0 / ss, 1.0 / ss);
     cairo_set_source_surface(ic.get(), big.get(), 0, 0);

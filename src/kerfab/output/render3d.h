@@ -8,7 +8,8 @@
 
 #include "kerfab/core/mesh.h"
 
-struct _cairo;  // cairo_t, from <cairo.h>
+struct _cairo;          // cairo_t, from <cairo.h>
+struct _cairo_surface;  // cairo_surface_t
 
 namespace kerfab {
 
@@ -59,30 +60,62 @@ class View3 {
 /// from behind are drawn darker.
 void draw_faces(_cairo* cr, const View3& view, const std::vector<Face3>& faces);
 
-/// Faces turned, shaded and sorted far to near once, for drawing many pictures of subsets of them
-/// in one view (the assembly steps: a picture per step of the parts placed so far).
+/// Faces turned, shaded and sorted far to near once, for drawing pictures of subsets of them.
 class FacePainter {
  public:
   FacePainter(const View3& view, const std::vector<Face3>& faces);
   /// The fill of face \p f in this picture, or false to leave it out.
   using Fill = std::function<bool(const Face3& f, Rgb& fill)>;
-  /// Draws the faces that \p fill keeps, far to near, each followed by its side strokes (widths
-  /// times \p line_scale). Smooth: antialiased, each face stroked with a hairline over the seams
-  /// to its neighbours. Flat (for thumbnails of many faces): without antialiasing, so that
-  /// neighbours meet without seams and need no hairline; far cheaper, meant to be drawn large
-  /// and scaled down.
-  void draw(_cairo* cr, const Fill& fill, bool flat = false, double line_scale = 1) const;
+  /// Draws the faces that \p fill keeps, far to near, antialiased, each stroked with a hairline
+  /// over the seams to its neighbours and followed by its side strokes.
+  void draw(_cairo* cr, const Fill& fill) const;
 
- private:
+  /// A face as drawn: its place in faces, its depth, its shade (Lambert) and its corners on the
+  /// picture, screen()[first] on.
   struct Drawn {
     double depth;
     std::size_t face;
     double shade;
-    std::size_t first;  // its corners on the picture, from screen_[first] on
+    std::size_t first;
   };
+  const std::vector<Drawn>& far_to_near() const { return order_; }
+  const std::vector<std::array<double, 2>>& screen() const { return screen_; }
+  const std::vector<Face3>& faces() const { return faces_; }
+
+ private:
   const std::vector<Face3>& faces_;
   std::vector<Drawn> order_;
   std::vector<std::array<double, 2>> screen_;
+};
+
+/// Pictures of a growing set of faces in one view (the assembly steps: the parts placed so far).
+/// Each face and each of its side strokes (as a bar of its width, opaque) is rasterised once,
+/// when its tag is added, into a buffer keeping per pixel the last item the painter's algorithm
+/// would draw there: the picture of FacePainter without antialiasing, in time proportional to
+/// the faces plus the pixels of each picture instead of the faces of each picture (which made
+/// the steps grow with the square of the model). Draw it larger and scale down for smooth edges.
+class LayeredPicture {
+ public:
+  /// w x h pixels; side strokes \p line_scale times their width.
+  LayeredPicture(const FacePainter& painter, int w, int h, double line_scale = 1);
+  /// Makes the faces tagged \p tag visible.
+  void add(int tag);
+  /// Writes the picture into \p image (a w x h image surface, RGB24 or ARGB32): white where no
+  /// face is, each face in colour(its tag) times its shade, side strokes in their colour.
+  void paint(_cairo_surface* image, const std::function<Rgb(int tag)>& colour) const;
+
+ private:
+  struct Item {
+    std::size_t drawn;  // into painter.far_to_near()
+    int side;           // -1: the face itself; else the face's side stroke
+  };
+  const FacePainter& painter_;
+  int w_, h_;
+  double line_scale_;
+  std::vector<Item> items_;                  // in the painter's drawing order
+  std::vector<std::vector<int>> by_tag_;     // items per tag
+  std::vector<int> top_;                     // per pixel, the last item drawn there, or -1
+  void fill_polygon(const std::vector<std::array<double, 2>>& corners, int item);
 };
 
 /// Every corner of \p faces (to fit a view).
