@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <polyclipping/clipper.hpp>
 #include <unordered_map>
 #include <utility>
@@ -133,21 +134,50 @@ std::vector<Polygon2> from_paths(ClipperLib::Paths paths) {
   return out;
 }
 
-/// Winding number of the closed paths \p paths around the point (x, y) [grid units].
-int winding(const ClipperLib::Paths& paths, double x, double y) {
-  int w = 0;
-  for (const auto& path : paths)
-    for (std::size_t i = 0, n = path.size(); i < n; ++i) {
-      const auto &a = path[i], &b = path[(i + 1) % n];
-      const double ay = static_cast<double>(a.Y), by = static_cast<double>(b.Y);
-      if ((ay <= y) == (by <= y)) continue;
-      const double ax = static_cast<double>(a.X), bx = static_cast<double>(b.X);
-      const double cross = (bx - ax) * (y - ay) - (by - ay) * (x - ax);
-      if (by > ay && cross > 0) ++w;
-      if (by < ay && cross < 0) --w;
+/// Closed paths with their bounding boxes, for winding numbers that skip the paths a point's
+/// rightward ray cannot cross.
+class Region {
+ public:
+  explicit Region(const ClipperLib::Paths& paths) : paths_(paths) {
+    box_.reserve(paths.size());
+    for (const auto& path : paths) {
+      constexpr double inf = std::numeric_limits<double>::infinity();
+      Box b{inf, -inf, -inf};  // min y, max x, max y
+      for (const auto& q : path) {
+        b.max_x = std::max(b.max_x, static_cast<double>(q.X));
+        b.min_y = std::min(b.min_y, static_cast<double>(q.Y));
+        b.max_y = std::max(b.max_y, static_cast<double>(q.Y));
+      }
+      box_.push_back(b);
     }
-  return w;
-}
+  }
+  /// Winding number of the paths around (x, y) [grid units].
+  int winding(double x, double y) const {
+    int w = 0;
+    for (std::size_t k = 0; k < paths_.size(); ++k) {
+      const Box& b = box_[k];
+      if (x > b.max_x || y < b.min_y || y > b.max_y) continue;
+      const auto& path = paths_[k];
+      for (std::size_t i = 0, n = path.size(); i < n; ++i) {
+        const auto &a = path[i], &c = path[(i + 1) % n];
+        const double ay = static_cast<double>(a.Y), cy = static_cast<double>(c.Y);
+        if ((ay <= y) == (cy <= y)) continue;
+        const double ax = static_cast<double>(a.X), cx = static_cast<double>(c.X);
+        const double cross = (cx - ax) * (y - ay) - (cy - ay) * (x - ax);
+        if (cy > ay && cross > 0) ++w;
+        if (cy < ay && cross < 0) --w;
+      }
+    }
+    return w;
+  }
+
+ private:
+  struct Box {
+    double min_y, max_x, max_y;
+  };
+  const ClipperLib::Paths& paths_;
+  std::vector<Box> box_;
+};
 
 /// Clipper 1 can hand back a ring with the wrong direction where touching corners abound (an
 /// island of material alone in a hole came back clockwise, as a hole; tests/polygon_ops_test).
@@ -188,12 +218,13 @@ std::vector<Polygon2> boolean(Op op, const ClipperLib::Paths& subject,
                                                             : ClipperLib::ctDifference;
   c.Execute(type, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   out = split_at_repeated_points(std::move(out));
+  const Region in_s(subject), in_c(clip);
   orient_by_fill(out, [&](double x, double y) {
-    const bool in_subject = winding(subject, x, y) != 0;
+    const bool in_subject = in_s.winding(x, y) != 0;
     switch (op) {
-      case Op::kIntersection: return in_subject && winding(clip, x, y) != 0;
+      case Op::kIntersection: return in_subject && in_c.winding(x, y) != 0;
       case Op::kUnion: return in_subject;
-      case Op::kDifference: return in_subject && winding(clip, x, y) == 0;
+      case Op::kDifference: return in_subject && in_c.winding(x, y) == 0;
     }
     return false;
   });
