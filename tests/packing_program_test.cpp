@@ -53,6 +53,33 @@ TEST(PackingProgram, MatchesExhaustiveSearchOnRandomSmallPrograms) {
 
 // An odd cycle of 5 with unit weights: the relaxation allows 2.5, integers 2; the odd-cycle
 // set limit makes the bound exact.
+TEST(PackingProgram, WithoutSearchKeepsAFeasibleStartAndAValidBound) {
+  // search = false (no time left for the branch and bound): a feasible selection at least as
+  // good as the given start, status time limit, and a bound no lower than the true optimum.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> w(0.0, 5.0);
+  std::uniform_int_distribution<int> coin(0, 3);
+  for (int trial = 0; trial < 30; ++trial) {
+    const int n = 8 + trial % 6;
+    PackingProblem p;
+    for (int i = 0; i < n; ++i) p.weights.push_back(w(rng));
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b)
+        if (coin(rng) == 0) p.conflicts.emplace_back(a, b);
+    p.start.assign(n, 0);
+    p.start[trial % n] = 1;  // one variable alone is always feasible
+    const PackingResult r = solve_packing(p, {.time_limit_s = 10, .search = false});
+    ASSERT_EQ(r.x.size(), static_cast<std::size_t>(n));
+    for (auto [a, b] : p.conflicts) EXPECT_FALSE(r.x[a] && r.x[b]) << "trial " << trial;
+    double f = 0;
+    for (int i = 0; i < n; ++i) f += r.x[i] ? p.weights[i] : 0.0;
+    EXPECT_NEAR(f, r.objective, 1e-9);
+    EXPECT_GE(r.objective, p.weights[trial % n] - 1e-12);
+    EXPECT_GE(r.bound, brute_force_optimum(p) - 1e-9);
+    EXPECT_EQ(r.status, PackingStatus::kTimeLimit);
+  }
+}
+
 TEST(PackingProgram, OddCycleSetLimitGivesExactBound) {
   PackingProblem p;
   p.weights.assign(5, 1.0);

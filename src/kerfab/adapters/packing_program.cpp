@@ -205,7 +205,7 @@ void PackingRelaxationSolver::add_limit(const std::vector<int>& vars, int limit)
   Clp_addRows(model_->clp.get(), 1, &lower, &upper, starts, vars.data(), ones.data());
 }
 
-PackingRelaxation PackingRelaxationSolver::solve() {
+PackingRelaxation PackingRelaxationSolver::solve(double max_seconds) {
   const auto start = std::chrono::steady_clock::now();
   PackingRelaxation result;
   if (n_ == 0) {
@@ -213,6 +213,8 @@ PackingRelaxation PackingRelaxationSolver::solve() {
     return result;
   }
   Clp_Simplex* clp = model_->clp.get();
+  // CLP counts from this call; non-positive means no limit to it.
+  Clp_setMaximumSeconds(clp, std::isfinite(max_seconds) ? std::max(max_seconds, 1e-3) : -1.0);
   // Dual simplex from the last basis: added rows keep it dual feasible.
   if (!model_->solved)
     Clp_initialSolve(clp);
@@ -241,6 +243,14 @@ PackingResult solve_packing(const PackingProblem& problem, const PackingOptions&
     result.x = problem.start;
   if (n == 0) {
     result.status = PackingStatus::kOptimal;
+    return result;
+  }
+  if (!options.search) {
+    result.objective = objective_of(problem, result.x);
+    result.bound = 0;
+    for (double w : problem.weights) result.bound += std::max(w, 0.0);
+    result.status = PackingStatus::kTimeLimit;
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   }
   const CbcModelPtr model = load_model(problem);

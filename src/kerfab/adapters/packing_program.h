@@ -1,6 +1,7 @@
 #pragma once
 /// \file Weighted binary packing program  max sum w_i x_i  s.t.  x_a + x_b <= 1 for listed
 /// conflict pairs, x_i in {0,1}, some x_i fixed. Solved by COIN-OR CBC behind this interface.
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -25,6 +26,9 @@ struct PackingOptions {
   double time_limit_s = 60.0;  ///< wall-clock limit of the branch and bound [s], > 0
   double relative_gap = 0.0;   ///< stop when (bound - objective) / |objective| <= this [-], >= 0
   bool log = false;            ///< let CBC print its own log to stdout
+  /// false: no branch and bound (no time is left for it): the better of problem.start and the
+  /// greedy selection, status kTimeLimit, bound the sum of the positive weights.
+  bool search = true;
 };
 
 enum class PackingStatus {
@@ -63,8 +67,10 @@ class PackingRelaxationSolver {
 
   /// Adds the row sum_{i in vars} x_i <= limit. \pre indices in range.
   void add_limit(const std::vector<int>& vars, int limit);
-  /// Solves the relaxation as it now stands; a simplex that fails says so in `optimal`.
-  PackingRelaxation solve();
+  /// Solves the relaxation as it now stands, for at most \p max_seconds [s] (CLP's clock; a
+  /// solve stopped there resumes from where it stopped on the next call); a simplex that fails
+  /// or runs out of time says so in `optimal`.
+  PackingRelaxation solve(double max_seconds = std::numeric_limits<double>::infinity());
 
  private:
   struct Model;
