@@ -25,17 +25,23 @@ double brute_force_optimum(const PackingProblem& p) {
   return best;
 }
 
+/// n random weights in [0, 5) and each pair in conflict with probability 1 / odds.
+PackingProblem random_program(std::mt19937& rng, int n, int odds) {
+  std::uniform_real_distribution<double> w(0.0, 5.0);
+  std::uniform_int_distribution<int> coin(0, odds - 1);
+  PackingProblem p;
+  for (int i = 0; i < n; ++i) p.weights.push_back(w(rng));
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      if (coin(rng) == 0) p.conflicts.emplace_back(a, b);
+  return p;
+}
+
 TEST(PackingProgram, MatchesExhaustiveSearchOnRandomSmallPrograms) {
   std::mt19937 rng(42);
-  std::uniform_real_distribution<double> w(0.0, 5.0);
-  std::uniform_int_distribution<int> coin(0, 5);
   for (int trial = 0; trial < 60; ++trial) {
     const int n = 6 + trial % 10;
-    PackingProblem p;
-    for (int i = 0; i < n; ++i) p.weights.push_back(w(rng));
-    for (int a = 0; a < n; ++a)
-      for (int b = a + 1; b < n; ++b)
-        if (coin(rng) == 0) p.conflicts.emplace_back(a, b);
+    PackingProblem p = random_program(rng, n, 6);
     if (trial % 3 == 0) {
       p.fixed.assign(n, std::nullopt);
       p.fixed[0] = false;
@@ -57,15 +63,9 @@ TEST(PackingProgram, WithoutSearchKeepsAFeasibleStartAndAValidBound) {
   // search = false (no time left for the branch and bound): a feasible selection at least as
   // good as the given start, status time limit, and a bound no lower than the true optimum.
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> w(0.0, 5.0);
-  std::uniform_int_distribution<int> coin(0, 3);
   for (int trial = 0; trial < 30; ++trial) {
     const int n = 8 + trial % 6;
-    PackingProblem p;
-    for (int i = 0; i < n; ++i) p.weights.push_back(w(rng));
-    for (int a = 0; a < n; ++a)
-      for (int b = a + 1; b < n; ++b)
-        if (coin(rng) == 0) p.conflicts.emplace_back(a, b);
+    PackingProblem p = random_program(rng, n, 4);
     p.start.assign(n, 0);
     p.start[trial % n] = 1;  // one variable alone is always feasible
     const PackingResult r = solve_packing(p, {.time_limit_s = 10, .search = false});
