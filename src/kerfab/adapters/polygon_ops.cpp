@@ -198,9 +198,12 @@ void orient_by_fill(ClipperLib::Paths& rings, const std::function<bool(double, d
     const double len = std::sqrt(best);
     if (len < 20) continue;  // a speck of rounding debris: CleanPolygons' business
     // 2 grid units off the edge: beyond the half unit by which Clipper rounds its vertices.
-    const double mx = 0.5 * static_cast<double>(a.X + b.X), my = 0.5 * static_cast<double>(a.Y + b.Y);
-    const double nx = -static_cast<double>(b.Y - a.Y) / len * 2, ny = static_cast<double>(b.X - a.X) / len * 2;
-    if (!inside(mx + nx, my + ny) && inside(mx - nx, my - ny)) std::reverse(ring.begin(), ring.end());
+    const double mx = 0.5 * static_cast<double>(a.X + b.X);
+    const double my = 0.5 * static_cast<double>(a.Y + b.Y);
+    const double nx = -static_cast<double>(b.Y - a.Y) / len * 2;
+    const double ny = static_cast<double>(b.X - a.X) / len * 2;
+    if (!inside(mx + nx, my + ny) && inside(mx - nx, my - ny))
+      std::reverse(ring.begin(), ring.end());
   }
 }
 

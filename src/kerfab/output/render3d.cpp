@@ -196,7 +196,8 @@ void LayeredPicture::add(int tag) {
   }
 }
 
-void LayeredPicture::paint(cairo_surface_t* image, const std::function<Rgb(int tag)>& colour) const {
+void LayeredPicture::paint(cairo_surface_t* image,
+                           const std::function<Rgb(int tag)>& colour) const {
   cairo_surface_flush(image);
   unsigned char* data = cairo_image_surface_get_data(image);
   const int stride = cairo_image_surface_get_stride(image);
