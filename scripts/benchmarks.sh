@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The benchmark (README): installs what is missing (gnuplot for the plots, GNU time for peak
 # memory, python3 for the driver), builds kerfab (Release) and writes docs/benchmarks.md with
-# docs/images/bench-*.svg from one run on this machine. Takes ~50 min on 2 cores.
+# docs/images/bench-*.svg from one run on this machine. Takes ~30 min on 2 cores.
 #   scripts/benchmarks.sh [--quick] [--limit S] [--from-runs]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
