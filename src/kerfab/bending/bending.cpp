@@ -87,13 +87,12 @@ namespace {
 constexpr int kRingBallRadius = 4;
 constexpr int kRingMoatSteps = 64;
 
-// Cutting-plane rounds on the relaxation: odd cycles violated by its optimum become set limits
+// Cutting-plane rounds on \p relaxation: odd cycles violated by its optimum become set limits
 // of the program. Stops when none is violated, when the relaxation proves the known selection
 // of objective `known` optimal (all weights equal w: objectives are multiples of w, so a bound
-// below known + w suffices), or after `budget_s` seconds.
-/// Odd-cycle cuts separated from the relaxation, round after round, for at most \p budget_s
-/// [s] in all (each simplex is stopped at what is left of it). Returns the time of the first
-/// relaxation solve, infinity if it did not finish in the budget, -1 if there was no budget.
+// below known + w suffices), or after `budget_s` seconds in all (each simplex is stopped at what
+// is left of them). Returns the time of the first relaxation solve, infinity if it did not
+// finish in the budget, -1 if there was no budget.
 double separate_odd_cycles(PackingProblem& problem, PackingRelaxationSolver& relaxation,
                            BendingResult& r, double known, double budget_s) {
   const auto t0 = std::chrono::steady_clock::now();

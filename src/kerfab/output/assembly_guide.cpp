@@ -182,25 +182,7 @@ void write_steps_pdf(const RunResult& run, const fs::path& path) {
   // placed (steps times faces would grow with the square of the model), and scaled down.
   const int ss = 2;
   const FacePainter painter(View3(corners, view, 0, 0, ss * pic_w, ss * pic_h), all);
-  // Part borders as drawn elsewhere (0.8 px), but no wider than an eighth of a typical face
-  // (the median over the picture): on a model of hundreds of thin strips full-width borders
-  // would cover the faces and hide the orange of the new part.
-  std::vector<double> sizes;
-  for (const auto& d : painter.far_to_near()) {
-    const auto* s = painter.screen().data() + d.first;
-    const std::size_t n = painter.faces()[d.face].corners.size();
-    double area = 0;
-    for (std::size_t k = 0; k < n; ++k)
-      area += s[k][0] * s[(k + 1) % n][1] - s[(k + 1) % n][0] * s[k][1];
-    sizes.push_back(std::sqrt(0.5 * std::abs(area)));
-  }
-  double typical = 0;
-  if (!sizes.empty()) {
-    std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
-    typical = sizes[sizes.size() / 2];
-  }
-  LayeredPicture layers(painter, ss * pic_w, ss * pic_h,
-                        std::clamp(typical / (8 * 0.8), 0.25, static_cast<double>(ss)));
+  LayeredPicture layers(painter, ss * pic_w, ss * pic_h, ss);
   const std::size_t per_page = cols * rows;
   for (std::size_t k = 0; k < plan.steps.size(); ++k) {
     const AssemblyStep& step = plan.steps[k];

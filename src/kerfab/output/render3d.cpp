@@ -90,14 +90,13 @@ FacePainter::FacePainter(const View3& view, const std::vector<Face3>& faces) : f
                    [](const Drawn& a, const Drawn& b) { return a.depth > b.depth; });
 }
 
-void FacePainter::draw(cairo_t* cr, const Fill& fill) const {
+void FacePainter::draw(cairo_t* cr) const {
   cairo_save(cr);
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-  Rgb colour;
   for (const Drawn& d : order_) {
     const Face3& f = faces_[d.face];
-    if (!fill(f, colour)) continue;
+    const Rgb& colour = f.fill;
     const auto* s = screen_.data() + d.first;
     const std::size_t n = f.corners.size();
     cairo_move_to(cr, s[0][0], s[0][1]);
@@ -127,6 +126,19 @@ LayeredPicture::LayeredPicture(const FacePainter& painter, int w, int h, double 
       line_scale_(line_scale),
       top_(static_cast<std::size_t>(w_) * static_cast<std::size_t>(h_), -1) {
   const auto& order = painter.far_to_near();
+  std::vector<double> sizes;  // square roots of the faces' areas on the picture
+  for (const auto& d : order) {
+    const auto* p = painter.screen().data() + d.first;
+    const std::size_t n = painter.faces()[d.face].corners.size();
+    double area = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      area += p[k][0] * p[(k + 1) % n][1] - p[(k + 1) % n][0] * p[k][1];
+    sizes.push_back(std::sqrt(0.5 * std::abs(area)));
+  }
+  if (!sizes.empty()) {
+    std::nth_element(sizes.begin(), sizes.begin() + sizes.size() / 2, sizes.end());
+    widest_ = sizes[sizes.size() / 2] / 8;
+  }
   int tags = 0;
   for (const auto& d : order) tags = std::max(tags, painter.faces()[d.face].tag + 1);
   by_tag_.resize(static_cast<std::size_t>(tags));
@@ -185,7 +197,8 @@ void LayeredPicture::add(int tag) {
       const auto& b = s[static_cast<std::size_t>(side.side + 1) % n];
       const double dx = b[0] - a[0], dy = b[1] - a[1], len = std::hypot(dx, dy);
       if (!(len > 0)) continue;
-      const double half = 0.5 * side.width * line_scale_;
+      const double half =
+          0.5 * std::clamp(widest_, 0.25 * side.width, line_scale_ * side.width);
       const double ux = dx / len * half, uy = dy / len * half;
       poly = {{a[0] - ux + uy, a[1] - uy - ux},
               {b[0] + ux + uy, b[1] + uy - ux},
@@ -232,10 +245,7 @@ void LayeredPicture::paint(cairo_surface_t* image,
 }
 
 void draw_faces(cairo_t* cr, const View3& view, const std::vector<Face3>& faces) {
-  FacePainter(view, faces).draw(cr, [](const Face3& f, Rgb& fill) {
-    fill = f.fill;
-    return true;
-  });
+  FacePainter(view, faces).draw(cr);
 }
 
 }  // namespace kerfab

@@ -64,11 +64,9 @@ void draw_faces(_cairo* cr, const View3& view, const std::vector<Face3>& faces);
 class FacePainter {
  public:
   FacePainter(const View3& view, const std::vector<Face3>& faces);
-  /// The fill of face \p f in this picture, or false to leave it out.
-  using Fill = std::function<bool(const Face3& f, Rgb& fill)>;
-  /// Draws the faces that \p fill keeps, far to near, antialiased, each stroked with a hairline
-  /// over the seams to its neighbours and followed by its side strokes.
-  void draw(_cairo* cr, const Fill& fill) const;
+  /// Draws the faces far to near in their fill colours, antialiased, each stroked with a
+  /// hairline over the seams to its neighbours and followed by its side strokes.
+  void draw(_cairo* cr) const;
 
   /// A face as drawn: its place in faces, its depth, its shade (Lambert) and its corners on the
   /// picture, screen()[first] on.
@@ -94,9 +92,12 @@ class FacePainter {
 /// would draw there: the picture of FacePainter without antialiasing, in time proportional to
 /// the faces plus the pixels of each picture instead of the faces of each picture (which made
 /// the steps grow with the square of the model). Draw it larger and scale down for smooth edges.
+/// A side stroke is \p line_scale times its width, but no wider than an eighth of the median
+/// face on the picture (at least a quarter of its width): on a model of hundreds of thin strips
+/// full-width strokes would cover the faces.
 class LayeredPicture {
  public:
-  /// w x h pixels; side strokes \p line_scale times their width.
+  /// w x h pixels.
   LayeredPicture(const FacePainter& painter, int w, int h, double line_scale = 1);
   /// Makes the faces tagged \p tag visible.
   void add(int tag);
@@ -112,6 +113,7 @@ class LayeredPicture {
   const FacePainter& painter_;
   int w_, h_;
   double line_scale_;
+  double widest_ = 0;  // widest side stroke [px]: an eighth of the median face
   std::vector<Item> items_;                  // in the painter's drawing order
   std::vector<std::vector<int>> by_tag_;     // items per tag
   std::vector<int> top_;                     // per pixel, the last item drawn there, or -1
