@@ -815,10 +815,11 @@ TEST(Joints, ShortBorderTeethOnSpotStayOutOfThirdParts) {
   EXPECT_GE(short_teeth, 45);
   EXPECT_LT(deepest, 0.2);
   // The 3 parts that fall apart even with every border plain (the mitres alone leave a neck
-  // narrower than the smallest feature) keep their joints: 10 borders without one in all (31
-  // when such parts went all plain), every outline sound and every tooth fitting its slot.
+  // narrower than the smallest feature) keep their joints: 11 borders without one in all (31
+  // when such parts went all plain; 10 before teeth hanging on necks under 1 mm went plain),
+  // every outline sound and every tooth fitting its slot.
   EXPECT_EQ(j.repaired_parts, 3);
-  EXPECT_LE(j.borders_without_joint, 10);
+  EXPECT_LE(j.borders_without_joint, 11);
   expect_sound_joints(s, f, j, 3);
   expect_teeth_fit_slots(s, f, j);
 }

@@ -973,6 +973,22 @@ class Builder {
     return far;
   }
 
+  /// True when \p piece, taken away by an opening whose result is \p opened, joined two of its
+  /// pieces and holds more than a square of the minimum feature width: a neck. Its vertices all
+  /// lie near the rest (reach() sees nothing), but what hangs on it breaks off.
+  bool neck(const Polygon2& piece, const std::vector<Polygon2>& opened) const {
+    const double w = o_.min_feature;
+    if (std::abs(polygon_area(piece)) <= w * w) return false;
+    int touched = 0;
+    for (const Polygon2& ring : opened) {
+      if (!(polygon_area(ring) > 0)) continue;
+      double d = std::numeric_limits<double>::infinity();
+      for (const Vec2& v : piece) d = std::min(d, distance_to_boundary(v, ring));
+      touched += d < 1e-3 ? 1 : 0;
+    }
+    return touched >= 2;
+  }
+
   /// The outline without tails or slits narrower than JointOptions::min_feature (where a tooth
   /// corner meets a cut-back wedge, or two cut-backs nearly meet): such a tail breaks off or
   /// burns away, such a slit is a cut the laser cannot make. Both go by removing material, which
@@ -993,14 +1009,19 @@ class Builder {
         teeth.push_back(sp.region);
         make_counter_clockwise(teeth.back());
       }
-    std::vector<Polygon2> remove;
     // Tails: what the opening takes away, except tooth material.
-    for (const auto& piece : polygon_difference({outline}, opened)) {
-      if (reach(piece, opened) <= r) continue;
-      for (auto& rest :
-           teeth.empty() ? std::vector<Polygon2>{piece} : polygon_difference({piece}, teeth))
-        remove.push_back(std::move(rest));
-    }
+    auto tails = [&](const Polygon2& shape, const std::vector<Polygon2>& opened_shape) {
+      std::vector<Polygon2> out;
+      for (const auto& piece : polygon_difference({shape}, opened_shape)) {
+        if (reach(piece, opened_shape) <= r && !neck(piece, opened_shape)) continue;
+        for (auto& rest :
+             teeth.empty() ? std::vector<Polygon2>{piece} : polygon_difference({piece}, teeth))
+          out.push_back(std::move(rest));
+      }
+      return out;
+    };
+    std::vector<Polygon2> remove = tails(outline, opened);
+    bool widened = false;
     // Slits: what the closing would fill, widened to the minimum width instead (never into a
     // tooth: the slot it goes into is cut to its width).
     const auto closed = polygon_offset(polygon_offset({outline}, r), -r);
@@ -1016,6 +1037,7 @@ class Builder {
       for (auto& poly : wide) make_counter_clockwise(poly);
       if (!teeth.empty()) wide = polygon_difference(wide, teeth);
       remove.insert(remove.end(), wide.begin(), wide.end());
+      widened = true;
     }
     if (remove.empty()) return {outline};
     for (auto& poly : remove) make_counter_clockwise(poly);
@@ -1023,7 +1045,21 @@ class Builder {
     for (auto& c : polygon_difference({outline}, remove))
       if (polygon_area(c) > 0) left.push_back(std::move(c));
     if (left.empty()) return {outline};
-    return left;
+    if (!widened) return left;
+    // A widened slit narrows the material beside it: what became a tail there goes too.
+    std::vector<Polygon2> final_pieces;
+    for (const Polygon2& piece : left) {
+      const auto opened_piece = polygon_offset(polygon_offset({piece}, -r), r);
+      auto more = opened_piece.empty() ? std::vector<Polygon2>{} : tails(piece, opened_piece);
+      if (more.empty()) {
+        final_pieces.push_back(piece);
+        continue;
+      }
+      for (auto& poly : more) make_counter_clockwise(poly);
+      for (auto& c : polygon_difference({piece}, more))
+        if (polygon_area(c) > 0) final_pieces.push_back(std::move(c));
+    }
+    return final_pieces.empty() ? left : final_pieces;
   }
 };
 
