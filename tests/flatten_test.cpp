@@ -261,5 +261,42 @@ TEST(Flatten, InvertedQuadsAndCrossingOutlinesAreDetected) {
   EXPECT_FALSE(is_simple_polygon(touching, {0, 1, 2, 3, 4}));  // vertex on another edge
 }
 
+// A one-quad facet whose corners sit off any common plane: the flat quad keeps its four side
+// lengths exactly, is strictly convex and counter-clockwise; a planar convex quad comes back
+// congruent (angles and diagonals as in 3D); four lengths no quadrilateral has give nothing.
+TEST(Flatten, AWarpedOneQuadFacetFlattensConvexWithItsSideLengths) {
+  auto check = [](const std::array<Vec3, 4>& p) {
+    const auto q = convex_quad(p);
+    EXPECT_TRUE(q.has_value());
+    if (!q) return std::array<Vec2, 4>{};
+    for (int j = 0; j < 4; ++j)
+      EXPECT_NEAR(((*q)[(j + 1) % 4] - (*q)[j]).norm(), (p[(j + 1) % 4] - p[j]).norm(), 1e-9);
+    const std::vector<Vec2> points(q->begin(), q->end());
+    EXPECT_EQ(count_inverted_quads(points, {{0, 1, 2, 3}}), 0);
+    return *q;
+  };
+  // Planar: a trapezoid tilted in space.
+  const Eigen::Matrix3d turn =
+      (Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized())).toRotationMatrix();
+  const std::array<Vec3, 4> trapezoid = {turn * Vec3(0, 0, 0), turn * Vec3(12, 0, 0),
+                                         turn * Vec3(9, 7, 0), turn * Vec3(2, 7, 0)};
+  const auto t = check(trapezoid);
+  for (int j = 0; j < 4; ++j) {
+    EXPECT_NEAR((t[(j + 2) % 4] - t[j]).norm(), (trapezoid[(j + 2) % 4] - trapezoid[j]).norm(),
+                1e-9);
+    EXPECT_NEAR(corner(t[j], t[(j + 1) % 4], t[(j + 3) % 4]),
+                corner(trapezoid[j], trapezoid[(j + 1) % 4], trapezoid[(j + 3) % 4]), 1e-9);
+  }
+  // Corners moved so far by the facets around that the quad crosses itself in its own plane
+  // (a bow tie: edges 1-2 and 3-0 cross); and one warped off any plane.
+  check({Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(10, 10, 3), Vec3(0, 10, -3)});
+  const std::array<Vec3, 4> warped = {Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 10, 8),
+                                      Vec3(10, 10, 8)};
+  check(warped);
+  // Four corners on a line (sides 10, 6, 2, 2: the longest as long as the rest): no quad.
+  EXPECT_FALSE(convex_quad({Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(4, 0, 0), Vec3(2, 0, 0)})
+                   .has_value());
+}
+
 }  // namespace
 }  // namespace kerfab

@@ -6,7 +6,9 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <optional>
 
 #include "kerfab/core/errors.h"
 #include "kerfab/core/parallel.h"
@@ -366,6 +368,14 @@ PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const Flat
   out.energy = s.energy;
   out.converged = s.converged;
   out.inverted_quads = count_inverted_quads(out.points, lp.quads);
+  if (patch.flat && lp.quads.size() == 1 && out.inverted_quads > 0) {
+    const auto& q = lp.quads[0];
+    if (const auto built = convex_quad({lp.p3[q[0]], lp.p3[q[1]], lp.p3[q[2]], lp.p3[q[3]]})) {
+      for (int j = 0; j < 4; ++j) out.points[q[j]] = (*built)[j];
+      out.energy = energy.residuals(out.points).squaredNorm();
+      out.inverted_quads = count_inverted_quads(out.points, lp.quads);
+    }
+  }
   int c = 0;
   for (const auto& q : lp.quads) {
     for (int j = 0; j < 4; ++j, ++c) {
@@ -449,6 +459,43 @@ void measure_borders(const Strips& strips, Flattening& flat) {
 }
 
 }  // namespace
+
+std::optional<std::array<Vec2, 4>> convex_quad(const std::array<Vec3, 4>& p) {
+  std::array<double, 4> side{}, angle3{};
+  for (int j = 0; j < 4; ++j) {
+    side[j] = (p[(j + 1) % 4] - p[j]).norm();
+    angle3[j] = corner_angle_3d(p[j], p[(j + 1) % 4], p[(j + 3) % 4]);
+  }
+  std::optional<std::array<Vec2, 4>> best;
+  double best_error = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 2; ++k) {  // the diagonal from corner k to corner k + 2
+    const double a = side[k], b = side[(k + 1) % 4], c = side[(k + 2) % 4], d = side[(k + 3) % 4];
+    const double lo = std::max(std::abs(a - b), std::abs(c - d)), hi = std::min(a + b, c + d);
+    if (!(hi > lo)) continue;
+    constexpr int kSamples = 256;
+    const double own = (p[(k + 2) % 4] - p[k]).norm();  // the 3D diagonal: exact when planar
+    for (int i = 0; i <= kSamples; ++i) {
+      const double e = i == kSamples ? own : lo + (hi - lo) * (i + 0.5) / kSamples;
+      if (!(e > lo && e < hi)) continue;
+      // Corner k at the origin, corner k + 2 on the x axis; k + 1 below, k + 3 above (ccw).
+      const double x1 = (a * a - b * b + e * e) / (2 * e), x3 = (d * d - c * c + e * e) / (2 * e);
+      std::array<Vec2, 4> q;
+      q[k] = Vec2(0, 0);
+      q[(k + 2) % 4] = Vec2(e, 0);
+      q[(k + 1) % 4] = Vec2(x1, -std::sqrt(std::max(0.0, a * a - x1 * x1)));
+      q[(k + 3) % 4] = Vec2(x3, std::sqrt(std::max(0.0, d * d - x3 * x3)));
+      double error = 0;
+      bool convex = true;
+      for (int j = 0; j < 4; ++j) {
+        const double angle = corner_angle(q[j], q[(j + 1) % 4], q[(j + 3) % 4]);
+        convex = convex && angle > 0 && angle < M_PI;
+        error = std::max(error, std::abs(angle - angle3[j]));
+      }
+      if (convex && error < best_error) best_error = error, best = q;
+    }
+  }
+  return best;
+}
 
 std::vector<Vec2> flat_outline(const Strips& strips, const Flattening& flat, int patch) {
   std::vector<Vec2> out;

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,15 @@ struct Flattening {
 
 /// The patch's flattened outline, counter-clockwise [mm].
 std::vector<Vec2> flat_outline(const Strips& strips, const Flattening& flat, int patch);
+
+/// A flat quad with the four side lengths of the 3D quad \p p (corners in order), built from
+/// two triangles on either side of a diagonal so it cannot cross itself: of the diagonal lengths
+/// both triangles admit, the one whose quad is strictly convex with corner angles nearest the 3D
+/// ones (largest difference smallest; the 3D diagonal itself is a candidate, so a planar convex
+/// quad comes back congruent). Counter-clockwise. Used for a one-quad facet whose corners,
+/// shared with facets at other angles, sit off any common plane and flatten crossed: its side
+/// lengths are what its neighbours keep [mm]. Empty when no length gives a convex quad.
+std::optional<std::array<Vec2, 4>> convex_quad(const std::array<Vec3, 4>& p);
 
 /// Quads of \p quads (counter-clockwise corner order expected) that are inverted or not
 /// strictly convex in the plane: some corner angle, measured counter-clockwise, outside (0, pi).
