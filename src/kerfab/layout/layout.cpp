@@ -357,6 +357,8 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   result.placements = std::move(best.placements);
   result.unplaced = std::move(best.unplaced);
   std::sort(result.unplaced.begin(), result.unplaced.end());
+  for (int i : result.unplaced)
+    if (outlines[i].size() < 3 || !(parts[i].area > 0)) result.empty.push_back(i);
   result.sheets = best.sheets();
   if (result.sheets == 0 && n > 0) {
     // Nothing fits: the sheet is the problem, not the parts. Say what would fit the smallest.

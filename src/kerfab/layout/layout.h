@@ -38,7 +38,9 @@ struct LayoutResult {
   /// within the usable area grown by half the spacing, so their area over that one's is a
   /// lower bound as well, and a tighter one.
   int sheets_lower_bound_spaced = 0;
-  std::vector<int> unplaced;
+  std::vector<int> unplaced;  ///< parts on no sheet: larger than any, or nothing left (below)
+  std::vector<int> empty;     ///< of those, parts with no outline left to cut (their joints'
+                              ///< slots and mitres took all of them)
   // Filled by lay_out_parts (not by nest_parts):
   std::vector<std::optional<Label>> labels;       ///< per part: its number, if it fits
   std::vector<std::vector<Label>> engravings;     ///< per part: its number and border labels

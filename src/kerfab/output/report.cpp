@@ -37,9 +37,12 @@ std::string report_json(const RunResult& run, const OutputOptions& output) {
   if (run.joints && run.joints->repaired_parts > 0)
     incomplete.push_back(std::to_string(run.joints->repaired_parts) +
                          " parts fell apart when cut; only their largest piece is kept");
-  if (run.layout && !run.layout->unplaced.empty())
-    incomplete.push_back(std::to_string(run.layout->unplaced.size()) +
+  if (run.layout && run.layout->unplaced.size() > run.layout->empty.size())
+    incomplete.push_back(std::to_string(run.layout->unplaced.size() - run.layout->empty.size()) +
                          " parts fit no sheet and are missing from cut/");
+  if (run.layout && !run.layout->empty.empty())
+    incomplete.push_back(std::to_string(run.layout->empty.size()) +
+                         " parts have nothing left once their slots and mitres are cut");
   if (!incomplete.empty()) {
     r["status"] = "incomplete";
     r["incomplete"] = incomplete;

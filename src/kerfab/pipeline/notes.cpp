@@ -204,9 +204,14 @@ StageNotes notes(const LayoutResult& l, const LayoutOptions& options) {
     os << " (no nesting fits them on fewer than " << l.sheets_lower_bound_spaced
        << " with this spacing, " << l.sheets_lower_bound << " by area alone)";
   n.lines.push_back(os.str());
-  if (!l.unplaced.empty())
-    n.warnings.push_back(std::to_string(l.unplaced.size()) +
+  const std::size_t too_large = l.unplaced.size() - l.empty.size();
+  if (too_large > 0)
+    n.warnings.push_back(std::to_string(too_large) +
                          " parts fit no sheet and are missing from cut/ (see layout.unplaced)");
+  if (!l.empty.empty())
+    n.warnings.push_back(std::to_string(l.empty.size()) +
+                         " parts have nothing left once their slots and mitres are cut and are "
+                         "missing from cut/ (see layout.empty and resolve.changes)");
   int unlabelled = 0;
   for (const auto& label : l.labels) unlabelled += label ? 0 : 1;
   if (unlabelled > 0)
