@@ -269,6 +269,21 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   const CliRun r = run_cli("demo --out " + out.string(), scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = read_report(out);
+  // The resolve stage's rounds are reported while it runs, the first with what the first
+  // build left: one line per round, numbered from 1.
+  const auto resolve_at = r.err.find("[resolve] ...");
+  ASSERT_NE(resolve_at, std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("  round 1: " +
+                       std::to_string(report["resolve"]["critical_before"].get<int>()) +
+                       " critical regions, "),
+            r.err.find('\n', resolve_at) + 1)
+      << r.err;
+  int round_lines = 0;  // each round rebuilds at least once, the last one only looks
+  for (auto at = r.err.find("\n  round "); at != std::string::npos;
+       at = r.err.find("\n  round ", at + 1))
+    ++round_lines;
+  EXPECT_GE(round_lines, 2);
+  EXPECT_LE(round_lines, report["resolve"]["rounds"].get<int>() + 1);
   EXPECT_EQ(report["version"], 1);
   EXPECT_EQ(report["units"], "mm");
   EXPECT_NEAR(report["input"]["bbox_mm"][2].get<double>(), 250.0, 1e-6);

@@ -57,11 +57,15 @@ LoadedInputs load_inputs(const RunInputs& in) {
 
 /// The resolve stage: the parts built so far go in, the rebuilt ones come back into \p r. Its
 /// notes carry the warnings that hold for the rebuilt parts and replace the earlier stages'.
-static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double diagonal) {
+static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double diagonal,
+                                const Progress& progress) {
   const PipelineOptions& o = r.options;
   PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
                    std::move(*r.joints), std::move(*r.kerf)};
-  r.resolve = resolve_critical_regions(build, *r.input, parts, o.resolve);
+  const auto round_done = [&](const std::string& line) {
+    if (progress) progress("  " + line);
+  };
+  r.resolve = resolve_critical_regions(build, *r.input, parts, o.resolve, round_done);
   r.bending = std::move(build.bending);
   r.strips = std::move(build.strips);
   r.flat = std::move(build.flat);
@@ -155,7 +159,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
                                   o.machine, o.kerf);
          return notes(*r.kerf, o.kerf);
        }},
-      {Stage::kResolve, [&] { return resolve_stage(r, parts_options(), diag()); }},
+      {Stage::kResolve, [&] { return resolve_stage(r, parts_options(), diag(), progress); }},
       {Stage::kLayout,
        [&] {
          r.layout = lay_out_parts(r.flat->strips, r.flat->flattening, *r.joints, *r.kerf, o.layout);

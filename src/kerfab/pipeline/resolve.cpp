@@ -166,8 +166,8 @@ struct Added {
 class Resolver {
  public:
   Resolver(PartsBuild& build, const PreparedInput& input, const PartsOptions& options,
-           const ResolveOptions& resolve)
-      : build_(build), in_(input), m_(input.quads), o_(options), r_(resolve) {}
+           const ResolveOptions& resolve, const ResolveProgress& progress)
+      : build_(build), in_(input), m_(input.quads), o_(options), r_(resolve), progress_(progress) {}
 
   ResolveResult run() {
     out_.critical_before = static_cast<int>(build_.kerf.critical.size());
@@ -182,6 +182,13 @@ class Resolver {
     std::set<int> cheap_failed;  // quads where a crease split or a merge did not resolve
     for (int round = 0; r_.enabled && round < r_.max_rounds; ++round) {
       std::vector<Region> pending = current_regions();
+      if (progress_) {
+        std::ostringstream line;
+        line << "round " << round + 1 << ": " << build_.kerf.critical.size()
+             << " critical regions, " << pending.size() - build_.kerf.critical.size()
+             << " parts too small to handle, " << build_.flat.strips.patches.size() << " parts";
+        progress_(line.str());
+      }
       if (pending.empty()) break;
       // 1. Crease splits and merges, tried together and kept where they resolve their region.
       Added trial = accepted_;
@@ -313,6 +320,7 @@ class Resolver {
   const PolyMesh& m_;
   const PartsOptions& o_;
   const ResolveOptions& r_;
+  const ResolveProgress& progress_;
   ResolveResult out_;
   Added accepted_;
   std::set<int> user_bendable_, user_merge_, user_split_;
@@ -995,9 +1003,10 @@ PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const 
 }
 
 ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& input,
-                                       const PartsOptions& options, const ResolveOptions& resolve) {
+                                       const PartsOptions& options, const ResolveOptions& resolve,
+                                       const ResolveProgress& progress) {
   if (resolve.max_rounds < 1) throw InvalidInput("resolve: max_rounds must be >= 1");
-  return Resolver(build, input, options, resolve).run();
+  return Resolver(build, input, options, resolve, progress).run();
 }
 
 }  // namespace kerfab

@@ -14,6 +14,7 @@
 ///      joined by box joints.
 /// What no change resolves is reported with the smallest model size (and the thinnest material)
 /// at which it would need none.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -105,9 +106,13 @@ struct PartsOptions {
 PartsBuild build_parts(const PreparedInput& input, const PartsOptions& options,
                        const Guidance& guidance, const BendingResult* reuse = nullptr);
 
+/// One line per round of the loop (what is left to resolve), for a long run's progress.
+using ResolveProgress = std::function<void(const std::string&)>;
+
 /// Rebuilds with more guidance until no critical region remains or nothing more applies;
 /// \p build holds the first build (made with \p options) and is replaced by the final one.
 ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& input,
-                                       const PartsOptions& options, const ResolveOptions& resolve);
+                                       const PartsOptions& options, const ResolveOptions& resolve,
+                                       const ResolveProgress& progress = {});
 
 }  // namespace kerfab
