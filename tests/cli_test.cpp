@@ -145,10 +145,13 @@ TEST(Cli, PaperSizesByNameAndA4ForPaper) {
   EXPECT_GT(report["quality"]["sample_spacing_mm"].get<double>(), 0);
   EXPECT_LE(report["quality"]["samples"].get<long>(), 10'000'000);
   EXPECT_LT(report["quality"]["hausdorff_rel"].get<double>(), 1e-6);  // flat faces, exact
+  // The bound is what the search left open, at most a quarter of the spacing.
   EXPECT_NEAR(report["quality"]["hausdorff_upper_bound_mm"].get<double>(),
               report["quality"]["hausdorff_mm"].get<double>() +
-                  report["quality"]["sample_spacing_mm"].get<double>(),
+                  report["quality"]["hausdorff_gap_mm"].get<double>(),
               1e-9);
+  EXPECT_LE(report["quality"]["hausdorff_gap_mm"].get<double>(),
+            0.25 * report["quality"]["sample_spacing_mm"].get<double>() + 1e-9);
   // The PDF page is A4 at true size: 210 x 297 mm = 595.28 x 841.89 pt.
   const std::string pdf = test::slurp(scratch / "a" / "cut" / "sheet-001.pdf");
   EXPECT_NE(pdf.find("/MediaBox [ 0 0 595.27"), std::string::npos);

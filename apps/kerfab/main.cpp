@@ -101,7 +101,7 @@ struct RunFlags {
   std::string projection = "normal";
   std::string material = "mdf";
   std::string sheet = "600x450";
-  CLI::Option* sheet_option = nullptr;  // to tell a given --sheet from the default
+  CLI::Option* sheet_option = nullptr;   // to tell a given --sheet from the default
   CLI::Option* stroke_option = nullptr;  // to tell a given --stroke from the default
   std::string format = "svg,dxf,pdf";
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
@@ -301,8 +301,8 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                                    "Line width of cut, engrave and fold lines in the SVG and PDF "
                                    "sheets; the default hairline is what laser drivers expect; "
                                    "0.2 with --material paper, for printing [mm]")
-                       ->capture_default_str()
-                       ->check(kPositive);
+                        ->capture_default_str()
+                        ->check(kPositive);
   const auto colour = CLI::Validator(
       [](std::string& c) {
         const bool ok = c.size() == 7 && c[0] == '#' &&
@@ -332,8 +332,8 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->capture_default_str()
       ->check(kNonNegative);
   cmd.add_option("--quality-spacing", f.options.quality_sample_spacing,
-                 "Distance-sample spacing for the Hausdorff and mean distance, as a fraction of "
-                 "the target's bbox diagonal [ratio]")
+                 "Sample spacing of the mean distance; the Hausdorff distance is found to "
+                 "within a quarter of it. As a fraction of the target's bbox diagonal [ratio]")
       ->capture_default_str()
       ->check(CLI::Range(1e-5, 0.1));
   cmd.add_option("--max-memory", f.max_memory_mb,

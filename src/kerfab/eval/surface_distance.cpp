@@ -1,7 +1,9 @@
 #include "kerfab/eval/surface_distance.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <queue>
 
 #include "kerfab/adapters/target_surface.h"
 #include "kerfab/core/errors.h"
@@ -27,49 +29,44 @@ int grid_steps(const TriangleMesh& m, const std::array<int, 3>& t, double spacin
   return std::max(1, static_cast<int>(std::ceil(longest / spacing)));
 }
 
-struct OneSided {
-  double max = 0, weighted_sum = 0, area = 0;
+int worker_count() { return std::max(1u, std::min(8u, std::thread::hardware_concurrency())); }
+
+struct Mean {
+  double weighted_sum = 0, area = 0;
   long samples = 0;
+  double value() const { return area > 0 ? weighted_sum / area : 0; }
 };
 
-OneSided one_sided(const TriangleMesh& from, const TargetSurface& to, double spacing) {
-  const int threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
-  std::vector<OneSided> parts(threads);
+/// Area-weighted mean distance from \p from to \p to: each triangle cut into n x n congruent
+/// sub-triangles no longer than \p spacing, each weighted by its area at its centroid.
+Mean mean_distance(const TriangleMesh& from, const TargetSurface& to, double spacing) {
+  const int threads = worker_count();
+  std::vector<Mean> parts(threads);
   const int nt = static_cast<int>(from.triangles.size());
-  auto work = [&](int id) {
-    OneSided& r = parts[id];
+  run_parallel(threads, [&](int id) {
+    Mean& r = parts[id];
     for (int ti = id; ti < nt; ti += threads) {
       const auto& t = from.triangles[ti];
       const Vec3 &a = from.vertices[t[0]], &b = from.vertices[t[1]], &c = from.vertices[t[2]];
       const int n = grid_steps(from, t, spacing);
       const double sub_area = 0.5 * (b - a).cross(c - a).norm() / (n * n);
       auto at = [&](double i, double j) { return a + (i / n) * (b - a) + (j / n) * (c - a); };
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; i + j <= n; ++j) {
-          r.max = std::max(r.max, to.closest(at(i, j)).distance);
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; i + j < n; ++j) {
+          // The sub-triangle with corner (i, j) pointing up, and the one down beside it.
+          r.weighted_sum += sub_area * to.closest(at(i + 1.0 / 3, j + 1.0 / 3)).distance;
+          r.area += sub_area;
           ++r.samples;
-          // Centroids of the (up to two) sub-triangles with this grid point as corner.
-          if (i + j < n) {
-            const double d = to.closest(at(i + 1.0 / 3, j + 1.0 / 3)).distance;
-            r.max = std::max(r.max, d);
-            r.weighted_sum += d * sub_area;
-            r.area += sub_area;
-            ++r.samples;
-          }
           if (i + j < n - 1) {
-            const double d = to.closest(at(i + 2.0 / 3, j + 2.0 / 3)).distance;
-            r.max = std::max(r.max, d);
-            r.weighted_sum += d * sub_area;
+            r.weighted_sum += sub_area * to.closest(at(i + 2.0 / 3, j + 2.0 / 3)).distance;
             r.area += sub_area;
             ++r.samples;
           }
         }
     }
-  };
-  run_parallel(threads, work);
-  OneSided total;
-  for (const auto& p : parts) {
-    total.max = std::max(total.max, p.max);
+  });
+  Mean total;
+  for (const Mean& p : parts) {
     total.weighted_sum += p.weighted_sum;
     total.area += p.area;
     total.samples += p.samples;
@@ -77,11 +74,168 @@ OneSided one_sided(const TriangleMesh& from, const TargetSurface& to, double spa
   return total;
 }
 
+/// Distance from \p p to the triangle (a, b, c): the nearest of its face, edges and corners,
+/// told apart by the barycentric signs of p's projection.
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return ap.norm();  // corner a
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return bp.norm();  // corner b
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + d1 / (d1 - d3) * ab)).norm();  // edge ab
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return cp.norm();  // corner c
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + d2 / (d2 - d6) * ac)).norm();  // edge ac
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)  // edge bc
+    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
+  const double denom = 1 / (va + vb + vc);  // inside the face
+  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
+}
+
+/// A triangle of the search: its corners, the distance at each and the triangle of the other
+/// surface nearest each, and an upper bound on the distance anywhere on it.
+struct Cell {
+  std::array<Vec3, 3> p;
+  std::array<double, 3> d;
+  std::array<int, 3> near;
+  double upper = 0;
+  bool operator<(const Cell& o) const { return upper < o.upper; }
+};
+
+/// Bound on the distance to surface \p to over cell \p c, knowing also its centroid \p m
+/// (distance \p dm, nearest triangle \p tm). Two bounds, the lower kept: (1) the distance to
+/// a surface moves by at most the distance moved, and no point of the cell is farther from a
+/// point than the farthest corner; (2) the distance to the surface is at most the distance to
+/// any one of its triangles, which is convex, so over the cell at most its largest value at
+/// a corner: tried for the triangles nearest the corners and the centroid. (2) is what keeps
+/// cells where the surfaces run parallel from being cut without end.
+double upper_bound(const Cell& c, const Vec3& m, double dm, int tm, const TriangleMesh& to) {
+  double from_m = 0;
+  for (const Vec3& q : c.p) from_m = std::max(from_m, (q - m).norm());
+  double best = dm + from_m;
+  for (int k = 0; k < 3; ++k) {
+    double reach = 0;
+    for (const Vec3& q : c.p) reach = std::max(reach, (q - c.p[k]).norm());
+    best = std::min(best, c.d[k] + reach);
+  }
+  for (int t : {tm, c.near[0], c.near[1], c.near[2]}) {
+    if (t < 0) continue;
+    const auto& tri = to.triangles[t];
+    const Vec3 &a = to.vertices[tri[0]], &b = to.vertices[tri[1]], &cc = to.vertices[tri[2]];
+    double worst = 0;
+    for (const Vec3& q : c.p) worst = std::max(worst, point_triangle_distance(q, a, b, cc));
+    best = std::min(best, worst);
+  }
+  return best;
+}
+
+struct Max {
+  double max = 0;  ///< the largest distance found at a point [mm]
+  double gap = 0;  ///< the true maximum is at most max + gap [mm]
+  long samples = 0;
+};
+
+/// Largest distance from \p from to \p to, by branch and bound: every triangle starts with the
+/// distances at its corners and centroid and an upper bound from them (upper_bound); the ones
+/// with the highest bounds are cut into four at their edge midpoints, until no bound exceeds
+/// the largest distance found by more than \p tolerance (or \p budget queries are spent: the
+/// gap then says how far from certain it is). Only where the maximum could be is refined.
+Max max_distance(const TriangleMesh& from, const TargetSurface& to, double tolerance, long budget) {
+  const int threads = worker_count();
+  const TriangleMesh& other = to.mesh();
+  Max out;
+  std::vector<double> at_vertex(from.vertices.size(), 0.0);
+  std::vector<int> near_vertex(from.vertices.size(), -1);
+  std::vector<char> used(from.vertices.size(), 0);
+  for (const auto& t : from.triangles)
+    for (int v : t) used[v] = 1;
+  for_each_index(static_cast<int>(from.vertices.size()), threads, [&](int v) {
+    if (!used[v]) return;
+    const SurfacePoint sp = to.closest(from.vertices[v]);
+    at_vertex[v] = sp.distance;
+    near_vertex[v] = sp.triangle;
+  });
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) out.max = std::max(out.max, at_vertex[v]), ++out.samples;
+  // Each cell's bound needs its centroid's distance: computed in batches, in parallel.
+  auto bound_all = [&](std::vector<Cell>& cells) {
+    std::vector<double> centroid(cells.size());
+    for_each_index(static_cast<int>(cells.size()), threads, [&](int i) {
+      Cell& c = cells[i];
+      const Vec3 m = (c.p[0] + c.p[1] + c.p[2]) / 3.0;
+      const SurfacePoint sp = to.closest(m);
+      centroid[i] = sp.distance;
+      c.upper = upper_bound(c, m, sp.distance, sp.triangle, other);
+    });
+    for (double d : centroid) out.max = std::max(out.max, d);
+    out.samples += static_cast<long>(cells.size());
+  };
+  std::vector<Cell> first;
+  first.reserve(from.triangles.size());
+  for (const auto& t : from.triangles)
+    first.push_back({{from.vertices[t[0]], from.vertices[t[1]], from.vertices[t[2]]},
+                     {at_vertex[t[0]], at_vertex[t[1]], at_vertex[t[2]]},
+                     {near_vertex[t[0]], near_vertex[t[1]], near_vertex[t[2]]}});
+  bound_all(first);
+  std::priority_queue<Cell> open;
+  double dropped = 0;  // the highest bound of a cell left uncut
+  auto keep = [&](Cell& c) {
+    if (c.upper > out.max + tolerance)
+      open.push(std::move(c));
+    else
+      dropped = std::max(dropped, c.upper);
+  };
+  for (Cell& c : first) keep(c);
+  constexpr std::size_t kBatch = 512;  // cells cut at once (their new points queried together)
+  while (!open.empty() && open.top().upper > out.max + tolerance && out.samples < budget) {
+    std::vector<Cell> cut;
+    while (!open.empty() && cut.size() < kBatch && open.top().upper > out.max + tolerance) {
+      cut.push_back(open.top());
+      open.pop();
+    }
+    // Edge midpoints of every cut cell, then its four children.
+    std::vector<std::array<SurfacePoint, 3>> mid(cut.size());
+    for_each_index(static_cast<int>(cut.size()), threads, [&](int i) {
+      const Cell& c = cut[i];
+      for (int k = 0; k < 3; ++k) mid[i][k] = to.closest(0.5 * (c.p[k] + c.p[(k + 1) % 3]));
+    });
+    std::vector<Cell> children;
+    children.reserve(4 * cut.size());
+    for (std::size_t i = 0; i < cut.size(); ++i) {
+      const Cell& c = cut[i];
+      std::array<Vec3, 3> m;  // m[k] halves the edge from corner k to corner k + 1
+      std::array<double, 3> md;
+      std::array<int, 3> mt;
+      for (int k = 0; k < 3; ++k) {
+        m[k] = 0.5 * (c.p[k] + c.p[(k + 1) % 3]);
+        md[k] = mid[i][k].distance;
+        mt[k] = mid[i][k].triangle;
+        out.max = std::max(out.max, md[k]);
+      }
+      children.push_back({{c.p[0], m[0], m[2]}, {c.d[0], md[0], md[2]}, {c.near[0], mt[0], mt[2]}});
+      children.push_back({{m[0], c.p[1], m[1]}, {md[0], c.d[1], md[1]}, {mt[0], c.near[1], mt[1]}});
+      children.push_back({{m[2], m[1], c.p[2]}, {md[2], md[1], c.d[2]}, {mt[2], mt[1], c.near[2]}});
+      children.push_back({{m[0], m[1], m[2]}, {md[0], md[1], md[2]}, {mt[0], mt[1], mt[2]}});
+    }
+    out.samples += 3 * static_cast<long>(cut.size());
+    bound_all(children);
+    for (Cell& c : children) keep(c);
+  }
+  const double highest = std::max(dropped, open.empty() ? 0.0 : open.top().upper);
+  out.gap = std::max(0.0, highest - out.max);
+  return out;
+}
+
 long estimated_samples(const TriangleMesh& m, double spacing) {
   long n = 0;
   for (const auto& t : m.triangles) {
     const long k = grid_steps(m, t, spacing);
-    n += 2 * k * k + 3 * k;
+    n += k * k;
   }
   return n;
 }
@@ -100,7 +254,8 @@ SurfaceDistance surface_distance(const TriangleMesh& a_in, const TriangleMesh& b
   auto needed = [&](double at) { return estimated_samples(a, at) + estimated_samples(b, at); };
   long samples = needed(spacing);
   if (options.max_samples > 0) {
-    const long budget = std::min(options.max_samples, kMaxSamples);
+    // Half of the budget for the means, a quarter for each maximum.
+    const long budget = std::min(options.max_samples / 2, kMaxSamples);
     // Samples fall about with the square of the spacing; a few rounds settle the grid rounding.
     for (int round = 0; round < 64 && samples > budget; ++round) {
       spacing *= std::max(1.05, std::sqrt(static_cast<double>(samples) / budget));
@@ -110,16 +265,30 @@ SurfaceDistance surface_distance(const TriangleMesh& a_in, const TriangleMesh& b
   if (samples > kMaxSamples)
     throw InvalidInput("surface distance: sample spacing too fine for the model size");
   const TargetSurface sa(a), sb(b);
-  const OneSided ab = one_sided(a, sb, spacing);
-  const OneSided ba = one_sided(b, sa, spacing);
+  // The maxima to within a quarter of the spacing (a uniform sampling at that spacing was only
+  // sure to within the spacing), each with at most as many queries as the means.
+  const double tolerance = 0.25 * spacing;
+  const long budget = options.max_samples > 0 ? std::max<long>(1, options.max_samples / 4)
+                                              : std::max<long>(samples, 100'000);
+  const Max ab = max_distance(a, sb, tolerance, budget);
+  const Max ba = max_distance(b, sa, tolerance, budget);
+  const Mean ab_mean = mean_distance(a, sb, spacing), ba_mean = mean_distance(b, sa, spacing);
+  // The same means from samples twice as far apart (a quarter of the queries): the centroid
+  // rule's error falls with the square of the spacing, so the difference is an estimate (a
+  // generous one) of what the finer means are off by.
+  const Mean ab_coarse = mean_distance(a, sb, 2 * spacing);
+  const Mean ba_coarse = mean_distance(b, sa, 2 * spacing);
   SurfaceDistance d;
   d.a_to_b_max = ab.max;
-  d.a_to_b_mean = ab.area > 0 ? ab.weighted_sum / ab.area : 0;
+  d.a_to_b_mean = ab_mean.value();
   d.b_to_a_max = ba.max;
-  d.b_to_a_mean = ba.area > 0 ? ba.weighted_sum / ba.area : 0;
+  d.b_to_a_mean = ba_mean.value();
   d.hausdorff = std::max(d.a_to_b_max, d.b_to_a_max);
+  d.hausdorff_gap = std::max(ab.max + ab.gap, ba.max + ba.gap) - d.hausdorff;
   d.mean = 0.5 * (d.a_to_b_mean + d.b_to_a_mean);
-  d.samples = ab.samples + ba.samples;
+  d.mean_error_estimate = std::abs(d.mean - 0.5 * (ab_coarse.value() + ba_coarse.value()));
+  d.samples = ab.samples + ba.samples + ab_mean.samples + ba_mean.samples + ab_coarse.samples +
+              ba_coarse.samples;
   d.spacing = spacing;
   return d;
 }

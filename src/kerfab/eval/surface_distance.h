@@ -20,18 +20,24 @@ struct SurfaceDistance {
   double hausdorff = 0;  ///< max of the two maxima [mm]
   double mean = 0;       ///< mean of the two means (symmetric mean distance) [mm]
   long samples = 0;      ///< distance queries made
-  double spacing = 0;    ///< the sample spacing used [mm] (the requested one unless widened)
-  /// No point of either surface is farther than the spacing from a sample (every sub-triangle's
-  /// edges are at most that long) and a distance function moves by at most the distance moved,
-  /// so the true Hausdorff distance lies in [hausdorff, hausdorff + spacing].
-  double hausdorff_upper_bound() const { return hausdorff + spacing; }
+  double spacing = 0;    ///< the means' sample spacing [mm] (the requested one unless widened)
+  /// The true Hausdorff distance lies in [hausdorff, hausdorff + hausdorff_gap]: the maxima
+  /// are found by branch and bound until no triangle can hold a distance more than a quarter
+  /// of the spacing above the largest one found (the distance to a surface moves by at most
+  /// the distance moved) [mm].
+  double hausdorff_gap = 0;
+  double hausdorff_upper_bound() const { return hausdorff + hausdorff_gap; }
+  /// How far the mean may be off: its difference from the same mean sampled twice as coarsely
+  /// (the centroid rule's error falls with the square of the spacing) [mm].
+  double mean_error_estimate = 0;
 };
 
-/// Samples each triangle on a barycentric grid fine enough for \p options.sample_spacing
-/// (vertices, grid points and sub-triangle centroids, the centroids weighted by area for the
-/// means) and measures each sample's distance to the other surface. Zero-area triangles are
-/// skipped. \throw InvalidInput either mesh has no triangle of positive area, or the spacing
-/// would need more than 50 million samples (and max_samples is 0).
+/// The largest distances each way by branch and bound over the triangles (to within a quarter
+/// of \p options.sample_spacing, stated as SurfaceDistance::hausdorff_gap), the mean distances
+/// from the centroids of each triangle cut into sub-triangles no longer than the spacing (each
+/// weighted by its area). Zero-area triangles are skipped. \throw InvalidInput either mesh has
+/// no triangle of positive area, or the spacing would need more than 50 million samples (and
+/// max_samples is 0).
 SurfaceDistance surface_distance(const TriangleMesh& a, const TriangleMesh& b,
                                  const SurfaceDistanceOptions& options);
 

@@ -56,8 +56,8 @@ json quads_section(const QuadMeshResult& q) {
             {"bend_curvature_per_mm", q.size.bend_curvature},
             {"ruling_curvature_per_mm", q.size.ruling_curvature},
             {"kerf_size_mm", q.size.kerf_size},
-            {"fidelity_size_mm", std::isfinite(q.size.fidelity_size) ? json(q.size.fidelity_size)
-                                                                      : json(nullptr)}}},
+            {"fidelity_size_mm",
+             std::isfinite(q.size.fidelity_size) ? json(q.size.fidelity_size) : json(nullptr)}}},
           {"remeshed_vertices", q.remeshed_vertices},
           {"lattice_quads", q.lattice_quads},
           {"lattice_triangles", q.lattice_triangles},
@@ -447,6 +447,8 @@ json quality_section(const SurfaceDistance& q, double diagonal) {
           {"target_diagonal_mm", diagonal},
           {"sample_spacing_mm", q.spacing},
           {"hausdorff_upper_bound_mm", q.hausdorff_upper_bound()},
+          {"hausdorff_gap_mm", q.hausdorff_gap},
+          {"mean_error_estimate_mm", q.mean_error_estimate},
           {"samples", q.samples}};
 }
 

@@ -134,9 +134,8 @@ StageNotes notes(const Joints& j, const JointOptions& options) {
   int blocked = 0, shallow = 0;
   for (const auto& b : j.borders) blocked += b.blocked, shallow += b.shallow;
   Line os;
-  os << j.teeth - j.tabs << " box teeth and " << j.tabs << " dovetail tabs on "
-     << j.borders.size() << " border pieces ("
-     << 100 * (j.border_length > 0 ? j.toothed_length / j.border_length : 0)
+  os << j.teeth - j.tabs << " box teeth and " << j.tabs << " dovetail tabs on " << j.borders.size()
+     << " border pieces (" << 100 * (j.border_length > 0 ? j.toothed_length / j.border_length : 0)
      << "% of the shared border length); " << j.borders_without_joint
      << " border pieces without a joint; intervals without teeth: " << shallow
      << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
@@ -241,8 +240,9 @@ StageNotes notes(const SurfaceDistance& q, double diagonal) {
   Line os;
   os << "strips vs target: Hausdorff " << q.hausdorff << " mm (" << 100 * q.hausdorff / diagonal
      << "% of diagonal), mean " << q.mean << " mm (" << 100 * q.mean / diagonal << "%), "
-     << q.samples << " samples " << q.spacing << " mm apart (true Hausdorff at most "
-     << q.hausdorff_upper_bound() << " mm)";
+     << q.samples << " distance queries (true Hausdorff at most " << q.hausdorff_upper_bound()
+     << " mm; mean from samples " << q.spacing << " mm apart, off by about "
+     << q.mean_error_estimate << " mm)";
   n.lines.push_back(os.str());
   return n;
 }

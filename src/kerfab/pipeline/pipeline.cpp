@@ -19,6 +19,11 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+/// The flattening's check of how far the strips move when deformed to the flat metric samples
+/// this many times more coarsely than the quality stage (a hundredth of the diagonal by
+/// default): it only has to see that the move is small [-].
+constexpr double kDeformationSpacing = 2.5;
+
 /// Runs one stage at a time: announces it, times it, passes its notes on, and says whether the
 /// run goes on after it (false once `stop_after` is reached).
 class StageRunner {
@@ -97,8 +102,15 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   usable.margin += o.material.thickness;
   // The options the stages from bending to kerf run with, the guidance file's edges included.
   auto parts_options = [&] {
-    PartsOptions p{o.bending,  o.strips,  o.flatten, usable, 5 * o.quality_sample_spacing * diag(),
-                   o.material, o.machine, o.joints,  o.kerf};
+    PartsOptions p{o.bending,
+                   o.strips,
+                   o.flatten,
+                   usable,
+                   kDeformationSpacing * o.quality_sample_spacing * diag(),
+                   o.material,
+                   o.machine,
+                   o.joints,
+                   o.kerf};
     const Guidance& g = r.loaded->guidance;
     p.bending.guidance.insert(p.bending.guidance.end(), g.edges.begin(), g.edges.end());
     p.strips.split_edges.insert(p.strips.split_edges.end(), g.split.begin(), g.split.end());
@@ -143,8 +155,9 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kFlatten,
        [&] {
-         r.flat = flatten_cuttable(*r.strips, o.flatten, usable,
-                                   5 * o.quality_sample_spacing * diag());  // smooth difference
+         r.flat = flatten_cuttable(
+             *r.strips, o.flatten, usable,
+             kDeformationSpacing * o.quality_sample_spacing * diag());  // smooth difference
          return notes(*r.flat, diag());
        }},
       {Stage::kJoints,

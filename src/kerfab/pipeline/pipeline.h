@@ -38,7 +38,7 @@ inline constexpr long kQualitySampleBudget = 10'000'000;
 
 struct PipelineOptions {
   InputOptions input;
-  QuadMeshOptions quads;  ///< the quad mesh made for a triangle target without --quad
+  QuadMeshOptions quads;   ///< the quad mesh made for a triangle target without --quad
   BendingOptions bending;  ///< its guidance is added to that of RunInputs::guidance
   StripsOptions strips;    ///< its split and merge edges are added to those of the guidance
   FlattenOptions flatten;
@@ -49,12 +49,13 @@ struct PipelineOptions {
   AssemblyOptions assembly;
   Material material;  ///< the sheet: thickness and strength (joints, kerf cuts)
   Machine machine;    ///< the laser: kerf width (joints) and speed (cutting time)
-  double quality_sample_spacing = 0.002;  ///< distance samples at most this far apart, as a
-                                          ///< fraction of the target's bbox diagonal [-], > 0
-                                          ///< (widened where it would need more than
-                                          ///< kQualitySampleBudget samples)
-  double max_memory_mb = 0;  ///< memory budget [MB]; > 0: work that would need more is refused
-                             ///< before it starts (the sub-quads, kMemoryPerSubQuadKb each)
+  double quality_sample_spacing = 0.004;  ///< the mean distances' samples at most this far
+                                          ///< apart, the Hausdorff distance to within a quarter
+                                          ///< of it, as a fraction of the target's bbox
+                                          ///< diagonal [-], > 0 (widened where it would need
+                                          ///< more than kQualitySampleBudget samples)
+  double max_memory_mb = 0;   ///< memory budget [MB]; > 0: work that would need more is refused
+                              ///< before it starts (the sub-quads, kMemoryPerSubQuadKb each)
   bool row_baseline = false;  ///< also build the naive one-strip-per-row layout (for comparison)
   std::optional<std::string> stop_after;  ///< one of stage_names(); unset: run all
 };
