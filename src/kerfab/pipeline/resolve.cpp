@@ -326,6 +326,9 @@ class Resolver {
   std::set<int> user_bendable_, user_merge_, user_split_;
   double tightest_bend_ = 0;     // of the first build [mm^2]
   mutable std::set<int> stuck_;  // quads of facets that could not grow big enough
+  // Quads of facets that flattened inverted or crossing (corners shared with facets at other
+  // angles bent them): regrown from single quads, flatter.
+  mutable std::set<int> bent_;
 
   PartsBuild rebuild(const Added& a) {
     return build_parts(
@@ -356,6 +359,9 @@ class Resolver {
       out.push_back(region_of(build_.flat.strips, build_.flat.flattening, c));
     for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width)) {
       const Patch& patch = build_.flat.strips.patches[p];
+      const PatchFlattening& flat = build_.flat.flattening.patches[p];
+      if (patch.flat && (flat.inverted_quads > 0 || !flat.outline_simple))
+        for (int q : patch.all_quads()) bent_.insert(q);
       bool tried = patch.flat;
       for (int q : patch.all_quads()) tried = tried && stuck_.count(q);
       if (!tried) out.push_back(part_region(build_.flat.strips, p));
@@ -668,10 +674,20 @@ class Resolver {
       return std::vector<int>{};
     };
     if (strips().patches[r.patch].flat) {
-      Group g;
-      for (int q : release(r.quads.front())) g.quads.insert(q);
-      for (int q : g.quads) group_of[q] = 0;
-      groups.push_back(std::move(g));
+      const std::vector<int> quads = release(r.quads.front());
+      bool bent = false;
+      for (int q : quads) bent = bent || bent_.count(q);
+      if (bent) {  // start again from its single quads, under a tighter flatness
+        for (int q : quads) {
+          group_of[q] = static_cast<int>(groups.size());
+          groups.push_back({{q}});
+        }
+      } else {
+        Group g;
+        for (int q : quads) g.quads.insert(q);
+        for (int q : g.quads) group_of[q] = static_cast<int>(groups.size());
+        groups.push_back(std::move(g));
+      }
     }
     for (int q : r.quads)
       if (!state.facet_quads.count(q) && !group_of.count(q)) {
@@ -723,6 +739,10 @@ class Resolver {
     };
     for (;;) {  // the flattest merge of two groups of the region, within the tolerance
       double best = tolerance;
+      bool tight = false;
+      for (const Group& g : groups)
+        for (int q : g.quads) tight = tight || bent_.count(q);
+      if (tight) best = 0.5 * tolerance;
       int ba = kNone, bq = kNone;
       for (std::size_t a = 0; a < groups.size(); ++a) {
         if (groups[a].quads.empty()) continue;
@@ -942,7 +962,10 @@ class Resolver {
             std::set<int> merged(groups[a].begin(), groups[a].end());
             merged.insert(groups[it->second].begin(), groups[it->second].end());
             const double e = flatness(merged);
-            if (e <= best && plate(merged) && compact(merged))
+            bool bent = false;  // a facet that flattened bent joins only a flatter one
+            for (int x : merged) bent = bent || bent_.count(x);
+            if (e <= best && (!bent || e <= 0.5 * tolerance) && plate(merged) &&
+                compact(merged))
               best = e, ba = static_cast<int>(a), bb = it->second;
           }
       if (ba == kNone) break;
