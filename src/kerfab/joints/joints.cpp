@@ -974,19 +974,23 @@ class Builder {
   }
 
   /// True when \p piece, taken away by an opening whose result is \p opened, joined two of its
-  /// pieces and holds more than a square of the minimum feature width: a neck. Its vertices all
-  /// lie near the rest (reach() sees nothing), but what hangs on it breaks off.
+  /// pieces, one of them no larger than a square tooth, and holds more than a square of the
+  /// minimum feature width: a neck with a small corner hanging on it. Its vertices all lie near
+  /// the rest (reach() sees nothing), but what hangs on it breaks off. A neck between two large
+  /// pieces is left: cut, the part would fall in two.
   bool neck(const Polygon2& piece, const std::vector<Polygon2>& opened) const {
     const double w = o_.min_feature;
     if (std::abs(polygon_area(piece)) <= w * w) return false;
     int touched = 0;
+    double smallest = std::numeric_limits<double>::infinity();
     for (const Polygon2& ring : opened) {
-      if (!(polygon_area(ring) > 0)) continue;
+      const double area = polygon_area(ring);
+      if (!(area > 0)) continue;
       double d = std::numeric_limits<double>::infinity();
       for (const Vec2& v : piece) d = std::min(d, distance_to_boundary(v, ring));
-      touched += d < 1e-3 ? 1 : 0;
+      if (d < 1e-3) ++touched, smallest = std::min(smallest, area);
     }
-    return touched >= 2;
+    return touched >= 2 && smallest <= o_.tooth_width * o_.tooth_width;
   }
 
   /// The outline without tails or slits narrower than JointOptions::min_feature (where a tooth
