@@ -29,7 +29,7 @@ int grid_steps(const TriangleMesh& m, const std::array<int, 3>& t, double spacin
   return std::max(1, static_cast<int>(std::ceil(longest / spacing)));
 }
 
-int worker_count() { return std::max(1u, std::min(8u, std::thread::hardware_concurrency())); }
+int worker_count() { return std::min(8, hardware_threads()); }
 
 struct Mean {
   double weighted_sum = 0, area = 0;

@@ -41,6 +41,8 @@ struct LayoutResult {
   std::vector<int> unplaced;  ///< parts on no sheet: larger than any, or nothing left (below)
   std::vector<int> empty;     ///< of those, parts with no outline left to cut (their joints'
                               ///< slots and mitres took all of them)
+  /// How many parts are on no sheet because they are larger than any.
+  std::size_t too_large() const { return unplaced.size() - empty.size(); }
   // Filled by lay_out_parts (not by nest_parts):
   std::vector<std::optional<Label>> labels;       ///< per part: its number, if it fits
   std::vector<std::vector<Label>> engravings;     ///< per part: its number and border labels

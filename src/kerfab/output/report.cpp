@@ -37,8 +37,8 @@ std::string report_json(const RunResult& run, const OutputOptions& output) {
   if (run.joints && run.joints->repaired_parts > 0)
     incomplete.push_back(std::to_string(run.joints->repaired_parts) +
                          " parts fell apart when cut; only their largest piece is kept");
-  if (run.layout && run.layout->unplaced.size() > run.layout->empty.size())
-    incomplete.push_back(std::to_string(run.layout->unplaced.size() - run.layout->empty.size()) +
+  if (run.layout && run.layout->too_large() > 0)
+    incomplete.push_back(std::to_string(run.layout->too_large()) +
                          " parts fit no sheet and are missing from cut/");
   if (run.layout && !run.layout->empty.empty())
     incomplete.push_back(std::to_string(run.layout->empty.size()) +

@@ -203,9 +203,8 @@ StageNotes notes(const LayoutResult& l, const LayoutOptions& options) {
     os << " (no nesting fits them on fewer than " << l.sheets_lower_bound_spaced
        << " with this spacing, " << l.sheets_lower_bound << " by area alone)";
   n.lines.push_back(os.str());
-  const std::size_t too_large = l.unplaced.size() - l.empty.size();
-  if (too_large > 0)
-    n.warnings.push_back(std::to_string(too_large) +
+  if (l.too_large() > 0)
+    n.warnings.push_back(std::to_string(l.too_large()) +
                          " parts fit no sheet and are missing from cut/ (see layout.unplaced)");
   if (!l.empty.empty())
     n.warnings.push_back(std::to_string(l.empty.size()) +

@@ -100,17 +100,14 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   auto diag = [&] { return r.input->target_diagonal; };
   LayoutOptions usable = o.layout;  // room for a plate thickness of teeth along the margins
   usable.margin += o.material.thickness;
+  // The flattening's 3D check: how finely it samples the strips' move [mm].
+  auto deformation_spacing = [&] {
+    return kDeformationSpacing * o.quality_sample_spacing * diag();
+  };
   // The options the stages from bending to kerf run with, the guidance file's edges included.
   auto parts_options = [&] {
-    PartsOptions p{o.bending,
-                   o.strips,
-                   o.flatten,
-                   usable,
-                   kDeformationSpacing * o.quality_sample_spacing * diag(),
-                   o.material,
-                   o.machine,
-                   o.joints,
-                   o.kerf};
+    PartsOptions p{o.bending,  o.strips,  o.flatten, usable, deformation_spacing(),
+                   o.material, o.machine, o.joints,  o.kerf};
     const Guidance& g = r.loaded->guidance;
     p.bending.guidance.insert(p.bending.guidance.end(), g.edges.begin(), g.edges.end());
     p.strips.split_edges.insert(p.strips.split_edges.end(), g.split.begin(), g.split.end());
@@ -155,9 +152,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kFlatten,
        [&] {
-         r.flat = flatten_cuttable(
-             *r.strips, o.flatten, usable,
-             kDeformationSpacing * o.quality_sample_spacing * diag());  // smooth difference
+         r.flat = flatten_cuttable(*r.strips, o.flatten, usable, deformation_spacing());
          return notes(*r.flat, diag());
        }},
       {Stage::kJoints,

@@ -31,14 +31,18 @@ struct Region {
 /// min_width (the outline shrunk by half of it is empty), fallen apart when cut, or a facet
 /// that flattens inverted or crossing itself (its corners shared with other facets moved it
 /// off its plane) [mm^2, mm].
+/// True when patch \p p of \p b is a facet that flattens with an inverted quad or crossing
+/// itself (its corners, shared with facets at other angles, bent it).
+bool bent_facet(const PartsBuild& b, int p) {
+  const PatchFlattening& flat = b.flat.flattening.patches[p];
+  return b.flat.strips.patches[p].flat && (flat.inverted_quads > 0 || !flat.outline_simple);
+}
+
 std::vector<int> small_parts(const PartsBuild& b, double min_area, double min_width) {
   std::vector<int> out;
   for (std::size_t p = 0; p < b.joints.parts.size(); ++p) {
     const Polygon2& outline = b.joints.parts[p].designed;
-    const PatchFlattening& flat = b.flat.flattening.patches[p];
-    const bool bad_facet =
-        b.flat.strips.patches[p].flat && (flat.inverted_quads > 0 || !flat.outline_simple);
-    if (bad_facet || b.joints.parts[p].repaired || outline.size() < 3 ||
+    if (bent_facet(b, static_cast<int>(p)) || b.joints.parts[p].repaired || outline.size() < 3 ||
         std::abs(polygon_area(outline)) < min_area ||
         polygon_offset({outline}, -0.5 * min_width).empty())
       out.push_back(static_cast<int>(p));
@@ -330,6 +334,12 @@ class Resolver {
   // angles bent them): regrown from single quads, flatter.
   mutable std::set<int> bent_;
 
+  /// True when one of \p quads was in a facet that flattened bent.
+  template <class Quads>
+  bool any_bent(const Quads& quads) const {
+    return std::any_of(quads.begin(), quads.end(), [&](int q) { return bent_.count(q) > 0; });
+  }
+
   PartsBuild rebuild(const Added& a) {
     return build_parts(
         in_, o_, a.guidance,
@@ -359,8 +369,7 @@ class Resolver {
       out.push_back(region_of(build_.flat.strips, build_.flat.flattening, c));
     for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width)) {
       const Patch& patch = build_.flat.strips.patches[p];
-      const PatchFlattening& flat = build_.flat.flattening.patches[p];
-      if (patch.flat && (flat.inverted_quads > 0 || !flat.outline_simple))
+      if (bent_facet(build_, p))
         for (int q : patch.all_quads()) bent_.insert(q);
       bool tried = patch.flat;
       for (int q : patch.all_quads()) tried = tried && stuck_.count(q);
@@ -675,9 +684,7 @@ class Resolver {
     };
     if (strips().patches[r.patch].flat) {
       const std::vector<int> quads = release(r.quads.front());
-      bool bent = false;
-      for (int q : quads) bent = bent || bent_.count(q);
-      if (bent) {  // start again from its single quads, under a tighter flatness
+      if (any_bent(quads)) {  // start again from its single quads, under a tighter flatness
         for (int q : quads) {
           group_of[q] = static_cast<int>(groups.size());
           groups.push_back({{q}});
@@ -737,12 +744,12 @@ class Resolver {
       }
       return merged;
     };
+    // The merges below only join these groups: whether any of their quads was in a bent facet
+    // does not change.
+    bool tight = false;
+    for (const Group& g : groups) tight = tight || any_bent(g.quads);
     for (;;) {  // the flattest merge of two groups of the region, within the tolerance
-      double best = tolerance;
-      bool tight = false;
-      for (const Group& g : groups)
-        for (int q : g.quads) tight = tight || bent_.count(q);
-      if (tight) best = 0.5 * tolerance;
+      double best = tight ? 0.5 * tolerance : tolerance;
       int ba = kNone, bq = kNone;
       for (std::size_t a = 0; a < groups.size(); ++a) {
         if (groups[a].quads.empty()) continue;
@@ -962,9 +969,8 @@ class Resolver {
             std::set<int> merged(groups[a].begin(), groups[a].end());
             merged.insert(groups[it->second].begin(), groups[it->second].end());
             const double e = flatness(merged);
-            bool bent = false;  // a facet that flattened bent joins only a flatter one
-            for (int x : merged) bent = bent || bent_.count(x);
-            if (e <= best && (!bent || e <= 0.5 * tolerance) && plate(merged) &&
+            // A facet that flattened bent joins only a flatter one.
+            if (e <= best && (e <= 0.5 * tolerance || !any_bent(merged)) && plate(merged) &&
                 compact(merged))
               best = e, ba = static_cast<int>(a), bb = it->second;
           }
