@@ -119,6 +119,12 @@ TEST(SurfaceDistance, TheSearchAgreesWithADenseSampling) {
   EXPECT_LE(d.hausdorff_gap, 0.25 * spacing + 1e-9);
   // Far fewer queries than a uniform sampling at the tolerance would need.
   EXPECT_LT(d.samples, 200'000);
+  // A budget holds for all the queries together: the means (fine and coarse) and the maxima.
+  const long budget = d.samples / 3;
+  const SurfaceDistance tight =
+      surface_distance(outer, inner, {.sample_spacing = spacing, .max_samples = budget});
+  EXPECT_LE(tight.samples, budget);
+  EXPECT_GT(tight.spacing, spacing);
 }
 
 TEST(SurfaceDistance, RejectsEmptyAndBadSpacing) {

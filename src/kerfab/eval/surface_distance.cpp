@@ -192,9 +192,13 @@ Max max_distance(const TriangleMesh& from, const TargetSurface& to, double toler
   };
   for (Cell& c : first) keep(c);
   constexpr std::size_t kBatch = 512;  // cells cut at once (their new points queried together)
-  while (!open.empty() && open.top().upper > out.max + tolerance && out.samples < budget) {
+  // Each cut costs 7 queries: 3 edge midpoints and 4 children's centroids.
+  constexpr long kPerCut = 7;
+  while (!open.empty() && open.top().upper > out.max + tolerance &&
+         out.samples + kPerCut <= budget) {
     std::vector<Cell> cut;
-    while (!open.empty() && cut.size() < kBatch && open.top().upper > out.max + tolerance) {
+    while (!open.empty() && cut.size() < kBatch && open.top().upper > out.max + tolerance &&
+           out.samples + kPerCut * static_cast<long>(cut.size() + 1) <= budget) {
       cut.push_back(open.top());
       open.pop();
     }
@@ -251,7 +255,11 @@ SurfaceDistance surface_distance(const TriangleMesh& a_in, const TriangleMesh& b
     throw InvalidInput("surface distance: a surface has no triangle of positive area");
   constexpr long kMaxSamples = 50'000'000;
   double spacing = options.sample_spacing;
-  auto needed = [&](double at) { return estimated_samples(a, at) + estimated_samples(b, at); };
+  // The means' queries: each surface at the spacing and again twice as coarse.
+  auto needed = [&](double at) {
+    return estimated_samples(a, at) + estimated_samples(b, at) + estimated_samples(a, 2 * at) +
+           estimated_samples(b, 2 * at);
+  };
   long samples = needed(spacing);
   if (options.max_samples > 0) {
     // Half of the budget for the means, a quarter for each maximum.
