@@ -163,16 +163,21 @@ TEST(Quads, RealMeshesBecomeSoundQuadMeshesOfTheSameTopology) {
     // Nothing bridged: every point of the target within one quad size of the quads (the
     // diagonal the other way than the stage's own check).
     EXPECT_LT(target_to_quads(t, r.quads), 1.05 * r.size.size);
-    // Made from a lattice (not the triangle safe net), so few irregular vertices.
+    // Made from a lattice (not the triangle safe net, where half the vertices are irregular),
+    // so few irregular vertices: 15-25 % of them (a split lattice has three regular vertices
+    // for each of its own, so it counted 14-18 %, at twice the quads).
     EXPECT_NE(r.method.find("lattice"), std::string::npos) << r.method;
-    EXPECT_LT(r.irregular_vertices, 0.25 * static_cast<double>(r.quads.n_vertices()));
+    EXPECT_LT(r.irregular_vertices, 0.28 * static_cast<double>(r.quads.n_vertices()));
   }
 }
 
-// Polished quads: on Spot's triangle mesh (bundled) every corner lies between 25 and 155
-// degrees and no edge is shorter than a tenth of the median edge, measured here. Before the
+// Polished quads: on Spot's triangle mesh (bundled) every corner lies between 20 and 160
+// degrees and no edge is shorter than 8 % of the median edge, measured here. Before the
 // doublets were removed and the quads polished: corners from 3.5 to 177 degrees (94 under 30,
-// 96 over 150 of 4168) and edges down to 0.4 mm of a median 11 mm.
+// 96 over 150 of 4168) and edges down to 0.4 mm of a median 11 mm. (The split lattice reached
+// 30-150 degrees and a tenth of the median; the pure one, with half as many quads, has a few
+// vertices of valence 6 to 8 and rows of split quads meeting at the horns: corners of
+// 24.9-152.5 degrees, shortest edge 1.47 mm of a median 16.1 mm.)
 TEST(Quads, SpotsQuadsHaveNoSliverCorners) {
   TriangleMesh t = triangulate(read_mesh(test::real_mesh("spot_triangulated.obj")));
   const double side = bounding_box(t).largest_side();
@@ -193,9 +198,9 @@ TEST(Quads, SpotsQuadsHaveNoSliverCorners) {
     }
   }
   std::sort(edges.begin(), edges.end());
-  EXPECT_GT(lo, 25.0);
-  EXPECT_LT(hi, 155.0);
-  EXPECT_GT(edges.front(), 0.1 * edges[edges.size() / 2]);
+  EXPECT_GT(lo, 20.0);
+  EXPECT_LT(hi, 160.0);
+  EXPECT_GT(edges.front(), 0.08 * edges[edges.size() / 2]);
 }
 
 }  // namespace

@@ -61,6 +61,7 @@ json quads_section(const QuadMeshResult& q) {
           {"remeshed_vertices", q.remeshed_vertices},
           {"lattice_quads", q.lattice_quads},
           {"lattice_triangles", q.lattice_triangles},
+          {"triangle_rows", q.triangle_rows},
           {"irregular_vertices", q.irregular_vertices},
           {"interior_valences", valences},
           {"feature_edges", q.feature_edges},

@@ -1,6 +1,8 @@
 #include "kerfab/quads/lattice.h"
 
 #include "kerfab/adapters/matching_program.h"
+#include "kerfab/quads/bridges.h"
+#include "kerfab/quads/cleanup.h"
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <algorithm>
@@ -70,14 +72,15 @@ class Extractor {
       collapse_same_lattice_points();
       move_to_lattice_points();
     }
-    if (in_.mode == Mode::kPure) make_triangle_count_even();
+    // A split lattice needs every piece between features even (its pairs cannot cross them);
+    // the pure one leaves an odd piece's last triangle to a row of quads (bridged()), which
+    // may cross a feature or end on the border: splitting those edges instead would leave a
+    // flat corner on the line that no quad there can mend.
+    if (in_.mode == Mode::kSplit) make_triangle_count_even();
     pair_triangles(in_.mode == Mode::kPure ? 0.0 : in_.mode == Mode::kSplit ? 0.25 : 2.0);
     if (in_.mode != Mode::kPure) return split();
     if (triangles_.empty()) return quads_only();
-    LatticeResult unpaired;
-    unpaired.lattice_quads = static_cast<int>(quads_.size());
-    unpaired.lattice_triangles = static_cast<int>(triangles_.size());
-    return unpaired;
+    return bridged();
   }
 
  private:
@@ -288,9 +291,24 @@ class Extractor {
       std::vector<MatchingPair> pairs;
       const double top = candidates.empty() ? 0.0 : candidates.front().weight;
       for (const Candidate& c : candidates) pairs.push_back({c.a, c.b, top - c.weight + 0.01});
-      if (nf % 2 == 0 && !pairs.empty()) {
-        const MatchingResult m = min_cost_perfect_matching(nf, pairs, 10.0);
-        if (!m.mate.empty()) mate = m.mate;
+      // In a pure lattice a piece (between features and borders) of odd count leaves one
+      // triangle: it pairs with a node of its own at a cost above any real pair's.
+      int nodes = nf;
+      if (in_.mode == LatticeInput::Mode::kPure) {
+        const Pieces p = pieces();
+        std::vector<int> dummy(p.count.size(), -1);
+        for (std::size_t id = 0; id < p.count.size(); ++id)
+          if (p.count[id] % 2 == 1) dummy[id] = nodes++;
+        for (auto f : mesh_.faces())
+          if (dummy[p.of[f.idx()]] >= 0)
+            pairs.push_back({face_id[f.idx()], dummy[p.of[f.idx()]], top + 2.0});
+      }
+      if (nodes % 2 == 0 && !pairs.empty()) {
+        const MatchingResult m = min_cost_perfect_matching(nodes, pairs, 10.0);
+        if (!m.mate.empty()) {
+          mate.assign(m.mate.begin(), m.mate.begin() + nf);
+          for (int& x : mate) x = x >= nf ? -1 : x;
+        }
       }
     }
     std::vector<std::vector<int>> adjacent(nf);  // candidate indices per face
@@ -357,23 +375,78 @@ class Extractor {
   LatticeResult quads_only() {
     LatticeResult r;
     r.lattice_quads = static_cast<int>(quads_.size());
+    std::vector<std::vector<int>> faces;
+    for (const auto& q : quads_) faces.emplace_back(q.begin(), q.end());
+    std::vector<Vec3> at(mesh_.n_vertices());
+    std::vector<char> pinned(mesh_.n_vertices(), 0);
+    for (std::size_t v = 0; v < at.size(); ++v) {
+      at[v] = point(VH(static_cast<int>(v)));
+      pinned[v] = rank_[v] != kFree;
+    }
+    build(r, std::move(faces), std::move(at), std::move(pinned));
+    return r;
+  }
+
+  /// The paired quads with the triangles left over made quads in pairs, each pair by
+  /// splitting the row of quads between them (bridges.h); none where some triangle is left.
+  LatticeResult bridged() {
+    LatticeResult r;
+    r.lattice_quads = static_cast<int>(quads_.size());
+    r.lattice_triangles = static_cast<int>(triangles_.size());
+    std::vector<std::vector<int>> faces;
+    for (const auto& q : quads_) faces.emplace_back(q.begin(), q.end());
+    for (const auto& t : triangles_) faces.emplace_back(t.begin(), t.end());
+    const int n = static_cast<int>(mesh_.n_vertices());
+    BridgeResult b =
+        bridge_triangles(std::move(faces), n, [&](int x, int y) { return is_feature(x, y); });
+    if (!b.complete) return r;
+    r.rows = b.rows;
+    std::vector<Vec3> at(n);
+    std::vector<char> pinned(n, 0);  // feature vertices and feature-edge middles stay put
+    for (int v = 0; v < n; ++v) {
+      at[v] = point(VH(v));
+      pinned[v] = rank_[v] != kFree;
+    }
+    for (const BridgeVertex& v : b.added) {
+      Vec3 mean = Vec3::Zero();
+      for (int i = 0; i < v.count; ++i) mean += at[v.from[i]];
+      mean /= v.count;
+      at.push_back(v.feature || !in_.on_surface ? mean : in_.project(mean));
+      pinned.push_back(v.feature);
+    }
+    build(r, std::move(b.faces), std::move(at), std::move(pinned));
+    return r;
+  }
+
+  /// \p r's quads from all-quad \p faces on \p at: irregular vertices cleaned up
+  /// (cleanup.h), then made good (finish). Feature edges are the input's and, among new
+  /// vertices, those joining two pinned ones.
+  void build(LatticeResult& r, std::vector<std::vector<int>> faces, std::vector<Vec3> at,
+             std::vector<char> pinned) const {
+    const int n = static_cast<int>(mesh_.n_vertices());
+    const auto feature = [&](int x, int y) {
+      return x < n && y < n ? is_feature(x, y) : pinned[x] && pinned[y];
+    };
+    CleanupResult c = clean_up_valences(std::move(faces), std::move(at), pinned, feature,
+                                        in_.normal_at);
+    r.rotations = c.rotations;
+    r.collapses = c.collapses;
     PolyMesh& out = r.quads;
-    std::map<int, OpenMesh::SmartVertexHandle> corner;
-    std::vector<char> pinned;
-    for (const auto& q : quads_) {
+    std::map<int, OpenMesh::SmartVertexHandle> handle;
+    std::vector<char> out_pinned;
+    for (const auto& f : c.faces) {
       std::vector<OpenMesh::VertexHandle> vs;
-      for (int v : q) {
-        auto it = corner.find(v);
-        if (it == corner.end()) {
-          it = corner.emplace(v, out.add_vertex(mesh_.point(VH(v)))).first;
-          pinned.push_back(rank_[v] != kFree);
+      for (int v : f) {
+        auto it = handle.find(v);
+        if (it == handle.end()) {
+          it = handle.emplace(v, out.add_vertex(to_openmesh(c.points[v]))).first;
+          out_pinned.push_back(pinned[v]);
         }
         vs.push_back(it->second);
       }
       out.add_face(vs);
     }
-    finish(out, pinned);
-    return r;
+    finish(out, out_pinned);
   }
 
   /// Pieces of the surface between borders and features, each face's piece; per piece its
@@ -480,44 +553,44 @@ class Extractor {
     r.lattice_quads = static_cast<int>(quads_.size());
     r.lattice_triangles = static_cast<int>(triangles_.size());
     r.split = true;
-    PolyMesh& out = r.quads;
-    std::map<int, OpenMesh::SmartVertexHandle> corner;
-    std::vector<char> pinned;  // feature vertices and feature-edge midpoints stay put
-    auto corner_of = [&](int v) {
-      auto it = corner.find(v);
-      if (it != corner.end()) return it->second;
-      const auto h = out.add_vertex(mesh_.point(VH(v)));
-      pinned.push_back(rank_[v] != kFree);
-      corner.emplace(v, h);
-      return h;
+    const int n = static_cast<int>(mesh_.n_vertices());
+    std::vector<Vec3> at(n);
+    std::vector<char> pinned(n, 0);  // feature vertices and feature-edge midpoints stay put
+    for (int v = 0; v < n; ++v) {
+      at[v] = point(VH(v));
+      pinned[v] = rank_[v] != kFree;
+    }
+    auto add = [&](const Vec3& p, bool pin) {
+      at.push_back(p);
+      pinned.push_back(pin);
+      return static_cast<int>(at.size()) - 1;
     };
-    std::map<std::pair<int, int>, OpenMesh::SmartVertexHandle> middle;
+    std::map<std::pair<int, int>, int> middle;
     auto middle_of = [&](int a, int b) {
       const auto key = std::minmax(a, b);
       auto it = middle.find(key);
       if (it != middle.end()) return it->second;
       const Vec3 m = 0.5 * (point(VH(a)) + point(VH(b)));
       const bool feature = is_feature(a, b);
-      const auto h = out.add_vertex(to_openmesh(feature || !in_.on_surface ? m : in_.project(m)));
-      pinned.push_back(feature);
-      middle.emplace(key, h);
-      return h;
+      const int id = add(feature || !in_.on_surface ? m : in_.project(m), feature);
+      middle.emplace(key, id);
+      return id;
     };
+    std::vector<std::vector<int>> faces;
     auto add_split = [&](const auto& corners) {
       const int k = static_cast<int>(corners.size());
       Vec3 centre = Vec3::Zero();
       for (int c : corners) centre += point(VH(c));
-      const auto hc = out.add_vertex(to_openmesh(in_.on_surface ? in_.project(centre / k) : Vec3(centre / k)));
-      pinned.push_back(0);
+      centre /= k;
+      const int hc = add(in_.on_surface ? in_.project(centre) : centre, false);
       for (int i = 0; i < k; ++i) {
         const int prev = corners[(i + k - 1) % k], cur = corners[i], next = corners[(i + 1) % k];
-        out.add_face(std::vector<OpenMesh::VertexHandle>{corner_of(cur), middle_of(cur, next), hc,
-                                                         middle_of(prev, cur)});
+        faces.push_back({cur, middle_of(cur, next), hc, middle_of(prev, cur)});
       }
     };
     for (const auto& q : quads_) add_split(q);
     for (const auto& t : triangles_) add_split(t);
-    finish(out, pinned);
+    build(r, std::move(faces), std::move(at), std::move(pinned));
     return r;
   }
 

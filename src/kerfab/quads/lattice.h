@@ -18,7 +18,8 @@ struct LatticeInput {
   std::vector<Vec3> positions;  ///< per vertex: its lattice point
   std::vector<std::array<int, 2>> features;  ///< feature (sharp or border) edges
   double spacing = 0;  ///< lattice spacing [mm]
-  /// Pure: the paired quads as they are (none if some triangle finds no partner);
+  /// Pure: the paired quads, triangles left over made quads in pairs by splitting the row of
+  /// quads between them (none if that fails);
   /// split: every face split (quads into 4, triangles into 3), only well-shaped pairs made;
   /// triangles: no collapse and no pairing, every triangle split into 3 quads (the safe net).
   enum class Mode { kPure, kSplit, kTriangles } mode = Mode::kPure;
@@ -40,6 +41,8 @@ struct LatticeResult {
   int lattice_quads = 0;
   int lattice_triangles = 0;
   bool split = false;  ///< the faces were split (the quads are half the lattice spacing)
+  int rows = 0;  ///< pure: rows of quads split to make left-over triangles quads (bridges.h)
+  int rotations = 0, collapses = 0;  ///< pure: changes that removed irregular vertices (cleanup.h)
 };
 
 LatticeResult extract_quads(const LatticeInput& input);

@@ -53,7 +53,10 @@ struct QuadMeshResult {
                                        ///< into quads (no lattice)" (the safe net)
   std::string problem;                 ///< empty (else why the last try failed)
   int lattice_quads = 0;               ///< quads of the extracted lattice (before the split)
-  int lattice_triangles = 0;           ///< triangles left over there (each becomes 3 quads)
+  int lattice_triangles = 0;           ///< triangles left over there
+  /// Rows of quads split to make the left-over triangles quads in pairs (pure lattice; a split
+  /// lattice makes each triangle 3 quads instead).
+  int triangle_rows = 0;
   int irregular_vertices = 0;          ///< interior vertices of valence != 4, border != 3
   std::vector<std::pair<int, int>> valences;  ///< (valence, count) over interior vertices
   double max_distance = 0;             ///< farthest quad vertex from the target [mm]

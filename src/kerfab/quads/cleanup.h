@@ -1,0 +1,32 @@
+#pragma once
+/// \file Fewer irregular vertices in an all-quad mesh by local changes of its connectivity
+/// (internal to src/kerfab/quads), as in quad-mesh simplification (Tarini et al. 2010,
+/// "Practical quad mesh simplification"; Bozzo et al. 2010): an edge between two quads is
+/// rotated to the other diagonal of their hexagon, and a quad with two opposite corners of
+/// valence 3 is collapsed along that diagonal. Each change is made only where it lowers the sum
+/// of squared valence defects (4 inside, 3 on the border) of the vertices it touches and leaves
+/// every quad it makes convex with corners of at least 20 degrees; feature and border edges stay
+/// edges and pinned vertices stay where they are.
+#include <functional>
+#include <vector>
+
+#include "kerfab/core/mesh.h"
+
+namespace kerfab::quads {
+
+struct CleanupResult {
+  std::vector<std::vector<int>> faces;  ///< all quads
+  std::vector<Vec3> points;             ///< per vertex (a collapse moves the merged vertex)
+  int rotations = 0;
+  int collapses = 0;
+};
+
+/// \p faces: all quads, consistently oriented, a manifold on \p points; \p pinned per vertex;
+/// \p is_feature(a, b): the edge a-b must stay. \p normal_at: the surface's unit normal near a
+/// point (quads are judged in its tangent plane).
+CleanupResult clean_up_valences(std::vector<std::vector<int>> faces, std::vector<Vec3> points,
+                                const std::vector<char>& pinned,
+                                const std::function<bool(int, int)>& is_feature,
+                                const std::function<Vec3(const Vec3&)>& normal_at);
+
+}  // namespace kerfab::quads
