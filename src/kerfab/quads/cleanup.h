@@ -1,12 +1,13 @@
 #pragma once
 /// \file Fewer irregular vertices in an all-quad mesh by local changes of its connectivity
 /// (internal to src/kerfab/quads), as in quad-mesh simplification (Tarini et al. 2010,
-/// "Practical quad mesh simplification"; Bozzo et al. 2010): an edge between two quads is
-/// rotated to the other diagonal of their hexagon, and a quad with two opposite corners of
-/// valence 3 is collapsed along that diagonal. Each change is made only where it lowers the sum
-/// of squared valence defects (4 inside, 3 on the border) of the vertices it touches and leaves
-/// every quad it makes convex with corners of at least 20 degrees; feature and border edges stay
-/// edges and pinned vertices stay where they are.
+/// "Practical quad mesh simplification"): an edge between two quads is rotated to another
+/// diagonal of their hexagon, a quad with two opposite corners of valence 3 is collapsed along
+/// that diagonal, an inner vertex of two quads is removed. Each change is made only where it
+/// lowers the sum over the vertices it touches of 1 per irregular vertex plus a quarter of its
+/// squared valence defect (4 inside, 3 on the border), makes no valence over 6 and leaves every
+/// quad it makes convex (corners of at least 20 degrees after a rotation, 10 around a merged
+/// vertex); feature and border edges stay edges and pinned vertices stay where they are.
 #include <functional>
 #include <vector>
 

@@ -2,8 +2,10 @@
 /// \file Extraction of the quad lattice from a triangle surface carrying a position field
 /// (internal to src/kerfab/quads): edges whose ends lie at the same lattice point are collapsed
 /// (only where the link condition keeps the surface a manifold of the same topology, and no
-/// triangle folds), the remaining triangles are paired into quads across lattice diagonals,
-/// and one split step turns quads into four quads and left-over triangles into three.
+/// triangle folds), the remaining triangles are paired into quads across lattice diagonals;
+/// left-over triangles become quads in pairs along rows of split quads (pure mode, bridges.h)
+/// or every face is split (quads into four, triangles into three); the irregular vertices are
+/// then cleaned up (cleanup.h) and the quads smoothed and untangled.
 #include <functional>
 #include <vector>
 
