@@ -9,6 +9,7 @@
 #include "kerfab/core/errors.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/quads/quads.h"
+#include "cli_util.h"
 #include "shapes.h"
 #include "test_util.h"
 
@@ -225,6 +226,27 @@ TEST(Quads, TriangleTargetAloneRunsAndWritesItsQuadMesh) {
                 static_cast<int>(q.n_faces()),
             2);
   EXPECT_TRUE(std::filesystem::exists(out / "report.json"));
+}
+
+// Quads asked narrower than the strips the material can bend get a warning naming the size
+// that would do (Spot at 250 mm in 3 mm MDF: kerf bound 12.1 mm; 1500 quads are 9.0 mm);
+// the size rule's own quads and coarser ones get none.
+TEST(Quads, QuadsTooNarrowToBendAreWarnedAbout) {
+  const auto dir = test::fresh_dir();
+  auto warnings = [&](const std::string& extra) {
+    const auto out = dir / "out";
+    const std::string cmd = std::string(KERFAB_CLI) + " run --quiet --target " +
+                            test::real_mesh("spot_triangulated.obj").string() + " --size 250 " +
+                            extra + " --stop-after quads --out " + out.string() + " 2>" +
+                            (dir / "err").string();
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << extra;
+    return test::slurp(out / "report.json");
+  };
+  const std::string fine = warnings("--quads 1500");
+  EXPECT_NE(fine.find("narrower than the 12.1 mm strips"), std::string::npos) << fine;
+  EXPECT_NE(fine.find("--quad-size 12.1"), std::string::npos) << fine;
+  EXPECT_EQ(warnings("").find("narrower than"), std::string::npos);
+  EXPECT_EQ(warnings("--quads 400").find("narrower than"), std::string::npos);
 }
 
 }  // namespace
