@@ -81,6 +81,74 @@ def mesh_metrics(path):
             "bad_corners": 100.0 * bad / max(1, len(deviations))}
 
 
+def draw_quads(path, svg, view=(1.0, 0.0, 0.0), up=(0.0, 1.0, 0.0), width=420):
+    """An orthographic view of the quad mesh at `path` seen from +view with `up` up (back
+    faces culled, far faces first), irregular vertices marked: valence 3 blue, 5 red, others
+    magenta."""
+    verts, faces = read_mesh(path)
+    nb = {}
+    for f in faces:
+        for i in range(len(f)):
+            a, b = f[i], f[(i + 1) % len(f)]
+            nb.setdefault(a, set()).add(b)
+            nb.setdefault(b, set()).add(a)
+    border = set()
+    count = {}
+    for f in faces:
+        for i in range(len(f)):
+            e = tuple(sorted((f[i], f[(i + 1) % len(f)])))
+            count[e] = count.get(e, 0) + 1
+    for e, n in count.items():
+        if n == 1:
+            border.update(e)
+
+    def cross(a, b):
+        return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+    def dot(a, b):
+        return sum(x * y for x, y in zip(a, b))
+
+    d = view
+    r = cross(up, d)
+    u = cross(d, r)
+    P = [(dot(v, r), -dot(v, u), dot(v, d)) for v in verts]
+    xs, ys = [p[0] for p in P], [p[1] for p in P]
+    x0, y0 = min(xs), min(ys)
+    scale = (width - 20) / max(max(xs) - x0, max(ys) - y0)
+    height = (max(ys) - y0) * scale + 20
+
+    def xy(i):
+        return f"{(P[i][0] - x0) * scale + 10:.1f},{(P[i][1] - y0) * scale + 10:.1f}"
+
+    shown = []
+    for f in faces:
+        c = [verts[i] for i in f]
+        n = [0.0, 0.0, 0.0]
+        for i in range(len(c)):
+            a, b = c[i], c[(i + 1) % len(c)]
+            n[0] += (a[1] - b[1]) * (a[2] + b[2])
+            n[1] += (a[2] - b[2]) * (a[0] + b[0])
+            n[2] += (a[0] - b[0]) * (a[1] + b[1])
+        if dot(n, d) > 0:
+            shown.append((sum(P[i][2] for i in f) / len(f), f))
+    shown.sort()
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height:.0f}">',
+           '<rect width="100%" height="100%" fill="white"/>']
+    marks = set()
+    for _, f in shown:
+        out.append(f'<polygon points="{" ".join(xy(i) for i in f)}" fill="#e4e6ef" '
+                   'stroke="#333" stroke-width="0.6"/>')
+        marks.update(f)
+    for i in sorted(marks):
+        k = len(nb[i])
+        if k != (3 if i in border else 4):
+            colour = {3: "#1f4fd6", 5: "#d61f1f"}.get(k, "#c41fd6")
+            x, y = xy(i).split(",")
+            out.append(f'<circle cx="{x}" cy="{y}" r="3" fill="{colour}"/>')
+    out.append("</svg>")
+    Path(svg).write_text("\n".join(out) + "\n")
+
+
 def kerfab_run(name, args, timeout):
     out = WORK / name
     if out.exists():
@@ -165,6 +233,24 @@ def write_doc(path, rows, where, have_blender):
          "stage's patches after the resolve stage), critical regions before and after the resolve "
          "stage, parts not on a sheet (unplaced or empty), Hausdorff and mean distance of the strips to the target "
          "(% of the diagonal), estimated cut time, borders without a joint, whole-run time.", ""]
+    pictures = [row for row in rows if row["model"] == "spot" and row["asked"] == 400
+                and row.get("QuadriFlow") and "failed" not in row["QuadriFlow"]
+                and "failed" not in row["kerfab"]]
+    if pictures:
+        row = pictures[0]
+        images = Path(path).parent / "images"
+        images.mkdir(parents=True, exist_ok=True)
+        draw_quads(Path(row["kerfab"]["run"]["out"]) / "model" / "quads.obj",
+                   images / "quads-spot-kerfab.svg")
+        draw_quads(WORK / "spot_400_qf.obj", images / "quads-spot-quadriflow.svg")
+        g, q = row["kerfab"]["mesh"], row["QuadriFlow"]["mesh"]
+        L += [f"![kerfab's quad mesh of Spot, {g['faces']} quads](images/quads-spot-kerfab.svg) "
+              f"![QuadriFlow's quad mesh of Spot, {q['faces']} quads]"
+              "(images/quads-spot-quadriflow.svg)", "",
+              f"*Spot asked for about 400 quads, seen from the side: kerfab's mesh ({g['faces']} "
+              f"quads, {g['irregular']} irregular vertices) left, QuadriFlow's ({q['faces']} "
+              f"quads, {q['irregular']}) right; valence 3 blue, 5 red, others magenta. Both "
+              "whole runs are in the table below.*", ""]
     if not have_blender:
         L += ["Blender was absent on this machine, so the QuadriFlow rows are missing "
               "(`apt-get install blender` adds them; it is never a kerfab dependency).", ""]
