@@ -16,6 +16,9 @@ namespace kerfab {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+/// Pure and split lattices are told apart by their sharp features on quad edges first when
+/// the two differ by more than this share of the feature length.
+constexpr double kFeatureMargin = 0.1;
 
 std::string fmt(double v) {
   std::ostringstream os;
@@ -196,6 +199,34 @@ std::array<double, 4> corner_angles(const PolyMesh& q, OpenMesh::FaceHandle f) {
   return out;
 }
 
+/// Length of the feature (sharp or border) edges of \p remeshed that lie along edges of \p q
+/// [mm]: a feature segment counts where its middle lies on a quad edge (within 2 % of the quad
+/// size \p size) running the same way (within 15 degrees).
+double feature_length_on_edges(const PolyMesh& q, const FeatureTriangleMesh& remeshed,
+                               double size) {
+  double on_length = 0;
+  for (const auto& [a, b] : remeshed.features) {
+    const Vec3 pa = remeshed.mesh.vertices[a], pb = remeshed.mesh.vertices[b];
+    const Vec3 mid = 0.5 * (pa + pb), dir = (pb - pa).normalized();
+    bool on = false;
+    for (auto e : q.edges()) {
+      const Vec3 e0 = to_eigen(q.point(q.from_vertex_handle(q.halfedge_handle(e, 0))));
+      const Vec3 e1 = to_eigen(q.point(q.to_vertex_handle(q.halfedge_handle(e, 0))));
+      const Vec3 d = e1 - e0;
+      if ((mid - e0).squaredNorm() > d.squaredNorm() + 1 && (mid - e1).squaredNorm() > d.squaredNorm() + 1)
+        continue;
+      const double t = std::clamp((mid - e0).dot(d) / d.squaredNorm(), 0.0, 1.0);
+      if ((e0 + t * d - mid).norm() < 0.02 * size &&
+          std::abs(d.normalized().dot(dir)) > std::cos(15 * kPi / 180)) {
+        on = true;
+        break;
+      }
+    }
+    if (on) on_length += (pb - pa).norm();
+  }
+  return on_length;
+}
+
 /// Inner vertices of valence other than 4 and border vertices of valence other than 3.
 int irregular_vertices(const PolyMesh& q) {
   int n = 0;
@@ -368,8 +399,22 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
       if (r.quads.n_faces() == 0) break;  // the pairing does not depend on on_surface
       if (r.problem.empty()) break;
     }
-    if (pure) {  // this split lattice competed with the sound pure one: the fewer irregular
-      if (!r.problem.empty() || irregular_vertices(r.quads) >= irregular_vertices(pure->first.quads)) {
+    if (pure) {  // this split lattice competed with the sound pure one
+      bool keep_pure = !r.problem.empty();
+      if (!keep_pure) {
+        // Sharp features first: the lattice of twice the spacing merges lines closer than it
+        // (fandisk: 46 % of the feature length on quad edges against 70 %); then the fewer
+        // irregular vertices.
+        const double on_pure =
+            feature_length_on_edges(pure->first.quads, pure->second, r.size.size) /
+            std::max(pure->first.feature_length, 1e-9);
+        const double on_split = feature_length_on_edges(r.quads, remeshed, r.size.size) /
+                                std::max(r.feature_length, 1e-9);
+        keep_pure = std::abs(on_pure - on_split) > kFeatureMargin
+                        ? on_pure > on_split
+                        : irregular_vertices(r.quads) >= irregular_vertices(pure->first.quads);
+      }
+      if (keep_pure) {
         r = std::move(pure->first);
         remeshed = std::move(pure->second);
       }
@@ -406,27 +451,7 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
   for (auto v : q.vertices())
     r.max_distance = std::max(r.max_distance, target.closest(to_eigen(q.point(v))).distance);
 
-  // Feature length along quad edges: a feature segment counts where its middle lies on a quad
-  // edge (within 2 % of the quad size) running the same way (within 15 degrees).
-  for (const auto& [a, b] : remeshed.features) {
-    const Vec3 pa = remeshed.mesh.vertices[a], pb = remeshed.mesh.vertices[b];
-    const Vec3 mid = 0.5 * (pa + pb), dir = (pb - pa).normalized();
-    bool on = false;
-    for (auto e : q.edges()) {
-      const Vec3 e0 = to_eigen(q.point(q.from_vertex_handle(q.halfedge_handle(e, 0))));
-      const Vec3 e1 = to_eigen(q.point(q.to_vertex_handle(q.halfedge_handle(e, 0))));
-      const Vec3 d = e1 - e0;
-      if ((mid - e0).squaredNorm() > d.squaredNorm() + 1 && (mid - e1).squaredNorm() > d.squaredNorm() + 1)
-        continue;
-      const double t = std::clamp((mid - e0).dot(d) / d.squaredNorm(), 0.0, 1.0);
-      if ((e0 + t * d - mid).norm() < 0.02 * r.size.size &&
-          std::abs(d.normalized().dot(dir)) > std::cos(15 * kPi / 180)) {
-        on = true;
-        break;
-      }
-    }
-    if (on) r.feature_length_on_quads += (pb - pa).norm();
-  }
+  r.feature_length_on_quads = feature_length_on_edges(q, remeshed, r.size.size);
   return r;
 }
 
