@@ -66,6 +66,57 @@ TEST(Prepare, NanCoordinatesAndZeroAreaFacesAreRejected) {
   EXPECT_THROW(prepare_input(target, squashed, {}), InvalidInput);
 }
 
+// A doublet (a zero-area quad whose opposite corners are two vertices at one point, as
+// QuadriFlow left in fandisk_qf800.obj) is collapsed along that diagonal, with a warning: a
+// 3 x 3 grid with its middle-left interior vertex doubled comes back as the 3 x 3 grid.
+TEST(Prepare, DoubletsAreCollapsedAlongTheirDiagonal) {
+  const auto plane = test::quad_plane(30, 3, 2);
+  PolyMesh q;
+  std::vector<OpenMesh::VertexHandle> v;
+  for (int j = 0; j <= 3; ++j)
+    for (int i = 0; i <= 3; ++i) v.push_back(q.add_vertex({10.0 * i, 10.0 * j, 0}));
+  const auto twin = q.add_vertex({10, 10, 0});  // a second vertex where vertex 5 is
+  auto at = [&](int i, int j) { return v[4 * j + i]; };
+  // The faces around vertex 5 = (1, 1): the two on its left keep it, the two on its right take
+  // its twin; the doublet [5, (1, 2), twin, (1, 0)] sits between them.
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      std::vector<OpenMesh::VertexHandle> f = {at(i, j), at(i + 1, j), at(i + 1, j + 1),
+                                               at(i, j + 1)};
+      if (i == 1 && j <= 1)
+        for (auto& c : f)
+          if (c == at(1, 1)) c = twin;
+      ASSERT_TRUE(q.add_face(f).is_valid());
+    }
+  ASSERT_TRUE(q.add_face({at(1, 1), at(1, 0), twin, at(1, 2)}).is_valid());
+  ASSERT_EQ(q.n_faces(), 10u);
+  InputOptions opt;
+  opt.size = 30;
+  const PreparedInput in = prepare_input(to_poly(plane.target), q, opt);
+  EXPECT_EQ(in.quad_summary.faces, 9);
+  EXPECT_EQ(in.quad_summary.vertices, 16);
+  EXPECT_EQ(in.quad_summary.euler_characteristic, 1);
+  EXPECT_EQ(in.quad_summary.boundary_loops, 1);
+  for (auto f : in.quads.faces()) EXPECT_EQ(in.quads.valence(f), 4u);
+  int isolated = 0;
+  for (auto vh : in.quads.vertices()) {
+    if (in.quads.is_isolated(vh)) {
+      ++isolated;
+    } else {
+      EXPECT_LE(in.quads.valence(vh), 4u);
+    }
+  }
+  EXPECT_EQ(isolated, 1);  // the twin, kept so that every other vertex keeps its number
+  ASSERT_EQ(in.warnings.size(), 1u);
+  EXPECT_NE(in.warnings[0].find("face 9"), std::string::npos) << in.warnings[0];
+  // A zero-area quad of another kind (all corners on a line) is still refused.
+  PolyMesh flat;
+  for (double x : {0.0, 10.0, 20.0, 30.0}) flat.add_vertex({x, 0, 0});
+  flat.add_face({flat.vertex_handle(0), flat.vertex_handle(1), flat.vertex_handle(2),
+                 flat.vertex_handle(3)});
+  EXPECT_THROW(prepare_input(to_poly(plane.target), flat, opt), InvalidInput);
+}
+
 TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetWaitsForTheQuadsStage) {
   const PolyMesh cage = read_mesh(test::real_mesh("spot_control_mesh.obj"));
   const PolyMesh target = read_mesh(test::real_mesh("spot_triangulated.obj"));

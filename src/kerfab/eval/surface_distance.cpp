@@ -22,12 +22,64 @@ TriangleMesh without_degenerate(const TriangleMesh& m) {
   return out;
 }
 
-int grid_steps(const TriangleMesh& m, const std::array<int, 3>& t, double spacing) {
-  double longest = 0;
-  for (int k = 0; k < 3; ++k)
-    longest = std::max(longest, (m.vertices[t[(k + 1) % 3]] - m.vertices[t[k]]).norm());
-  return std::max(1, static_cast<int>(std::ceil(longest / spacing)));
-}
+/// A triangle cut into cells no wider than a spacing in any direction, whatever its shape: its
+/// longest edge is the base; lines parallel to it cut it into bands no higher than the spacing,
+/// and each band is cut into trapezoids no wider than the spacing at equal fractions of its two
+/// sides. A sliver (a ruling strip's triangles are often 50 times longer than wide) thus gets
+/// cells in proportion to its area, where a grid on its edges would give the square of its
+/// length over the spacing.
+struct TriangleCells {
+  Vec3 apex, base0, base1;
+  int bands = 1;
+  double base = 0;  ///< longest edge [mm]
+  TriangleCells(const Vec3& a, const Vec3& b, const Vec3& c, double spacing) {
+    const std::array<Vec3, 3> p = {a, b, c};
+    int k = 0;  // the longest edge runs from p[k] to p[k + 1]
+    for (int i = 1; i < 3; ++i)
+      if ((p[(i + 1) % 3] - p[i]).norm() > (p[(k + 1) % 3] - p[k]).norm()) k = i;
+    base0 = p[k];
+    base1 = p[(k + 1) % 3];
+    apex = p[(k + 2) % 3];
+    base = (base1 - base0).norm();
+    const double height = base > 0 ? (base1 - base0).cross(apex - base0).norm() / base : 0.0;
+    bands = std::max(1, static_cast<int>(std::ceil(height / spacing)));
+    spacing_ = spacing;
+  }
+  /// Cells of band \p k (0 at the base).
+  int cells(int k) const {
+    return std::max(1, static_cast<int>(std::ceil(base * (1.0 - double(k) / bands) / spacing_)));
+  }
+  long count() const {
+    long n = 0;
+    for (int k = 0; k < bands; ++k) n += cells(k);
+    return n;
+  }
+  /// Calls \p f(centroid, area) for every cell.
+  template <class F>
+  void for_each(F&& f) const {
+    for (int k = 0; k < bands; ++k) {
+      const double u0 = double(k) / bands, u1 = double(k + 1) / bands;
+      const Vec3 l0 = base0 + u0 * (apex - base0), l1 = base1 + u0 * (apex - base1);
+      const Vec3 h0 = base0 + u1 * (apex - base0), h1 = base1 + u1 * (apex - base1);
+      const int n = cells(k);
+      for (int j = 0; j < n; ++j) {
+        const double s0 = double(j) / n, s1 = double(j + 1) / n;
+        const Vec3 p00 = l0 + s0 * (l1 - l0), p01 = l0 + s1 * (l1 - l0);
+        const Vec3 p10 = h0 + s0 * (h1 - h0), p11 = h0 + s1 * (h1 - h0);
+        // The trapezoid as two triangles: its area and area-weighted centroid.
+        const double a1 = 0.5 * (p01 - p00).cross(p11 - p00).norm();
+        const double a2 = 0.5 * (p11 - p00).cross(p10 - p00).norm();
+        const double area = a1 + a2;
+        if (!(area > 0)) continue;
+        const Vec3 centroid = (a1 * (p00 + p01 + p11) + a2 * (p00 + p11 + p10)) / (3.0 * area);
+        f(centroid, area);
+      }
+    }
+  }
+
+ private:
+  double spacing_ = 1;
+};
 
 int worker_count() { return std::min(8, hardware_threads()); }
 
@@ -37,8 +89,8 @@ struct Mean {
   double value() const { return area > 0 ? weighted_sum / area : 0; }
 };
 
-/// Area-weighted mean distance from \p from to \p to: each triangle cut into n x n congruent
-/// sub-triangles no longer than \p spacing, each weighted by its area at its centroid.
+/// Area-weighted mean distance from \p from to \p to: each triangle cut into cells no wider
+/// than \p spacing (TriangleCells), each weighted by its area at its centroid.
 Mean mean_distance(const TriangleMesh& from, const TargetSurface& to, double spacing) {
   const int threads = worker_count();
   std::vector<Mean> parts(threads);
@@ -47,22 +99,12 @@ Mean mean_distance(const TriangleMesh& from, const TargetSurface& to, double spa
     Mean& r = parts[id];
     for (int ti = id; ti < nt; ti += threads) {
       const auto& t = from.triangles[ti];
-      const Vec3 &a = from.vertices[t[0]], &b = from.vertices[t[1]], &c = from.vertices[t[2]];
-      const int n = grid_steps(from, t, spacing);
-      const double sub_area = 0.5 * (b - a).cross(c - a).norm() / (n * n);
-      auto at = [&](double i, double j) { return a + (i / n) * (b - a) + (j / n) * (c - a); };
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; i + j < n; ++j) {
-          // The sub-triangle with corner (i, j) pointing up, and the one down beside it.
-          r.weighted_sum += sub_area * to.closest(at(i + 1.0 / 3, j + 1.0 / 3)).distance;
-          r.area += sub_area;
-          ++r.samples;
-          if (i + j < n - 1) {
-            r.weighted_sum += sub_area * to.closest(at(i + 2.0 / 3, j + 2.0 / 3)).distance;
-            r.area += sub_area;
+      TriangleCells(from.vertices[t[0]], from.vertices[t[1]], from.vertices[t[2]], spacing)
+          .for_each([&](const Vec3& x, double area) {
+            r.weighted_sum += area * to.closest(x).distance;
+            r.area += area;
             ++r.samples;
-          }
-        }
+          });
     }
   });
   Mean total;
@@ -237,10 +279,8 @@ Max max_distance(const TriangleMesh& from, const TargetSurface& to, double toler
 
 long estimated_samples(const TriangleMesh& m, double spacing) {
   long n = 0;
-  for (const auto& t : m.triangles) {
-    const long k = grid_steps(m, t, spacing);
-    n += k * k;
-  }
+  for (const auto& t : m.triangles)
+    n += TriangleCells(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]], spacing).count();
   return n;
 }
 
@@ -265,7 +305,9 @@ SurfaceDistance surface_distance(const TriangleMesh& a_in, const TriangleMesh& b
     // Half of the budget for the means, a quarter for each maximum.
     const long budget = std::min(options.max_samples / 2, kMaxSamples);
     // Samples fall about with the square of the spacing; a few rounds settle the grid rounding.
-    for (int round = 0; round < 64 && samples > budget; ++round) {
+    // At least one cell per triangle: no spacing goes below that.
+    const long floor = 2 * static_cast<long>(a.triangles.size() + b.triangles.size());
+    for (int round = 0; round < 64 && samples > budget && samples > floor; ++round) {
       spacing *= std::max(1.05, std::sqrt(static_cast<double>(samples) / budget));
       samples = needed(spacing);
     }

@@ -34,7 +34,7 @@ struct SurfaceDistance {
 
 /// The largest distances each way by branch and bound over the triangles (to within a quarter
 /// of \p options.sample_spacing, stated as SurfaceDistance::hausdorff_gap), the mean distances
-/// from the centroids of each triangle cut into sub-triangles no longer than the spacing (each
+/// from the centroids of each triangle cut into cells no wider than the spacing (each
 /// weighted by its area). Zero-area triangles are skipped. \throw InvalidInput either mesh has
 /// no triangle of positive area, or the spacing would need more than 50 million samples (and
 /// max_samples is 0).

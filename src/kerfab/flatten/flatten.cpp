@@ -569,9 +569,12 @@ TriangleMesh patch_triangles(const Strips& strips, const Flattening& flat, bool 
   for (std::size_t p = 0; p < strips.patches.size(); ++p) {
     const Patch& patch = strips.patches[p];
     const int base = static_cast<int>(out.vertices.size());
-    if (deformed) {
+    if (deformed && !flat.patches[p].deformed_3d.empty()) {
       out.vertices.insert(out.vertices.end(), flat.patches[p].deformed_3d.begin(),
                           flat.patches[p].deformed_3d.end());
+    } else if (deformed) {
+      const auto moved = deform_to_flat_metric(local_patch(strips, patch), flat.patches[p].points);
+      out.vertices.insert(out.vertices.end(), moved.begin(), moved.end());
     } else {
       for (int v : patch.local_vertices()) out.vertices.push_back(strips.vertices[v]);
     }

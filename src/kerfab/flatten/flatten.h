@@ -100,8 +100,8 @@ bool is_simple_polygon(const std::vector<Vec2>& points, const std::vector<int>& 
 Flattening flatten_patches(const Strips& strips, const FlattenOptions& options);
 
 /// The patches' 3D meshes as one triangle mesh (each patch with its own vertices), either as
-/// built or, with \p deformed, as deformed to the flat metric. \pre flattened with mimic_3d
-/// when \p deformed.
+/// built or, with \p deformed, as deformed to the flat metric (PatchFlattening::deformed_3d,
+/// or computed here where the flattening ran without mimic_3d).
 TriangleMesh patch_triangles(const Strips& strips, const Flattening& flat, bool deformed);
 
 }  // namespace kerfab

@@ -51,6 +51,76 @@ MeshSummary summarize(const PolyMesh& mesh) {
   return s;
 }
 
+/// Area of polygon face \p f (the length of its area vector: exact for planar faces, a fair
+/// measure otherwise) [input units squared].
+double face_area(const PolyMesh& mesh, OpenMesh::FaceHandle f) {
+  OpenMesh::Vec3d area(0, 0, 0);
+  const auto p0 = mesh.point(mesh.from_vertex_handle(mesh.halfedge_handle(f)));
+  for (auto h : mesh.fh_range(f)) {
+    const auto a = mesh.point(mesh.from_vertex_handle(h)) - p0;
+    const auto b = mesh.point(mesh.to_vertex_handle(h)) - p0;
+    area += OpenMesh::cross(a, b);
+  }
+  return 0.5 * area.norm();
+}
+
+/// Faces of no area count as none below this fraction of the squared bbox diagonal [-].
+constexpr double kZeroArea = 1e-12;
+
+/// Collapses every zero-area quad of \p mesh whose opposite corners coincide (a doublet, as
+/// general remeshers leave behind: two distinct vertices at one point) along that diagonal: the
+/// two corners become one vertex, the quad goes and its two pairs of sides become two edges.
+/// The surface and its Euler characteristic stay as they were. Returns the faces collapsed,
+/// numbered as in the file; zero-area faces of any other kind stay (check_geometry refuses them).
+std::vector<int> collapse_doublets(PolyMesh& mesh) {
+  const double diag = bounding_box(mesh).diagonal();
+  if (!(diag > 0)) return {};
+  const double min_area = kZeroArea * diag * diag, same = 1e-9 * diag;
+  std::vector<int> into(mesh.n_vertices());
+  for (std::size_t v = 0; v < into.size(); ++v) into[v] = static_cast<int>(v);
+  auto root = [&](int v) {
+    while (into[v] != v) v = into[v];
+    return v;
+  };
+  std::vector<int> collapsed;
+  for (auto f : mesh.faces()) {
+    if (mesh.valence(f) != 4 || face_area(mesh, f) > min_area) continue;
+    const auto c = quad_vertices(mesh, f);
+    auto at = [&](int i) { return mesh.point(mesh.vertex_handle(c[i % 4])); };
+    for (int k = 0; k < 2; ++k) {
+      const int a = root(c[k]), b = root(c[k + 2]);
+      if (a == b) break;
+      // Corners k and k + 2 at one point, the other two apart from it and from each other.
+      if ((at(k) - at(k + 2)).norm() > same || (at(k + 1) - at(k)).norm() <= same ||
+          (at(k + 3) - at(k)).norm() <= same || (at(k + 1) - at(k + 3)).norm() <= same)
+        continue;
+      into[std::max(a, b)] = std::min(a, b);
+      collapsed.push_back(f.idx());
+      break;
+    }
+  }
+  if (collapsed.empty()) return collapsed;
+  PolyMesh out;
+  std::vector<OpenMesh::VertexHandle> handle(mesh.n_vertices());
+  for (auto v : mesh.vertices()) handle[v.idx()] = out.add_vertex(mesh.point(v));
+  std::size_t next = 0;
+  for (auto f : mesh.faces()) {
+    if (next < collapsed.size() && collapsed[next] == f.idx()) {
+      ++next;
+      continue;
+    }
+    std::vector<OpenMesh::VertexHandle> corners;
+    for (auto v : mesh.fv_range(f)) corners.push_back(handle[root(v.idx())]);
+    if (!out.add_face(corners).is_valid())
+      throw InvalidInput("quad mesh face " + std::to_string(f.idx()) +
+                         " cannot be kept once the zero-area quads beside it are collapsed");
+  }
+  // The merged corners stay as isolated vertices: every other vertex keeps its number, so a
+  // guidance file written for the mesh as given still names the same vertices.
+  mesh = std::move(out);
+  return collapsed;
+}
+
 void check_geometry(const PolyMesh& mesh, const std::string& what) {
   for (auto v : mesh.vertices()) {
     const auto& p = mesh.point(v);
@@ -60,20 +130,10 @@ void check_geometry(const PolyMesh& mesh, const std::string& what) {
   }
   const double diag = bounding_box(mesh).diagonal();
   if (!(diag > 0.0)) throw InvalidInput(what + " has zero extent (all vertices coincide)");
-  const double min_area = 1e-12 * diag * diag;
-  for (auto f : mesh.faces()) {
-    // Area vector of the polygon (exact for planar faces, a fair measure otherwise).
-    OpenMesh::Vec3d area(0, 0, 0);
-    auto h0 = mesh.halfedge_handle(f);
-    const auto p0 = mesh.point(mesh.from_vertex_handle(h0));
-    for (auto h : mesh.fh_range(f)) {
-      const auto a = mesh.point(mesh.from_vertex_handle(h)) - p0;
-      const auto b = mesh.point(mesh.to_vertex_handle(h)) - p0;
-      area += OpenMesh::cross(a, b);
-    }
-    if (0.5 * area.norm() <= min_area)
+  const double min_area = kZeroArea * diag * diag;
+  for (auto f : mesh.faces())
+    if (face_area(mesh, f) <= min_area)
       throw InvalidInput(what + " face " + std::to_string(f.idx()) + " has zero area");
-  }
 }
 
 void scale_mesh(PolyMesh& mesh, double s) {
@@ -111,10 +171,23 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
                        std::to_string(options.subdivide));
   if (!(options.max_quad_distance > 0.0)) throw InvalidInput("maximum quad distance must be > 0");
   check_geometry(target_in, "target mesh");
+  std::vector<std::string> warnings;
+  std::optional<PolyMesh> repaired;  // the quad mesh with its doublets collapsed
   if (quad_in) {
     if (quad_in->n_faces() == 0) throw InvalidInput("quad mesh has no faces");
-    check_geometry(*quad_in, "quad mesh");
+    repaired = *quad_in;
+    const std::vector<int> collapsed = collapse_doublets(*repaired);
+    if (!collapsed.empty()) {
+      std::ostringstream w;
+      w << "quad mesh: " << collapsed.size() << " zero-area quad" << (collapsed.size() > 1 ? "s" : "")
+        << " whose opposite corners coincide (face";
+      for (std::size_t i = 0; i < collapsed.size() && i < 8; ++i) w << " " << collapsed[i];
+      w << (collapsed.size() > 8 ? " ..." : "") << ") collapsed along that diagonal";
+      warnings.push_back(w.str());
+    }
+    check_geometry(*repaired, "quad mesh");
   }
+  const std::optional<PolyMesh>& quad_mesh = repaired;
 
   // Units and scale: decided on the target, applied identically to both meshes.
   const double side = bounding_box(target_in).largest_side();
@@ -132,8 +205,8 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
   }
 
   // The quad mesh: given, or the target itself.
-  const bool from_target = !quad_in.has_value();
-  const PolyMesh& quad_source = from_target ? target_in : *quad_in;
+  const bool from_target = !quad_mesh.has_value();
+  const PolyMesh& quad_source = from_target ? target_in : *quad_mesh;
   // A triangle target without a quad mesh: the quads stage makes one (make_quad_mesh).
   const bool needs_quads = from_target && is_all_triangles(target_in) && options.subdivide == 0;
   if (!needs_quads && options.subdivide == 0 && !is_all_quads(quad_source))
@@ -148,7 +221,6 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
   if (!needs_quads && !is_all_quads(quads))
     throw InvalidInput("quad mesh is not all quads after subdivision");
 
-  std::vector<std::string> warnings;
   TriangleMesh tri = triangulate(target);
   if (boundary_loop_count(target) == 0 && signed_volume(tri) < 0) {
     for (auto& t : tri.triangles) std::swap(t[1], t[2]);

@@ -50,7 +50,9 @@ struct PreparedInput {
 /// Validates and prepares the inputs. Without \p quad, the target must itself be a polygon mesh
 /// that is all quads (or becomes so with subdivide >= 1), or all triangles (needs_quads: the
 /// quads stage makes the quad mesh).
-/// \throw InvalidInput empty mesh, NaN/inf coordinates, zero-area faces, non-quad faces without
+/// A zero-area quad of \p quad whose opposite corners coincide (a doublet, as general remeshers
+/// leave behind) is collapsed along that diagonal, with a warning naming it.
+/// \throw InvalidInput empty mesh, NaN/inf coordinates, other zero-area faces, non-quad faces without
 ///        subdivision, a model outside the accepted
 ///        size range without `size`, or a quad mesh far from the target (distance named).
 PreparedInput prepare_input(const PolyMesh& target, const std::optional<PolyMesh>& quad,

@@ -3,7 +3,7 @@
 namespace kerfab {
 
 CuttablePatches flatten_cuttable(const Strips& strips, const FlattenOptions& options,
-                                 const LayoutOptions& usable, double deformation_spacing) {
+                                 const LayoutOptions& usable) {
   CuttablePatches out{strips, flatten_patches(strips, options)};
   auto oversize = [&](std::size_t p) {
     return !fits_sheet(flat_outline(out.strips, out.flattening, static_cast<int>(p)), usable);
@@ -32,11 +32,13 @@ CuttablePatches flatten_cuttable(const Strips& strips, const FlattenOptions& opt
     out.strips = std::move(split);
     out.flattening = flatten_patches(out.strips, options);
   }
-  if (options.mimic_3d)
-    out.deformation = surface_distance(patch_triangles(out.strips, out.flattening, false),
-                                       patch_triangles(out.strips, out.flattening, true),
-                                       {.sample_spacing = deformation_spacing});
   return out;
+}
+
+SurfaceDistance flat_metric_deformation(const CuttablePatches& patches, double spacing) {
+  return surface_distance(patch_triangles(patches.strips, patches.flattening, false),
+                          patch_triangles(patches.strips, patches.flattening, true),
+                          {.sample_spacing = spacing});
 }
 
 }  // namespace kerfab

@@ -17,16 +17,21 @@ struct CuttablePatches {
   int distortion_splits = 0;  ///< strips split because they flattened with an inverted quad
                               ///< or an angle error of FlattenOptions::max_angle_error or more
   int oversize_splits = 0;    ///< patches split because their part did not fit the sheet
-  /// 3D strips against their deformation to the flat metric (FlattenOptions::mimic_3d) [mm].
+  /// 3D strips against their deformation to the flat metric (flat_metric_deformation) [mm].
   std::optional<SurfaceDistance> deformation;
 };
 
 /// Flattens the patches of \p strips; a strip whose outline crosses itself, that flattens with
 /// an inverted quad or too large an angle error, or that does not fit
 /// \p usable (the sheet less its margins, with room for teeth), is split at the quad boundary
-/// nearest its middle and flattened again, for up to 12 rounds. \p deformation_spacing [mm]
-/// samples the deformation distance. \throw InvalidInput options out of range.
+/// nearest its middle and flattened again, for up to 12 rounds. \throw InvalidInput options
+/// out of range.
 CuttablePatches flatten_cuttable(const Strips& strips, const FlattenOptions& options,
-                                 const LayoutOptions& usable, double deformation_spacing);
+                                 const LayoutOptions& usable);
+
+/// How far the 3D strips move when deformed to the flat metric (the evaluation behind
+/// CuttablePatches::deformation), sampled \p spacing apart [mm]. Measured once per run, on the
+/// patches as cut: the resolve stage's trial builds skip it.
+SurfaceDistance flat_metric_deformation(const CuttablePatches& patches, double spacing);
 
 }  // namespace kerfab

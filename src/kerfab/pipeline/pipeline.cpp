@@ -63,7 +63,7 @@ LoadedInputs load_inputs(const RunInputs& in) {
 /// The resolve stage: the parts built so far go in, the rebuilt ones come back into \p r. Its
 /// notes carry the warnings that hold for the rebuilt parts and replace the earlier stages'.
 static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double diagonal,
-                                const Progress& progress) {
+                                double deformation_spacing, const Progress& progress) {
   const PipelineOptions& o = r.options;
   PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
                    std::move(*r.joints), std::move(*r.kerf)};
@@ -76,6 +76,8 @@ static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double 
   r.flat = std::move(build.flat);
   r.joints = std::move(build.joints);
   r.kerf = std::move(build.kerf);
+  if (r.resolve->rounds > 0 && o.flatten.mimic_3d)
+    r.flat->deformation = flat_metric_deformation(*r.flat, deformation_spacing);
   StageNotes n = notes(*r.resolve, o.kerf);
   if (r.resolve->rounds > 0) {
     n.supersedes = {Stage::kStrips, Stage::kFlatten, Stage::kJoints, Stage::kKerf};
@@ -106,7 +108,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   };
   // The options the stages from bending to kerf run with, the guidance file's edges included.
   auto parts_options = [&] {
-    PartsOptions p{o.bending,  o.strips,  o.flatten, usable, deformation_spacing(),
+    PartsOptions p{o.bending,  o.strips,  o.flatten, usable,
                    o.material, o.machine, o.joints,  o.kerf};
     const Guidance& g = r.loaded->guidance;
     p.bending.guidance.insert(p.bending.guidance.end(), g.edges.begin(), g.edges.end());
@@ -152,7 +154,9 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kFlatten,
        [&] {
-         r.flat = flatten_cuttable(*r.strips, o.flatten, usable, deformation_spacing());
+         r.flat = flatten_cuttable(*r.strips, o.flatten, usable);
+         if (o.flatten.mimic_3d)
+           r.flat->deformation = flat_metric_deformation(*r.flat, deformation_spacing());
          return notes(*r.flat, diag());
        }},
       {Stage::kJoints,
@@ -167,7 +171,10 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
                                   o.machine, o.kerf);
          return notes(*r.kerf, o.kerf);
        }},
-      {Stage::kResolve, [&] { return resolve_stage(r, parts_options(), diag(), progress); }},
+      {Stage::kResolve,
+       [&] {
+         return resolve_stage(r, parts_options(), diag(), deformation_spacing(), progress);
+       }},
       {Stage::kLayout,
        [&] {
          r.layout = lay_out_parts(r.flat->strips, r.flat->flattening, *r.joints, *r.kerf, o.layout);

@@ -1024,7 +1024,9 @@ PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const 
   strips.merge_edges.insert(strips.merge_edges.end(), g.merge.begin(), g.merge.end());
   strips.facets.insert(strips.facets.end(), g.facets.begin(), g.facets.end());
   b.strips = build_strips(input.quads, b.bending, input.surface, strips);
-  b.flat = flatten_cuttable(b.strips, o.flatten, o.usable, o.deformation_spacing);
+  FlattenOptions flatten = o.flatten;
+  flatten.mimic_3d = false;  // an evaluation: measured once, on the final build
+  b.flat = flatten_cuttable(b.strips, flatten, o.usable);
   b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints);
   b.kerf =
       place_kerf_cuts(b.flat.strips, b.flat.flattening, b.joints, o.material, o.machine, o.kerf);

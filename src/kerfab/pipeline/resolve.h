@@ -93,7 +93,6 @@ struct PartsOptions {
   StripsOptions strips;
   FlattenOptions flatten;
   LayoutOptions usable;              ///< the sheet less its margins (parts must fit)
-  double deformation_spacing = 1.0;  ///< sample spacing of the flattening's 3D check [mm]
   Material material;
   Machine machine;
   JointOptions joints;
