@@ -493,6 +493,51 @@ TEST(Strips, MergeAndSplitGuidanceIsCheckedAndRefusedWithReasons) {
   EXPECT_THROW(build_strips(ring.quads, bending, target, o), InvalidInput);
 }
 
+// The resolve stage's merges are wishes: one that no longer applies once a facet is made beside
+// it (the resolve stage once lost every facet of a round, and then 67 of Spot's regions, to
+// one such merge) is skipped, while the same edge given by a user is still refused.
+TEST(Strips, SoftMergeEdgesThatNoLongerApplyAreSkipped) {
+  const auto ring = test::open_cylinder(40, 30, 12, 2, 8);
+  const TargetSurface target(ring.target);
+  const BendingResult bending = choose_bending_edges(ring.quads, target, {});
+  const auto middle = edges_where(ring.quads, [](const Vec3& a, const Vec3& b) {
+    return std::abs(a.z() - 15) < 1e-9 && std::abs(b.z() - 15) < 1e-9;
+  });
+  ASSERT_EQ(middle.size(), 12u);
+  // The quads of the upper ring beside the first six merge edges become one facet.
+  std::set<int> above;
+  for (int k = 0; k < 6; ++k) {
+    const auto h = ring.quads.find_halfedge(ring.quads.vertex_handle(middle[k][0]),
+                                            ring.quads.vertex_handle(middle[k][1]));
+    for (auto hh : {h, ring.quads.opposite_halfedge_handle(h)}) {
+      const auto f = ring.quads.face_handle(hh);
+      if (f.is_valid() && ring.quads.calc_face_centroid(f)[2] > 15) above.insert(f.idx());
+    }
+  }
+  ASSERT_EQ(above.size(), 6u);
+  StripsOptions hard;
+  hard.facets = {std::vector<int>(above.begin(), above.end())};
+  hard.merge_edges = middle;
+  EXPECT_THROW(build_strips(ring.quads, bending, target, hard), InvalidInput);
+  StripsOptions soft = hard;
+  soft.soft_merge_edges = soft.merge_edges;
+  soft.merge_edges.clear();
+  const Strips s = build_strips(ring.quads, bending, target, soft);
+  // The facet, and the rings: the six merges beside the facet skipped, the other six kept (the
+  // lower ring merged sideways with what is left of the upper one).
+  int facets = 0, merged = 0;
+  std::vector<int> held(ring.quads.n_faces(), 0);
+  for (const Patch& p : s.patches) {
+    for (int q : p.all_quads()) ++held[q];
+    facets += p.flat ? 1 : 0;
+    merged += p.rows() == 2 ? 1 : 0;
+  }
+  EXPECT_EQ(facets, 1);
+  EXPECT_EQ(merged, 1);
+  EXPECT_EQ(s.patches.size(), 3u);  // the facet, the merged run, the rest of the lower ring
+  for (int n : held) EXPECT_EQ(n, 1);
+}
+
 // A merged patch must not contain a singularity of the quad mesh: on a cube sphere, two merge
 // edges meeting at a cube corner (valence 3) are refused with the vertex named.
 TEST(Strips, MergeThroughASingularityIsRefused) {

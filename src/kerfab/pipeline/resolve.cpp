@@ -1021,7 +1021,7 @@ PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const 
   }
   StripsOptions strips = o.strips;
   strips.split_edges.insert(strips.split_edges.end(), g.split.begin(), g.split.end());
-  strips.merge_edges.insert(strips.merge_edges.end(), g.merge.begin(), g.merge.end());
+  strips.soft_merge_edges.insert(strips.soft_merge_edges.end(), g.merge.begin(), g.merge.end());
   strips.facets.insert(strips.facets.end(), g.facets.begin(), g.facets.end());
   b.strips = build_strips(input.quads, b.bending, input.surface, strips);
   FlattenOptions flatten = o.flatten;

@@ -605,7 +605,22 @@ class Builder {
     // A merged run passes a vertex where two of its merge edges meet; a singularity of the quad
     // mesh there would lie inside the merged patch (paper Sec. 3.5: bending two ways at once).
     std::map<int, std::vector<std::array<int, 2>>> at_vertex;
-    for (const auto& v : opt_.merge_edges) {
+    // The soft merge edges (the resolve stage's) that still apply, after the given ones.
+    std::vector<std::array<int, 2>> merges = opt_.merge_edges;
+    for (const auto& v : opt_.soft_merge_edges) {
+      const auto eh = m_.edge_handle(resolve_edge(v, "merge"));
+      const auto f0 = m_.face_handle(m_.halfedge_handle(eh, 0));
+      const auto f1 = m_.face_handle(m_.halfedge_handle(eh, 1));
+      if (!f0.is_valid() || !f1.is_valid() || where[f0.idx()].first == kNone ||
+          where[f0.idx()].first == where[f1.idx()].first || where[f1.idx()].first == kNone)
+        continue;
+      bool rails = true;
+      for (const auto f : {f0, f1})
+        rails = rails && in_bending_pair(out_.quads[f.idx()],
+                                         local_edge(face_edges_[f.idx()], eh.idx()));
+      if (rails) merges.push_back(v);
+    }
+    for (const auto& v : merges) {
       resolve_edge(v, "merge");
       for (int x : v) at_vertex[x].push_back(v);
     }
@@ -618,7 +633,8 @@ class Builder {
                          ", a singularity of the quad mesh that would lie inside the merged "
                          "patch");
     }
-    for (const auto& v : opt_.merge_edges) {
+    for (std::size_t k = 0; k < merges.size(); ++k) {
+      const auto& v = merges[k];
       const int e = resolve_edge(v, "merge");
       const auto eh = m_.edge_handle(e);
       const auto f0 = m_.face_handle(m_.halfedge_handle(eh, 0));

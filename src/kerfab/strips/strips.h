@@ -57,6 +57,10 @@ struct StripsOptions {
   /// sideways into one patch (paper Sec. 3.5): each must be a rail edge of both quads, so that
   /// their rulings continue; consecutive merge edges along a rail join one merged run.
   std::vector<std::array<int, 2>> merge_edges;
+  /// Merge edges that are wishes rather than orders (the resolve stage's): one that no longer
+  /// applies once other changes are made (a border of the mesh or a facet beside it, a ruling
+  /// rather than a rail, or one strip on both sides) is skipped instead of refused.
+  std::vector<std::array<int, 2>> soft_merge_edges;
   /// Groups of quads (face indices of the quad mesh) each cut as one flat plate: a planar facet
   /// with no rulings and no kerf cuts (the fallback where nothing can bend the material enough).
   /// Every group must be edge-connected and form a disk; its quads are not subdivided.
