@@ -184,7 +184,7 @@ TEST(HostileInput, RunawayWorkIsRefusedBeforeItStarts) {
   const std::string spot = test::real_mesh("spot_triangulated.obj").string();
   const std::string cage = test::real_mesh("spot_control_mesh.obj").string();
   r = test::run_cli("run --quiet --target " + spot + " --quad " + cage +
-                        " --subdivide 3 --size 250 --rulings-per-quad 64 --out " +
+                        " --subdivide 3 --size 250 --rulings-per-quad 64 --no-coarsen --out " +
                         (scratch / "c").string(),
                     scratch);
   expect_one_line_failure(r, 1, "749568 sub-quads", scratch / "c", "rulings per quad");

@@ -12,19 +12,13 @@
 namespace kerfab {
 namespace {
 
-PolyMesh to_poly(const TriangleMesh& t) {
-  PolyMesh m;
-  for (const auto& p : t.vertices) m.add_vertex(to_openmesh(p));
-  for (const auto& f : t.triangles)
-    m.add_face(m.vertex_handle(f[0]), m.vertex_handle(f[1]), m.vertex_handle(f[2]));
-  return m;
-}
+using test::poly_mesh;
 
 TEST(Prepare, ScalesBothMeshesIdenticallyToRequestedSize) {
   const auto shape = test::sphere(1.0, 4);  // unit sphere: 2 mm across, too small without --size
   InputOptions opt;
   opt.size = 250.0;
-  const PreparedInput in = prepare_input(to_poly(shape.target), shape.quads, opt);
+  const PreparedInput in = prepare_input(poly_mesh(shape.target), shape.quads, opt);
   EXPECT_NEAR(in.target_summary.bbox.largest_side(), 250.0, 1e-9);
   EXPECT_NEAR(in.scale, 125.0, 1e-9);
   // Quad vertices lie on the sphere of radius 125 mm after scaling.
@@ -36,23 +30,23 @@ TEST(Prepare, ScalesBothMeshesIdenticallyToRequestedSize) {
 TEST(Prepare, RefusesModelsOutsideMillimetreRangeWithoutSize) {
   const auto small = test::sphere(1.0, 2);
   try {
-    prepare_input(to_poly(small.target), small.quads, {});
+    prepare_input(poly_mesh(small.target), small.quads, {});
     FAIL() << "expected InvalidInput";
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("--size"), std::string::npos) << e.what();
   }
   const auto huge = test::sphere(6000.0, 2);  // 12 m
-  EXPECT_THROW(prepare_input(to_poly(huge.target), huge.quads, {}), InvalidInput);
+  EXPECT_THROW(prepare_input(poly_mesh(huge.target), huge.quads, {}), InvalidInput);
   const auto ok = test::sphere(100.0, 2);
-  EXPECT_NO_THROW(prepare_input(to_poly(ok.target), ok.quads, {}));
+  EXPECT_NO_THROW(prepare_input(poly_mesh(ok.target), ok.quads, {}));
   InputOptions bad;
   bad.size = 5.0;
-  EXPECT_THROW(prepare_input(to_poly(ok.target), ok.quads, bad), InvalidInput);
+  EXPECT_THROW(prepare_input(poly_mesh(ok.target), ok.quads, bad), InvalidInput);
 }
 
 TEST(Prepare, NanCoordinatesAndZeroAreaFacesAreRejected) {
   auto shape = test::sphere(100.0, 2);
-  PolyMesh target = to_poly(shape.target);
+  PolyMesh target = poly_mesh(shape.target);
   PolyMesh nan_quads = shape.quads;
   nan_quads.set_point(nan_quads.vertex_handle(3), {std::nan(""), 0, 0});
   EXPECT_THROW(prepare_input(target, nan_quads, {}), InvalidInput);
@@ -92,7 +86,7 @@ TEST(Prepare, DoubletsAreCollapsedAlongTheirDiagonal) {
   ASSERT_EQ(q.n_faces(), 10u);
   InputOptions opt;
   opt.size = 30;
-  const PreparedInput in = prepare_input(to_poly(plane.target), q, opt);
+  const PreparedInput in = prepare_input(poly_mesh(plane.target), q, opt);
   EXPECT_EQ(in.quad_summary.faces, 9);
   EXPECT_EQ(in.quad_summary.vertices, 16);
   EXPECT_EQ(in.quad_summary.euler_characteristic, 1);
@@ -114,7 +108,7 @@ TEST(Prepare, DoubletsAreCollapsedAlongTheirDiagonal) {
   for (double x : {0.0, 10.0, 20.0, 30.0}) flat.add_vertex({x, 0, 0});
   flat.add_face({flat.vertex_handle(0), flat.vertex_handle(1), flat.vertex_handle(2),
                  flat.vertex_handle(3)});
-  EXPECT_THROW(prepare_input(to_poly(plane.target), flat, opt), InvalidInput);
+  EXPECT_THROW(prepare_input(poly_mesh(plane.target), flat, opt), InvalidInput);
 }
 
 TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetWaitsForTheQuadsStage) {

@@ -115,4 +115,12 @@ Shape torus(double R, double r, int nu, int nv, int refine) {
           [=](const Vec3& p) { return std::hypot(std::hypot(p.x(), p.y()) - R, p.z()) - r; }};
 }
 
+PolyMesh poly_mesh(const TriangleMesh& t) {
+  PolyMesh m;
+  for (const auto& p : t.vertices) m.add_vertex(to_openmesh(p));
+  for (const auto& f : t.triangles)
+    m.add_face(m.vertex_handle(f[0]), m.vertex_handle(f[1]), m.vertex_handle(f[2]));
+  return m;
+}
+
 }  // namespace kerfab::test

@@ -32,6 +32,9 @@ Shape sphere(double r, int n, int target_refine = 8);
 /// Torus around the z axis, major radius R, minor r; nu x nv quads.
 Shape torus(double R, double r, int nu, int nv, int target_refine = 6);
 
+/// The triangles of \p mesh as a polygon mesh (what prepare_input takes as a target).
+PolyMesh poly_mesh(const TriangleMesh& mesh);
+
 /// Quad mesh of a (u, v) grid with nu x nv cells in [0,1]^2, optionally periodic, mapped by f.
 PolyMesh grid_mesh(int nu, int nv, bool periodic_u, bool periodic_v,
                    const std::function<Vec3(double, double)>& f);

@@ -346,6 +346,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       "--no-resolve", [&f](std::int64_t) { f.options.resolve.enabled = false; },
       "Keep critical kerf regions as they are and only report them (the paper's "
       "behaviour) instead of changing the layout there until the parts can be cut");
+  cmd.add_flag(
+      "--no-coarsen", [&f](std::int64_t) { f.options.coarsen.enabled = false; },
+      "Use a given quad mesh as it is, instead of collapsing rows of quads where the strips "
+      "beside them are too narrow for the material to bend (the mesh used is written to "
+      "OUT/model/quads.obj)");
   cmd.add_flag("--dump", f.output.dump, "Also write intermediate stages to OUT/stages/");
   cmd.add_flag("--row-baseline", f.options.row_baseline,
                "Also build the naive one-strip-per-row layout and report its strip count "

@@ -1045,6 +1045,10 @@ class Builder {
     }
     if (remove.empty()) return {outline};
     for (auto& poly : remove) make_counter_clockwise(poly);
+    // Grown by a hair: a tail shares its sides with the outline, and taken away exactly it can
+    // come back as a hole touching the outline (the outline whole, with the tail as a hole),
+    // which left the tail on the part (a spike of a quad sphere's facet, 4.7 mm under 1 mm wide).
+    remove = polygon_offset(remove, 1e-4);
     std::vector<Polygon2> left;
     for (auto& c : polygon_difference({outline}, remove))
       if (polygon_area(c) > 0) left.push_back(std::move(c));

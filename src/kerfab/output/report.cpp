@@ -15,6 +15,7 @@ std::string report_json(const RunResult& run, const OutputOptions& output) {
   r["input"] = report::input_section(run.inputs, run.input);
   r["options"] = report::options_section(run, output);
   if (run.quads) r["quads"] = report::quads_section(*run.quads);
+  if (run.coarsened) r["quads"] = report::coarsen_section(*run.coarsened);
   if (run.bending) r["bending"] = report::bending_section(*run.bending, run.options.bending);
   if (run.strips)
     r["strips"] = report::strips_section(run.final_strips(),

@@ -71,6 +71,16 @@ json quads_section(const QuadMeshResult& q) {
           {"corner_angle_deg", {q.min_corner_angle * 180 / M_PI, q.max_corner_angle * 180 / M_PI}}};
 }
 
+json coarsen_section(const CoarsenResult& c) {
+  return {{"quads", c.quads_after},
+          {"method", c.rows_collapsed > 0 ? "given, coarsened" : "given"},
+          {"given_quads", c.quads_before},
+          {"rows_collapsed", c.rows_collapsed},
+          {"rows_refused", c.rows_refused},
+          {"narrow_fraction_before", c.narrow_before},
+          {"narrow_fraction_after", c.narrow_after}};
+}
+
 json options_section(const RunResult& run, const OutputOptions& output) {
   const PipelineOptions& o = run.options;
   const Material& m = o.material;
@@ -88,6 +98,7 @@ json options_section(const RunResult& run, const OutputOptions& output) {
   j["quad_size_mm"] = optional_json(o.quads.quad_size);
   j["quad_feature_angle_deg"] = o.quads.feature_angle * 180 / M_PI;
   j["max_quad_distance_rel"] = o.input.max_quad_distance;
+  j["coarsen"] = o.coarsen.enabled;
   j["alignment"] = o.bending.alignment;
   j["edge_samples"] = o.bending.edge_samples;
   j["ilp_time_limit_s"] = o.bending.time_limit_s;

@@ -12,6 +12,7 @@ using nlohmann::json;
 
 json input_section(const RunInputs& inputs, const std::optional<PreparedInput>& input);
 json quads_section(const QuadMeshResult& quads);
+json coarsen_section(const CoarsenResult& coarsened);
 json options_section(const RunResult& run, const OutputOptions& output);
 json bending_section(const BendingResult& bending, const BendingOptions& options);
 json strips_section(const Strips& strips, int overlap_splits,

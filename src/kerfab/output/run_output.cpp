@@ -280,7 +280,8 @@ void write_run(const RunResult& run, const OutputOptions& output, const fs::path
     write_mesh(run.input->target, dir / "model" / "target.obj");
   }
   // The quad mesh kerfab made, to inspect, edit and feed back with --quad.
-  if (run.quads) write_mesh(run.quads->quads, dir / "model" / "quads.obj");
+  if (run.quads || (run.coarsened && run.coarsened->rows_collapsed > 0))
+    write_mesh(run.input->quads, dir / "model" / "quads.obj");
   if (run.strips) write_strips_ply(run.final_strips(), dir / "model" / "strips.ply");
   if (run.kerf)
     write_kerf_density_ply(run.final_strips(), *run.kerf, dir / "model" / "kerf_density.ply");

@@ -70,6 +70,34 @@ StageNotes notes(const QuadMeshResult& q) {
   return n;
 }
 
+StageNotes notes(const CoarsenResult& c) {
+  StageNotes n;
+  Line os;
+  if (c.rows_collapsed == 0) {
+    os << "quad mesh used as given (" << c.quads_before << " quads): ";
+    if (c.narrow_before == 0)
+      os << "its strips are wide enough everywhere for their bends";
+    else
+      os << 100 * c.narrow_before << "% of its cross edges have a row too narrow for its bend, "
+         << "and no row there can go without its neighbours missing the target";
+    n.lines.push_back(os.str());
+    return n;
+  }
+  os << c.quads_before << " quads given, " << c.quads_after << " kept: " << c.rows_collapsed
+     << " rows collapsed where the strips beside them were too narrow to bend ("
+     << c.rows_refused << " more could not go), cross edges with a row too narrow for its bend "
+     << 100 * c.narrow_before << "% -> " << 100 * c.narrow_after
+     << "%; the mesh used is model/quads.obj (--no-coarsen: as given)";
+  n.lines.push_back(os.str());
+  return n;
+}
+
+StageNotes notes_coarsen_skipped(const std::string& why) {
+  StageNotes n;
+  n.lines.push_back("quad mesh used as given: " + why);
+  return n;
+}
+
 StageNotes notes(const BendingResult& b) {
   StageNotes n;
   Line os;

@@ -18,6 +18,9 @@ struct StageNotes {
 
 StageNotes notes(const PreparedInput& input);
 StageNotes notes(const QuadMeshResult& quads);
+StageNotes notes(const CoarsenResult& coarsened);
+/// Why a given quad mesh was used without looking for rows too narrow to bend.
+StageNotes notes_coarsen_skipped(const std::string& why);
 StageNotes notes(const BendingResult& bending);
 StageNotes notes(const Strips& strips, const std::optional<RowBaseline>& baseline,
                  const StripsOptions& options);

@@ -132,7 +132,25 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kQuads,
        [&] {
-         if (!r.input->needs_quads) return StageNotes{};
+         if (!r.input->needs_quads) {
+           // A given quad mesh: rows too narrow for their bend are collapsed, unless a
+           // guidance file names its vertices (they would no longer be the same).
+           const Guidance& g = r.loaded->guidance;
+           const bool guided = !g.edges.empty() || !g.split.empty() || !g.merge.empty() ||
+                               !o.bending.guidance.empty() || !o.strips.split_edges.empty() ||
+                               !o.strips.merge_edges.empty();
+           if (!o.coarsen.enabled) return StageNotes{};
+           if (guided) {
+             r.coarsen_skipped = "guidance names the given quad mesh's vertices";
+             return notes_coarsen_skipped(r.coarsen_skipped);
+           }
+           CoarsenOptions co = o.coarsen;
+           co.min_cut_spacing = o.kerf.min_cut_spacing;
+           co.feature_angle = o.quads.feature_angle;
+           r.coarsened = coarsen_quads(r.input->quads, r.input->surface, o.material, co);
+           if (r.coarsened->rows_collapsed > 0) attach_quads(*r.input, r.coarsened->quads, o.input);
+           return notes(*r.coarsened);
+         }
          QuadMeshOptions qo = o.quads;
          qo.min_cut_spacing = o.kerf.min_cut_spacing;
          r.quads = make_quad_mesh(r.input->surface, o.material, qo);

@@ -19,6 +19,7 @@
 #include "kerfab/pipeline/cuttable_patches.h"
 #include "kerfab/pipeline/resolve.h"
 #include "kerfab/pipeline/stages.h"
+#include "kerfab/quads/coarsen.h"
 #include "kerfab/quads/quads.h"
 #include "kerfab/strips/strips.h"
 
@@ -39,6 +40,7 @@ inline constexpr long kQualitySampleBudget = 10'000'000;
 struct PipelineOptions {
   InputOptions input;
   QuadMeshOptions quads;   ///< the quad mesh made for a triangle target without --quad
+  CoarsenOptions coarsen;  ///< rows of a given quad mesh too narrow to bend, collapsed
   BendingOptions bending;  ///< its guidance is added to that of RunInputs::guidance
   StripsOptions strips;    ///< its split and merge edges are added to those of the guidance
   FlattenOptions flatten;
@@ -79,6 +81,10 @@ struct RunResult {
   std::optional<LoadedInputs> loaded;
   std::optional<PreparedInput> input;
   std::optional<QuadMeshResult> quads;  ///< when kerfab made the quad mesh (then also in input)
+  /// When a given quad mesh was examined for rows too narrow to bend (the quads stage); where
+  /// rows were collapsed, the coarsened mesh is the one in input.
+  std::optional<CoarsenResult> coarsened;
+  std::string coarsen_skipped;  ///< why a given quad mesh was not examined (empty: it was)
   std::optional<BendingResult> bending;
   std::optional<Strips> strips;         ///< as built, before any split
   std::optional<RowBaseline> baseline;  ///< with options.row_baseline
