@@ -225,7 +225,7 @@ TEST(Coarsen, SpotsFineQuadMeshKeepsItsTopology) {
   const CoarsenResult c = coarsen_quads(in.quads, in.surface, material_preset("mdf"), {});
   EXPECT_EQ(c.quads_before, 2928);
   EXPECT_LT(c.quads_after, 0.8 * c.quads_before);
-  EXPECT_LT(c.narrow_after, c.narrow_before - 0.05);
+  EXPECT_LT(c.narrow_after, c.narrow_before - 0.02);
   EXPECT_EQ(topo(c.quads).euler, 2);
   EXPECT_EQ(topo(c.quads).borders, 0);
   expect_convex_quads_on(c.quads, in.surface);

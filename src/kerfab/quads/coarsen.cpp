@@ -27,12 +27,14 @@ struct QuadList {
   std::vector<std::array<int, 2>> ends;
   std::vector<std::vector<std::pair<int, int>>> faces_of;
   std::vector<std::array<int, 4>> face_edges;  // local edge k joins corners k and k + 1
+  std::vector<std::vector<int>> edges_at;      // per vertex
 
   void index() {
     edge_id.clear();
     ends.clear();
     faces_of.clear();
     face_edges.assign(faces.size(), {});
+    edges_at.assign(points.size(), {});
     for (std::size_t f = 0; f < faces.size(); ++f)
       for (int k = 0; k < 4; ++k) {
         const int a = faces[f][k], b = faces[f][(k + 1) % 4];
@@ -41,6 +43,8 @@ struct QuadList {
         if (added) {
           ends.push_back({a, b});
           faces_of.emplace_back();
+          edges_at[a].push_back(it->second);
+          edges_at[b].push_back(it->second);
         }
         faces_of[it->second].push_back({static_cast<int>(f), k});
         face_edges[f][k] = it->second;
@@ -199,6 +203,22 @@ std::vector<Beside> beside(const QuadList& q, int e, int v) {
   return out;
 }
 
+/// Distance from \p x to the segment from \p a to \p b [mm].
+double distance_to_segment3(const Vec3& x, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double t = d.squaredNorm() > 0 ? std::clamp((x - a).dot(d) / d.squaredNorm(), 0.0, 1.0)
+                                       : 0.0;
+  return (x - (a + t * d)).norm();
+}
+
+/// The border edges at vertex \p v.
+std::vector<int> border_edges_at(const QuadList& q, int v) {
+  std::vector<int> out;
+  for (int e : q.edges_at[v])
+    if (q.boundary(e)) out.push_back(e);
+  return out;
+}
+
 class Coarsener {
  public:
   Coarsener(const TargetSurface& target, const Material& material, const CoarsenOptions& o)
@@ -214,10 +234,24 @@ class Coarsener {
     // sides of the first cut: one spacing more on each side.
     fit_ = o.min_cut_length + o.bridge + 2 * o.kerf_margin + 2 * o.joint_depth +
            2 * o.min_cut_spacing;
+    // The target's border edges (edges of one triangle).
+    const TriangleMesh& t = target.mesh();
+    std::map<std::pair<int, int>, int> count;
+    for (const auto& tri : t.triangles)
+      for (int k = 0; k < 3; ++k) ++count[std::minmax(tri[k], tri[(k + 1) % 3])];
+    for (const auto& [e, n] : count)
+      if (n == 1) border_.push_back({t.vertices[e.first], t.vertices[e.second]});
   }
 
   /// Width a row needs where it folds across cross edge \p e: wide enough for its beams to
   /// hold (the torsion relation) and for a cut to fit at all; none where it hardly bends [mm].
+  /// Distance from \p x to the target's border [mm]; infinity on a closed target.
+  double off_border(const Vec3& x) const {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& s : border_) d = std::min(d, distance_to_segment3(x, s[0], s[1]));
+    return d;
+  }
+
   double needed_width(const QuadList& q, int e) const {
     if (q.fold_across(e) <= o_.min_fold) return 0.0;
     return std::max(per_curvature_ * q.curvature_across(e), fit_);
@@ -319,11 +353,25 @@ class Coarsener {
         p = q.points[on[0]];
       } else if (on.size() > 1) {
         // Two feature or border vertices merge only as the two ends of a border edge (the
-        // row's end on the border): the border straightens there.
+        // row's end on the border): the border straightens there, while it stays within the
+        // tolerance of the target's border, or no farther than it was (a coarsened open
+        // surface once lost 4 % of its diagonal along its border).
         if (on.size() != 2) return std::nullopt;
         const auto it = q.edge_id.find(std::minmax(on[0], on[1]));
         if (it == q.edge_id.end() || !q.boundary(it->second)) return std::nullopt;
         p = target_.closest(0.5 * (q.points[on[0]] + q.points[on[1]])).point;
+        double was = std::max(off_border(q.points[on[0]]), off_border(q.points[on[1]]));
+        std::vector<Vec3> beyond;
+        for (int k = 0; k < 2; ++k)
+          for (int e : border_edges_at(q, on[k])) {
+            const int b = q.ends[e][0] == on[k] ? q.ends[e][1] : q.ends[e][0];
+            if (b == on[1 - k]) continue;
+            beyond.push_back(q.points[b]);
+            was = std::max(was, off_border(q.points[b]));
+          }
+        double now = off_border(p);
+        for (const Vec3& b : beyond) now = std::max(now, off_border(0.5 * (b + p)));
+        if (now > std::max(was, tolerance_)) return std::nullopt;
       } else {
         for (int v : members) p += q.points[v];
         p = target_.closest(p / static_cast<double>(members.size())).point;
@@ -362,7 +410,7 @@ class Coarsener {
         const Vec3 a = out.points[c[(k + 3) % 4]] - out.points[c[k]];
         const Vec3 b = out.points[c[(k + 1) % 4]] - out.points[c[k]];
         const double angle = angle_between(a, b);
-        if (angle < o_.min_corner || angle > M_PI - o_.min_corner) return std::nullopt;
+        if (angle < o_.min_corner || angle > o_.max_corner) return std::nullopt;
         if (b.cross(a).dot(n) <= 0) return std::nullopt;  // reflex corner
       }
       if (n.dot(target_.closest(out.centre(static_cast<int>(f))).normal) <= 0) return std::nullopt;
@@ -390,6 +438,7 @@ class Coarsener {
   const CoarsenOptions& o_;
   double per_curvature_ = 0;  // strip width needed per unit of bend curvature [mm^2]
   double fit_ = 0;            // strip width a cut needs to fit at all [mm]
+  std::vector<std::array<Vec3, 2>> border_;  // the target's border edges
   double tolerance_ = 0;      // [mm]
 };
 
@@ -404,8 +453,9 @@ CoarsenResult coarsen_quads(const PolyMesh& quads, const TargetSurface& target,
   if (!(options.tolerance > 0)) throw InvalidInput("coarsening: tolerance must be > 0");
   if (!(options.feature_angle > 0 && options.feature_angle < M_PI))
     throw InvalidInput("coarsening: feature_angle must be in (0, pi)");
-  if (!(options.min_corner >= 0 && options.min_corner < M_PI / 4))
-    throw InvalidInput("coarsening: min_corner must be in [0, pi/4)");
+  if (!(options.min_corner >= 0 && options.min_corner < M_PI / 4) ||
+      !(options.max_corner > M_PI / 2 && options.max_corner <= M_PI))
+    throw InvalidInput("coarsening: corners must be allowed within [< pi/4, > pi/2]");
   CoarsenResult out;
   out.quads = quads;
   out.quads_before = out.quads_after = static_cast<int>(quads.n_faces());

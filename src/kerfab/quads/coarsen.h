@@ -27,8 +27,9 @@ struct CoarsenOptions {
                                  ///< this fraction of the target's bbox diagonal [-], > 0
   double feature_angle = 1.05;   ///< quad-mesh edges folding more are sharp features, kept in
                                  ///< place [rad], (0, pi)
-  double min_corner = 25 * M_PI / 180;  ///< quads the collapse changes keep corners within
-                                        ///< [min_corner, pi - min_corner] [rad]
+  double min_corner = 25 * M_PI / 180;   ///< quads the collapse changes keep corners within
+  double max_corner = 170 * M_PI / 180;  ///< [min_corner, max_corner] [rad] (a sharper corner
+                                         ///< makes a spike of a facet, hanging on a neck)
   double need_fraction = 0.25;  ///< a row is collapsed only where at least this fraction of its
                                 ///< cross edges has a row beside it too narrow for its bend [-]
 };
