@@ -31,18 +31,23 @@ struct Region {
 /// min_width (the outline shrunk by half of it is empty), fallen apart when cut, or a facet
 /// that flattens inverted or crossing itself (its corners shared with other facets moved it
 /// off its plane) [mm^2, mm].
-/// True when patch \p p of \p b is a facet that flattens with an inverted quad or crossing
-/// itself (its corners, shared with facets at other angles, bent it).
-bool bent_facet(const PartsBuild& b, int p) {
+/// True when patch \p p of \p b is a facet that flattens with an inverted quad, crossing
+/// itself, or with a corner angle off by the flattening's limit or more (its corners, shared
+/// with facets at other angles, bent it: a plate that does not have the angles of its
+/// neighbours' borders does not fit them).
+bool bent_facet(const PartsBuild& b, int p, double max_angle_error) {
   const PatchFlattening& flat = b.flat.flattening.patches[p];
-  return b.flat.strips.patches[p].flat && (flat.inverted_quads > 0 || !flat.outline_simple);
+  return b.flat.strips.patches[p].flat &&
+         (flat.inverted_quads > 0 || !flat.outline_simple ||
+          flat.max_angle_error >= max_angle_error);
 }
 
-std::vector<int> small_parts(const PartsBuild& b, double min_area, double min_width) {
+std::vector<int> small_parts(const PartsBuild& b, double min_area, double min_width,
+                             double max_angle_error) {
   std::vector<int> out;
   for (std::size_t p = 0; p < b.joints.parts.size(); ++p) {
     const Polygon2& outline = b.joints.parts[p].designed;
-    if (bent_facet(b, static_cast<int>(p)) || b.joints.parts[p].repaired || outline.size() < 3 ||
+    if (bent_facet(b, static_cast<int>(p), max_angle_error) || b.joints.parts[p].repaired || outline.size() < 3 ||
         std::abs(polygon_area(outline)) < min_area ||
         polygon_offset({outline}, -0.5 * min_width).empty())
       out.push_back(static_cast<int>(p));
@@ -184,7 +189,28 @@ class Resolver {
     for (const auto& v : o_.strips.merge_edges) user_merge_.insert(edge_between(m_, v));
     for (const auto& v : o_.strips.split_edges) user_split_.insert(edge_between(m_, v));
     std::set<int> cheap_failed;  // quads where a crease split or a merge did not resolve
+    // The best build so far (fewest critical regions and parts too small, then fewest parts):
+    // the changes can take a round back (a facet regrown may leave more behind), and the loop
+    // ends with the best it saw, not the last (a horse once ended its 16th round with 14
+    // critical regions and 20 small parts after rounds with none and 4).
+    struct Best {
+      PartsBuild build;
+      Added accepted;
+      std::size_t changes = 0;
+      std::pair<int, std::size_t> score;  // (defects, parts)
+    };
+    std::optional<Best> best;
+    auto keep_if_best = [&] {
+      const std::pair<int, std::size_t> score = {
+          static_cast<int>(build_.kerf.critical.size() +
+                           small_parts(build_, r_.min_part_area, r_.min_part_width,
+                                       o_.flatten.max_angle_error)
+                               .size()),
+          build_.flat.strips.patches.size()};
+      if (!best || score < best->score) best = Best{build_, accepted_, out_.changes.size(), score};
+    };
     for (int round = 0; r_.enabled && round < r_.max_rounds; ++round) {
+      keep_if_best();
       std::vector<Region> pending = current_regions();
       if (progress_) {
         std::ostringstream line;
@@ -288,21 +314,37 @@ class Resolver {
         }
       }
     }
+    if (best) {
+      const Best earlier = *best;  // the final build competes with the best one seen
+      best.reset();
+      keep_if_best();
+      if (earlier.score < best->score) {
+        build_ = earlier.build;
+        accepted_ = earlier.accepted;
+        out_.changes.resize(earlier.changes);
+      }
+    }
     for (const CriticalRegion& c : build_.kerf.critical) {
       const Region r = region_of(build_.flat.strips, build_.flat.flattening, c);
       record(r, "unresolved");
       out_.changes.back().reason = "the bend overstresses the beams even at the minimum spacing";
     }
-    for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width)) {
+    const double max_angle = o_.flatten.max_angle_error;
+    for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width, max_angle)) {
       record(part_region(build_.flat.strips, p), "unresolved");
       const Polygon2& outline = build_.joints.parts[p].designed;
       const double area = outline.size() < 3 ? 0.0 : std::abs(polygon_area(outline));
       RegionChange& c = out_.changes.back();
       std::ostringstream why;
       const PatchFlattening& flat = build_.flat.flattening.patches[p];
-      if (flat.inverted_quads > 0 || !flat.outline_simple) {
+      if (bent_facet(build_, p, max_angle)) {
         why << "facet " << p << " flattens "
-            << (flat.inverted_quads > 0 ? "with an inverted quad" : "crossing itself")
+            << (flat.inverted_quads > 0    ? "with an inverted quad"
+                : !flat.outline_simple     ? "crossing itself"
+                                           : "with a corner " +
+                                                 std::to_string(static_cast<int>(
+                                                     flat.max_angle_error * 180 / M_PI)) +
+                                                 " deg off its 3D angle")
             << " (its corners are shared with facets at other angles)";
       } else {
         why << "part " << p << " is too small to handle (" << area << " mm^2 as cut";
@@ -367,9 +409,10 @@ class Resolver {
     std::vector<Region> out;
     for (const CriticalRegion& c : build_.kerf.critical)
       out.push_back(region_of(build_.flat.strips, build_.flat.flattening, c));
-    for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width)) {
+    for (int p :
+         small_parts(build_, r_.min_part_area, r_.min_part_width, o_.flatten.max_angle_error)) {
       const Patch& patch = build_.flat.strips.patches[p];
-      if (bent_facet(build_, p))
+      if (bent_facet(build_, p, o_.flatten.max_angle_error))
         for (int q : patch.all_quads()) bent_.insert(q);
       bool tried = patch.flat;
       for (int q : patch.all_quads()) tried = tried && stuck_.count(q);
@@ -385,7 +428,8 @@ class Resolver {
       const Region r = region_of(b.flat.strips, b.flat.flattening, c);
       out.insert(r.quads.begin(), r.quads.end());
     }
-    for (int p : small_parts(b, r_.min_part_area, r_.min_part_width)) {
+    for (int p : small_parts(b, r_.min_part_area, r_.min_part_width,
+                             o_.flatten.max_angle_error)) {
       const auto quads = b.flat.strips.patches[p].all_quads();
       out.insert(quads.begin(), quads.end());
     }
