@@ -608,5 +608,36 @@ TEST(Cli, TooTightShapesAreResolvedIntoCleanSheets) {
   }
 }
 
+// A given quad mesh far too fine for 3 mm MDF (a ring of 2 mm rows, R 30 mm): the quads stage
+// collapses rows, says so in the report and writes the mesh it used; the sheets come out clean
+// with kerf cuts on bent rings. With --no-coarsen the rows stay as given (the resolve stage then
+// merges them sideways instead).
+TEST(Cli, AFineGivenQuadMeshIsCoarsenedIntoCleanBentStrips) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "ring.obj";
+  write_mesh(test::open_cylinder(30, 60, 48, 30, 1).quads, target);
+  const std::string args = "run --quiet --target " + target.string() + " --out ";
+  const fs::path out = scratch / "coarse";
+  ASSERT_EQ(run_cli(args + out.string(), scratch).exit_code, 0);
+  const auto report = read_report(out);
+  EXPECT_EQ(report["quads"]["method"], "given, coarsened");
+  EXPECT_EQ(report["quads"]["given_quads"].get<int>(), 48 * 30);
+  EXPECT_LT(report["quads"]["quads"].get<int>(), 48 * 8);
+  EXPECT_EQ(report["options"]["coarsen"], true);
+  const PolyMesh used = read_mesh(out / "model" / "quads.obj");
+  EXPECT_EQ(static_cast<int>(used.n_faces()), report["quads"]["quads"].get<int>());
+  EXPECT_GT(report["kerf"]["cuts"].get<int>(), 100);
+  EXPECT_EQ(report["resolve"]["critical_after"].get<int>(), 0);
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_TRUE(audit.clean()) << (audit.findings.empty() ? "" : audit.findings[0]);
+  const fs::path as_given = scratch / "given";
+  ASSERT_EQ(run_cli(args + as_given.string() + " --no-coarsen", scratch).exit_code, 0);
+  const auto given = read_report(as_given);
+  EXPECT_FALSE(given.contains("quads"));
+  EXPECT_FALSE(fs::exists(as_given / "model" / "quads.obj"));
+  EXPECT_EQ(given["input"]["quads"].get<int>(), 48 * 30);
+  EXPECT_EQ(given["options"]["coarsen"], false);
+}
+
 }  // namespace
 }  // namespace kerfab
