@@ -259,7 +259,9 @@ namespace kerfab {
 namespace {
 
 // From the command line: a triangle mesh alone gives a quad mesh that reads back as all quads
-// of the target's topology.
+// of the target's topology, in the target file's own frame and units: fed back with --quad,
+// the same target and the same --size, it is taken (it was refused as 66 diagonals away when
+// written in scaled millimetres).
 TEST(Quads, TriangleTargetAloneRunsAndWritesItsQuadMesh) {
   const auto dir = test::fresh_dir();
   const auto out = dir / "out";
@@ -274,6 +276,18 @@ TEST(Quads, TriangleTargetAloneRunsAndWritesItsQuadMesh) {
                 static_cast<int>(q.n_faces()),
             2);
   EXPECT_TRUE(std::filesystem::exists(out / "report.json"));
+  const auto again = dir / "again";
+  const std::string back = std::string(KERFAB_CLI) + " run --quiet --target " +
+                           test::real_mesh("spot_triangulated.obj").string() + " --quad " +
+                           (out / "model" / "quads.obj").string() +
+                           " --size 250 --no-coarsen --stop-after prepare --out " +
+                           again.string() + " 2>" + (dir / "err").string();
+  ASSERT_EQ(std::system(back.c_str()), 0) << test::slurp(dir / "err");
+  const auto report = test::read_report(again);
+  EXPECT_EQ(report["input"]["quads"].get<int>(), static_cast<int>(q.n_faces()));
+  // The same quads as made: as far from the target as the quads stage said.
+  EXPECT_NEAR(report["input"]["quad_max_distance_mm"].get<double>(),
+              test::read_report(out)["quads"]["max_distance_mm"].get<double>(), 1e-3);
 }
 
 // Quads asked narrower than the strips the material can bend get a warning naming the size

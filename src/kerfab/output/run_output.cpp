@@ -280,8 +280,13 @@ void write_run(const RunResult& run, const OutputOptions& output, const fs::path
     write_mesh(run.input->target, dir / "model" / "target.obj");
   }
   // The quad mesh kerfab made, to inspect, edit and feed back with --quad.
-  if (run.quads || (run.coarsened && run.coarsened->rows_collapsed > 0))
-    write_mesh(run.input->quads, dir / "model" / "quads.obj");
+  // In the frame and units of the target file as given, so that it pairs with that file and
+  // the same --size when fed back with --quad (model/target.obj is scaled, in mm).
+  if (run.quads || (run.coarsened && run.coarsened->rows_collapsed > 0)) {
+    PolyMesh quads = run.input->quads;
+    for (auto v : quads.vertices()) quads.set_point(v, quads.point(v) / run.input->scale);
+    write_mesh(quads, dir / "model" / "quads.obj");
+  }
   if (run.strips) write_strips_ply(run.final_strips(), dir / "model" / "strips.ply");
   if (run.kerf)
     write_kerf_density_ply(run.final_strips(), *run.kerf, dir / "model" / "kerf_density.ply");
