@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <queue>
 
 #include "kerfab/adapters/target_surface.h"
@@ -139,6 +140,32 @@ double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, cons
   return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
 }
 
+/// The convex quad that triangles \p t1 and \p t2 of \p m make together, corners in order
+/// (split by the diagonal from corner 0 to corner 2), when they share an edge, lie in one plane
+/// and their union is convex; nothing otherwise.
+std::optional<std::array<Vec3, 4>> convex_coplanar_pair(const TriangleMesh& m, int t1, int t2) {
+  const auto &x = m.triangles[t1], &y = m.triangles[t2];
+  for (int k = 0; k < 3; ++k) {
+    const int a = x[k], b = x[(k + 1) % 3], c = x[(k + 2) % 3];  // shared edge a-b?
+    int d = -1;
+    for (int l = 0; l < 3; ++l)
+      if (y[l] == b && y[(l + 1) % 3] == a) d = y[(l + 2) % 3];
+    if (d < 0) continue;
+    const Vec3 &pa = m.vertices[a], &pb = m.vertices[b], &pc = m.vertices[c],
+               &pd = m.vertices[d];
+    const Vec3 n1 = (pb - pa).cross(pc - pa), n2 = (pa - pb).cross(pd - pb);
+    if (!(n1.norm() > 0 && n2.norm() > 0)) return std::nullopt;
+    if (n1.normalized().dot(n2.normalized()) < 1 - 1e-12) return std::nullopt;
+    // Convex: c and d on either side of the line a-b (true, the triangles do not overlap) and
+    // a and b on either side of the line c-d.
+    const Vec3 n = n1.normalized();
+    const double sa = (pd - pc).cross(pa - pc).dot(n), sb = (pd - pc).cross(pb - pc).dot(n);
+    if (sa * sb >= 0) return std::nullopt;
+    return std::array<Vec3, 4>{pc, pa, pd, pb};  // c, a, d, b: diagonal c-d
+  }
+  return std::nullopt;
+}
+
 /// A triangle of the search: its corners, the distance at each and the triangle of the other
 /// surface nearest each, and an upper bound on the distance anywhere on it.
 struct Cell {
@@ -155,7 +182,11 @@ struct Cell {
 /// point than the farthest corner; (2) the distance to the surface is at most the distance to
 /// any one of its triangles, which is convex, so over the cell at most its largest value at
 /// a corner: tried for the triangles nearest the corners and the centroid. (2) is what keeps
-/// cells where the surfaces run parallel from being cut without end.
+/// cells where the surfaces run parallel from being cut without end. (3) The same for two of
+/// those triangles that share an edge, lie in one plane and make a convex quad together (the
+/// distance to them is the distance to that convex quad): a cell lying on a flat face made of
+/// two triangles, across its diagonal, is no longer cut down to the tolerance (a 250 mm cube's
+/// strips took 2.2 million queries).
 double upper_bound(const Cell& c, const Vec3& m, double dm, int tm, const TriangleMesh& to) {
   double from_m = 0;
   for (const Vec3& q : c.p) from_m = std::max(from_m, (q - m).norm());
@@ -173,6 +204,21 @@ double upper_bound(const Cell& c, const Vec3& m, double dm, int tm, const Triang
     for (const Vec3& q : c.p) worst = std::max(worst, point_triangle_distance(q, a, b, cc));
     best = std::min(best, worst);
   }
+  const std::array<int, 4> near = {tm, c.near[0], c.near[1], c.near[2]};
+  for (int i = 0; i < 4 && best > 0; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      const int t1 = near[i], t2 = near[j];
+      if (t1 < 0 || t2 < 0 || t1 == t2) continue;
+      if (const auto quad = convex_coplanar_pair(to, t1, t2)) {
+        double worst = 0;
+        for (const Vec3& q : c.p)
+          worst = std::max(worst, std::min(point_triangle_distance(q, (*quad)[0], (*quad)[1],
+                                                                   (*quad)[2]),
+                                           point_triangle_distance(q, (*quad)[0], (*quad)[2],
+                                                                   (*quad)[3])));
+        best = std::min(best, worst);
+      }
+    }
   return best;
 }
 
