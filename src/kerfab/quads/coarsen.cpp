@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <set>
@@ -22,15 +23,20 @@ int find(std::vector<int>& parent, int x) {
 struct QuadList {
   std::vector<Vec3> points;
   std::vector<Quad> faces;
-  // Edges: (low, high) vertex -> id; per edge its ends and up to two (face, local edge).
-  std::map<std::pair<int, int>, int> edge_id;
+  // Edges: per edge its ends and up to two (face, local edge); found through edges_at.
   std::vector<std::array<int, 2>> ends;
   std::vector<std::vector<std::pair<int, int>>> faces_of;
   std::vector<std::array<int, 4>> face_edges;  // local edge k joins corners k and k + 1
   std::vector<std::vector<int>> edges_at;      // per vertex
 
+  /// The edge between vertices \p a and \p b, or -1.
+  int edge(int a, int b) const {
+    for (int e : edges_at[a])
+      if (ends[e][0] == b || ends[e][1] == b) return e;
+    return -1;
+  }
+
   void index() {
-    edge_id.clear();
     ends.clear();
     faces_of.clear();
     face_edges.assign(faces.size(), {});
@@ -38,16 +44,16 @@ struct QuadList {
     for (std::size_t f = 0; f < faces.size(); ++f)
       for (int k = 0; k < 4; ++k) {
         const int a = faces[f][k], b = faces[f][(k + 1) % 4];
-        const auto key = std::minmax(a, b);
-        auto [it, added] = edge_id.try_emplace({key.first, key.second}, static_cast<int>(ends.size()));
-        if (added) {
+        int e = edge(a, b);
+        if (e < 0) {
+          e = static_cast<int>(ends.size());
           ends.push_back({a, b});
           faces_of.emplace_back();
-          edges_at[a].push_back(it->second);
-          edges_at[b].push_back(it->second);
+          edges_at[a].push_back(e);
+          edges_at[b].push_back(e);
         }
-        faces_of[it->second].push_back({static_cast<int>(f), k});
-        face_edges[f][k] = it->second;
+        faces_of[e].push_back({static_cast<int>(f), k});
+        face_edges[f][k] = e;
       }
   }
   bool boundary(int e) const { return faces_of[e].size() == 1; }
@@ -357,8 +363,8 @@ class Coarsener {
         // tolerance of the target's border, or no farther than it was (a coarsened open
         // surface once lost 4 % of its diagonal along its border).
         if (on.size() != 2) return std::nullopt;
-        const auto it = q.edge_id.find(std::minmax(on[0], on[1]));
-        if (it == q.edge_id.end() || !q.boundary(it->second)) return std::nullopt;
+        const int shared = q.edge(on[0], on[1]);
+        if (shared < 0 || !q.boundary(shared)) return std::nullopt;
         p = target_.closest(0.5 * (q.points[on[0]] + q.points[on[1]])).point;
         double was = std::max(off_border(q.points[on[0]]), off_border(q.points[on[1]]));
         std::vector<Vec3> beyond;
@@ -509,7 +515,33 @@ CoarsenResult coarsen_quads(const PolyMesh& quads, const TargetSurface& target,
       out.rows_collapsed += static_cast<int>(batch.size());
       continue;
     }
-    for (const Row* row : batch) {  // each pass collapses a row or refuses one at least
+    // Some rows of the batch may not go: found by halving (each half checked on the mesh as
+    // it is), refused, and the rest collapsed at once.
+    std::vector<const Row*> good;
+    std::function<void(const std::vector<const Row*>&)> sort_out =
+        [&](const std::vector<const Row*>& part) {
+          if (part.empty()) return;
+          if (c.collapse(q, part, feat, shape)) {
+            good.insert(good.end(), part.begin(), part.end());
+            return;
+          }
+          if (part.size() == 1) {
+            refused.insert(key_of(*part.front()));
+            return;
+          }
+          const std::size_t half = part.size() / 2;
+          sort_out({part.begin(), part.begin() + static_cast<std::ptrdiff_t>(half)});
+          sort_out({part.begin() + static_cast<std::ptrdiff_t>(half), part.end()});
+        };
+    sort_out(batch);
+    if (!good.empty()) {
+      if (auto next = c.collapse(q, good, feat, shape)) {
+        q = std::move(*next);
+        out.rows_collapsed += static_cast<int>(good.size());
+        continue;
+      }
+    }
+    for (const Row* row : good) {  // each pass collapses a row or refuses one at least
       if (auto next = c.collapse(q, {row}, feat, shape)) {
         q = std::move(*next);
         ++out.rows_collapsed;
