@@ -649,6 +649,9 @@ class Builder {
                              std::to_string(f.idx()) + ")");
       const auto [ca, ia] = where[f0.idx()];
       const auto [cb, ib] = where[f1.idx()];
+      if (ca == kNone || cb == kNone)
+        throw InvalidInput("merge edge " + edge_name(v) +
+                           ": a flat facet lies on one side, no strip to merge with");
       if (ca == cb)
         throw InvalidInput("merge edge " + edge_name(v) +
                            ": both sides belong to one strip, which cannot merge with itself");
