@@ -19,7 +19,8 @@ if [ "${KERFAB_NO_SANITIZE:-0}" != 1 ]; then
   cmake --build "$root/build-sanitize"
   slow='^(Cli\.|OutputSafety\.|HostileInput\.MemoryLimits|Layout\.(EveryTestShape|Oversized)'
   slow+='|Bending\.Spot|Flatten\.RealMeshes|Strips\.(CylinderRings|RealMeshes)|Joints\.RealMeshes'
-  slow+='|Kerf\.Spot|Quads\.(RealMeshes|ClosedShapes|Deterministic|SizeRule|TriangleTarget)'
+  slow+='|Kerf\.Spot|Quads\.(RealMeshes|ClosedShapes|Deterministic|SizeRule|TriangleTarget'
+  slow+='|QuadsTooNarrow|SpotsQuads|FandisksSharpEdges)|SurfaceDistance\.TheSearchAgreesWithADense'
   slow+='|Assembly\.EveryStep|Guide\.)'
   ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$(nproc)" --timeout 900 \
     -E "$slow" "$@"
