@@ -9,6 +9,7 @@
 #include <set>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/core/parallel.h"
 
 namespace kerfab {
 namespace {
@@ -506,10 +507,16 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
   KerfResult r;
   r.smoothing = smoothing_width(strips, options);
   r.quad_cuts.assign(strips.quad_segments.size(), 0);
+  // Patches in parallel (each builder reads only its own patch), collected in patch order.
+  const int np = static_cast<int>(strips.patches.size());
+  r.patches.resize(np);
+  std::vector<std::vector<CriticalRegion>> critical(np);
+  for_each_index(np, hardware_threads(), [&](int p) {
+    r.patches[p] = PatchKerfBuilder(strips, flat, joints, m, options, p).run(critical[p]);
+  });
+  for (auto& list : critical) r.critical.insert(r.critical.end(), list.begin(), list.end());
   for (std::size_t p = 0; p < strips.patches.size(); ++p) {
-    r.patches.push_back(
-        PatchKerfBuilder(strips, flat, joints, m, options, static_cast<int>(p)).run(r.critical));
-    for (const auto& c : r.patches.back().cuts) {
+    for (const auto& c : r.patches[p].cuts) {
       ++r.cuts;
       r.cut_length += (c.b - c.a).norm();
       for (int row = 0; row < strips.patches[p].rows(); ++row)
