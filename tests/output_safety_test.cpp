@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
 #include <map>
 #include <random>
 #include <thread>
@@ -152,6 +153,25 @@ pid_t spawn(const std::vector<std::string>& args, const fs::path& err) {
   return pid;
 }
 
+/// Waits until process \p pid catches \p signal (its handler is installed: Linux lists caught
+/// signals in /proc/PID/status as the SigCgt mask), at most 10 s. A signal sent before that
+/// kills the process the default way; on a loaded machine the time from spawn to kerfab's
+/// main() was over the test's shortest 40 ms delay (seen: 2 of 4 runs with both cores busy).
+bool wait_until_caught(pid_t pid, int signal) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  const std::string path = "/proc/" + std::to_string(pid) + "/status";
+  while (std::chrono::steady_clock::now() < until) {
+    std::ifstream in(path);
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind("SigCgt:", 0) == 0 &&
+          (std::stoull(line.substr(7), nullptr, 16) >> (signal - 1) & 1ull))
+        return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return false;
+}
+
 // SIGINT or SIGTERM at random moments of runs into a folder holding a good run: each either
 // stops at once, leaving the folder byte-identical, or had finished, leaving a complete new run.
 TEST(OutputSafety, InterruptsLeaveTheEarlierRunByteIdentical) {
@@ -176,6 +196,7 @@ TEST(OutputSafety, InterruptsLeaveTheEarlierRunByteIdentical) {
                "--sheet", i % 2 ? "500x400" : "600x450", "--out", out.string()},
               scratch / "err.txt");
     ASSERT_GT(pid, 0);
+    ASSERT_TRUE(wait_until_caught(pid, signal)) << "kerfab never installed its signal handler";
     const int ms = std::uniform_int_distribution<int>(40, std::max(41, window_ms))(random);
     std::this_thread::sleep_for(std::chrono::milliseconds(ms));
     const auto sent = std::chrono::steady_clock::now();
