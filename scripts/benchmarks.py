@@ -127,6 +127,7 @@ def model_row(r):
         "lb": lay.get("sheets_lower_bound"),
         "lb_spaced": lay.get("sheets_lower_bound_spaced"),
         "util": lay["utilization"],
+        "last": (lay.get("sheet_utilization") or [None])[-1],
         "unplaced": len(lay["unplaced"]),
         "critical": rep["kerf"]["critical_regions"],
         "critical_before": res.get("critical_before"),
@@ -386,16 +387,20 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
                  "rounded up — no nesting uses fewer sheets. Spaced bound: the same with every "
                  "part grown by half the spacing and the usable area alike (parts keep the "
                  "spacing apart, so the grown parts are disjoint); tighter, because box teeth give "
-                 "parts long outlines. Utilisation: parts' area over the sheets' whole area.")
+                 "parts long outlines. Utilisation: parts' area over the sheets' whole area; last "
+                 "sheet: the same for the last sheet alone (it is filled last: what is left of it "
+                 "is one offcut).")
         L.append("")
         header(L, "job", "parts", "sheets", "area bound", "spaced bound", "utilisation",
-               "unplaced")
+               "last sheet", "unplaced")
         for r in model_runs + multi:
             if r["failed"]:
                 continue
             m = model_row(r)
+            last = "" if m["last"] is None else f"{100 * m['last']:.0f} %"
             L.append(f"| {r['label']} | {m['parts']} | {m['sheets']} | {fmt(m['lb'])} | "
-                     f"{fmt(m['lb_spaced'])} | {100 * m['util']:.0f} % | {m['unplaced']} |")
+                     f"{fmt(m['lb_spaced'])} | {100 * m['util']:.0f} % | {last} | "
+                     f"{m['unplaced']} |")
 
     # Density.
     if density:

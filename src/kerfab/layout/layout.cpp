@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -209,16 +210,62 @@ namespace {
 struct Prepared {
   bool fits = false;
   double area = 0, grown_area = 0, rect_area = 0, length = 0;
+  double rect_angle = 0;  ///< the minimum rectangle's angle [rad]
+  Polygon2 outline, inflated;  ///< as cut, and grown by half the spacing
   std::vector<Raster> rasters;
   std::vector<Box> boxes;  ///< the turned part itself (not grown), for the margins
 };
 
-/// One bottom-left first-fit pass over the parts in \p order: each on the first sheet with
-/// room, there at the lowest, then leftmost position over its orientations.
+/// Which free position a part takes on a sheet: the lowest, then leftmost (bottom-left), or
+/// the one whose far corner (top plus half the right edge) is nearest the sheet's origin,
+/// which packs curved strips closer (the quad sphere's sheets from 72-78 % of the grown parts'
+/// area to 80-83 %).
+enum class Rule { kBottomLeft, kCorner };
+
+/// A part's best position on one sheet over the rasters given (\p rasters and \p boxes alike).
+struct Spot {
+  int raster = -1, x = 0, y = 0;
+};
+
+Spot find_spot(const SheetGrid& grid, const std::vector<Raster>& rasters,
+               const std::vector<Box>& boxes, Rule rule, const LayoutOptions& o) {
+  const double cell = o.step;
+  Spot best;
+  double best_score = std::numeric_limits<double>::infinity();
+  for (std::size_t q = 0; q < rasters.size(); ++q) {
+    const Raster& r = rasters[q];
+    // Raster cell (0,0) at grid cell (x, y): the part's own box then starts at
+    // (x * cell + (box.x0 - corner.x)), which must be >= margin (same for the far side).
+    const double dx0 = boxes[q].x0 - r.corner.x(), dx1 = boxes[q].x1 - r.corner.x();
+    const double dy0 = boxes[q].y0 - r.corner.y(), dy1 = boxes[q].y1 - r.corner.y();
+    const int x_min = std::max(0, static_cast<int>(std::ceil((o.margin - dx0) / cell)));
+    const int x_max = std::min(
+        grid.width - r.width, static_cast<int>(std::floor((o.sheet_width - o.margin - dx1) / cell)));
+    const int y_min = std::max(0, static_cast<int>(std::ceil((o.margin - dy0) / cell)));
+    const int y_max = std::min(
+        grid.height - r.height, static_cast<int>(std::floor((o.sheet_height - o.margin - dy1) / cell)));
+    for (int y = y_min; y <= y_max; ++y) {
+      // Both scores grow with y at least as fast as y: no lower row can win any more.
+      if (best.raster >= 0 && y > best_score) break;
+      const int x = grid.first_free(r, x_min, y, x_max);
+      if (x < 0) continue;
+      const double score = rule == Rule::kBottomLeft
+                               ? y + 1e-6 * x
+                               : (y + r.height) + 0.5 * (x + r.width);
+      if (score < best_score) best = {static_cast<int>(q), x, y}, best_score = score;
+      if (rule == Rule::kBottomLeft) break;
+    }
+  }
+  return best;
+}
+
+/// One first-fit pass over the parts in \p order: each on the first sheet with room, there
+/// at the best position (\p rule) over its orientations.
 struct Pass {
   std::vector<Placement> placements;
   std::vector<int> unplaced;
   std::vector<double> sheet_area;  ///< parts' area per sheet [mm^2]
+  std::vector<SheetGrid> grids;
   int sheets() const { return static_cast<int>(sheet_area.size()); }
   /// Fewer parts left out, then fewer sheets, then less on the last sheet.
   bool better_than(const Pass& b) const {
@@ -228,68 +275,97 @@ struct Pass {
   }
 };
 
+/// Puts part \p i at \p spot of sheet \p s (raster \p r).
+void put(Pass& pass, int i, int s, const Raster& r, const Spot& spot, double area, double cell) {
+  pass.grids[s].mark(r, spot.x, spot.y);
+  // Turned part frame -> sheet: shift so the raster's corner lands on its grid cell.
+  const Vec2 shift = Vec2(spot.x * cell, spot.y * cell) - r.corner;
+  pass.placements[i] = {s, r.angle, shift};
+  if (pass.sheet_area.size() <= static_cast<std::size_t>(s)) pass.sheet_area.resize(s + 1, 0.0);
+  pass.sheet_area[s] += area;
+}
+
 Pass place_in_order(const std::vector<int>& order, const std::vector<Prepared>& parts,
-                    const LayoutOptions& o) {
+                    const LayoutOptions& o, Rule rule) {
   const double cell = o.step;
   const int gw = static_cast<int>(std::floor(o.sheet_width / cell));
   const int gh = static_cast<int>(std::floor(o.sheet_height / cell));
   Pass pass;
   pass.placements.resize(parts.size());
-  std::vector<SheetGrid> sheets;
   for (int i : order) {
     const Prepared& part = parts[i];
     if (!part.fits) {
       pass.unplaced.push_back(i);
       continue;
     }
-    const std::vector<Raster>& rasters = part.rasters;
-    const std::vector<Box>& boxes = part.boxes;
     bool placed = false;
-    for (std::size_t s = 0; s <= sheets.size() && !placed; ++s) {
-      const bool fresh = s == sheets.size();
-      if (fresh) sheets.emplace_back(gw, gh);
-      SheetGrid& grid = sheets[s];
-      int best_q = -1, best_x = 0, best_y = 0;
-      for (int q = 0; q < 4; ++q) {
-        const Raster& r = rasters[q];
-        // Raster cell (0,0) at grid cell (x, y): the part's own box then starts at
-        // (x * cell + (box.x0 - corner.x)), which must be >= margin (same for the far side).
-        const double dx0 = boxes[q].x0 - r.corner.x(), dx1 = boxes[q].x1 - r.corner.x();
-        const double dy0 = boxes[q].y0 - r.corner.y(), dy1 = boxes[q].y1 - r.corner.y();
-        const int x_min = std::max(0, static_cast<int>(std::ceil((o.margin - dx0) / cell)));
-        const int x_max = std::min(
-            gw - r.width, static_cast<int>(std::floor((o.sheet_width - o.margin - dx1) / cell)));
-        const int y_min = std::max(0, static_cast<int>(std::ceil((o.margin - dy0) / cell)));
-        const int y_max = std::min(
-            gh - r.height, static_cast<int>(std::floor((o.sheet_height - o.margin - dy1) / cell)));
-        for (int y = y_min; y <= y_max; ++y) {
-          if (best_q >= 0 && y > best_y) break;
-          const int x = grid.first_free(r, x_min, y, x_max);
-          if (x < 0) continue;
-          if (best_q < 0 || y < best_y || (y == best_y && x < best_x))
-            best_q = q, best_x = x, best_y = y;
-          break;
-        }
-      }
-      if (best_q < 0) {
+    for (std::size_t s = 0; s <= pass.grids.size() && !placed; ++s) {
+      const bool fresh = s == pass.grids.size();
+      if (fresh) pass.grids.emplace_back(gw, gh);
+      const Spot spot = find_spot(pass.grids[s], part.rasters, part.boxes, rule, o);
+      if (spot.raster < 0) {
         if (fresh) {
-          sheets.pop_back();
+          pass.grids.pop_back();
           break;  // not even an empty sheet takes it
         }
         continue;
       }
-      grid.mark(rasters[best_q], best_x, best_y);
-      // Turned part frame -> sheet: shift so the raster's corner lands on its grid cell.
-      const Vec2 shift = Vec2(best_x * cell, best_y * cell) - rasters[best_q].corner;
-      pass.placements[i] = {static_cast<int>(s), rasters[best_q].angle, shift};
-      if (pass.sheet_area.size() <= s) pass.sheet_area.resize(s + 1, 0.0);
-      pass.sheet_area[s] += part.area;
+      put(pass, i, static_cast<int>(s), part.rasters[spot.raster], spot, part.area, cell);
       placed = true;
     }
     if (!placed) pass.unplaced.push_back(i);
   }
-  pass.sheet_area.resize(sheets.size(), 0.0);
+  pass.sheet_area.resize(pass.grids.size(), 0.0);
   return pass;
+}
+
+/// A part's rasters at \p turns turns of a full circle from its minimum rectangle's angle.
+struct Turned {
+  std::vector<Raster> rasters;
+  std::vector<Box> boxes;
+};
+
+Turned turned(const Prepared& part, int turns, double cell) {
+  Turned t;
+  for (int k = 0; k < turns; ++k) {
+    const double angle = -part.rect_angle + k * 2 * M_PI / turns;
+    t.rasters.push_back(rasterise(part.inflated, angle, cell));
+    t.boxes.push_back(box_of(transformed(part.outline, angle, Vec2(0, 0))));
+  }
+  return t;
+}
+
+/// Places part \p i on the first of sheets [0, \p sheets) with room, turned in 10 degree steps.
+bool place_turned(Pass& pass, int i, const Prepared& part, int sheets, const LayoutOptions& o) {
+  const Turned t = turned(part, 36, o.step);
+  for (int s = 0; s < sheets; ++s) {
+    const Spot spot = find_spot(pass.grids[s], t.rasters, t.boxes, Rule::kBottomLeft, o);
+    if (spot.raster < 0) continue;
+    put(pass, i, s, t.rasters[spot.raster], spot, part.area, o.step);
+    return true;
+  }
+  return false;
+}
+
+/// Tries to empty the last sheet: its parts, largest first, go into the gaps of the earlier
+/// sheets, turned in 10 degree steps (the passes try only quarter turns of the minimum
+/// rectangle). All or nothing: the pass changes only if every part of the last sheet finds a
+/// place. (Taking a sheet's small parts off to make room for a large one and placing them
+/// again was tried as well: on the benchmark's jobs no large part fitted even then.)
+void empty_last_sheet(Pass& pass, const std::vector<Prepared>& parts, const LayoutOptions& o) {
+  if (pass.sheets() < 2) return;
+  const int last = pass.sheets() - 1;
+  std::vector<int> on_last;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    if (parts[i].fits && pass.placements[i].sheet == last) on_last.push_back(static_cast<int>(i));
+  std::stable_sort(on_last.begin(), on_last.end(),
+                   [&](int a, int b) { return parts[a].area > parts[b].area; });
+  Pass trial = pass;
+  trial.grids.pop_back();
+  trial.sheet_area.pop_back();
+  for (int i : on_last)
+    if (!place_turned(trial, i, parts[i], last, o)) return;
+  pass = std::move(trial);
 }
 
 }  // namespace
@@ -314,6 +390,9 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     const Polygon2 inflated = grown.empty() ? outline : grown.front();
     p.grown_area = std::abs(polygon_area(inflated));
     const MinRect rect = min_area_rect(outline);
+    p.rect_angle = rect.angle;
+    p.outline = outline;
+    p.inflated = inflated;
     p.rect_area = rect.width * rect.height;
     p.length = std::max(rect.width, rect.height);
     for (int quarter = 0; quarter < 4; ++quarter) {
@@ -333,26 +412,50 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   result.sheets_lower_bound = static_cast<int>(std::ceil(fitting_area / usable - 1e-9));
   result.sheets_lower_bound_spaced =
       static_cast<int>(std::ceil(grown_area / usable_grown - 1e-9));
-  // Largest area first; while that needs more sheets than the spaced bound, also the parts with
-  // the largest minimum rectangle first (long thin and curved parts, which otherwise come last
-  // and open sheets of their own) and the longest first. The best pass is kept.
+  // Largest area first, bottom-left. While that needs more sheets than the spaced bound, also
+  // the parts with the largest minimum rectangle first (long thin and curved parts, which
+  // otherwise come last and open sheets of their own) and the longest first, each with both
+  // placing rules, and then passes that put the parts the best one left on its last sheet
+  // first; every pass then tries to empty its last sheet into the others' gaps. The best pass
+  // is kept.
   auto order_by = [&](auto key) {
     std::vector<int> order(n);
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key(a) > key(b); });
     return order;
   };
-  Pass best = place_in_order(order_by([&](int i) { return parts[i].area; }), parts, o);
+  const std::vector<int> by_area = order_by([&](int i) { return parts[i].area; });
+  Pass best = place_in_order(by_area, parts, o, Rule::kBottomLeft);
   if (best.sheets() > result.sheets_lower_bound_spaced) {
-    std::vector<Pass> more(2);
-    for_each_index(2, hardware_threads(), [&](int k) {
-      more[k] = place_in_order(
-          k == 0 ? order_by([&](int i) { return parts[i].rect_area; })
-                 : order_by([&](int i) { return parts[i].length; }),
-          parts, o);
+    const std::vector<std::vector<int>> orders = {
+        by_area, order_by([&](int i) { return parts[i].rect_area; }),
+        order_by([&](int i) { return parts[i].length; })};
+    std::vector<Pass> more(2 * orders.size());
+    for_each_index(static_cast<int>(more.size()), hardware_threads(), [&](int k) {
+      const Rule rule = k % 2 == 0 ? Rule::kCorner : Rule::kBottomLeft;
+      more[k] = k == 1 ? best : place_in_order(orders[k / 2], parts, o, rule);
+      empty_last_sheet(more[k], parts, o);
     });
     for (Pass& p : more)
       if (p.better_than(best)) best = std::move(p);
+    // Parts that ended on the last sheet first, for a few rounds.
+    std::vector<int> order = by_area;
+    for (int round = 0; round < 4 && best.sheets() > result.sheets_lower_bound_spaced; ++round) {
+      const int last = best.sheets() - 1;
+      std::vector<int> front, rest;
+      for (int i : order)
+        (parts[i].fits && best.placements[i].sheet == last ? front : rest).push_back(i);
+      front.insert(front.end(), rest.begin(), rest.end());
+      if (front == order) break;  // the same parts first again: the same passes
+      order = std::move(front);
+      std::vector<Pass> tried(2);
+      for_each_index(2, hardware_threads(), [&](int k) {
+        tried[k] = place_in_order(order, parts, o, k == 0 ? Rule::kCorner : Rule::kBottomLeft);
+        empty_last_sheet(tried[k], parts, o);
+      });
+      for (Pass& p : tried)
+        if (p.better_than(best)) best = std::move(p);
+    }
   }
   result.placements = std::move(best.placements);
   result.unplaced = std::move(best.unplaced);
@@ -379,6 +482,8 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   const double total = std::accumulate(best.sheet_area.begin(), best.sheet_area.end(), 0.0);
   result.utilization =
       result.sheets > 0 ? total / (result.sheets * o.sheet_width * o.sheet_height) : 0.0;
+  for (double a : best.sheet_area)
+    result.sheet_utilization.push_back(a / (o.sheet_width * o.sheet_height));
   return result;
 }
 

@@ -31,6 +31,7 @@ struct LayoutResult {
   std::vector<Placement> placements;  ///< per part; sheet -1: does not fit any sheet
   int sheets = 0;
   double utilization = 0;  ///< parts' area / sheets' area [-]
+  std::vector<double> sheet_utilization;  ///< per sheet: its parts' area / its area [-]
   /// No nesting can use fewer sheets than this: the placed parts' area over one sheet's usable
   /// area (inside the margins), rounded up.
   int sheets_lower_bound = 0;
@@ -72,8 +73,11 @@ bool fits_sheet(const Polygon2& outline, const LayoutOptions& options);
 /// an outline touches counts as taken, so concave parts interlock but never overlap), and
 /// computes the two lower bounds on the sheets. When that needs more sheets than the spaced
 /// bound, it also tries the parts with the largest minimum rectangle first and the longest
-/// first, and keeps the pass with the fewest sheets (then the emptiest last sheet). \throw
-/// InvalidInput options out of range.
+/// first, each with a second placing rule (the free position whose far corner is nearest the
+/// sheet's origin), then the parts of the best pass's last sheet first; every pass then tries
+/// to move its last sheet's parts into the other sheets' gaps, turned in 10 degree steps. It
+/// keeps the pass with the fewest sheets (then the emptiest last sheet). \throw InvalidInput
+/// options out of range.
 LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& options);
 
 /// Per part: neighbour part -> total shared border length [mm] (3D length of the border pieces).

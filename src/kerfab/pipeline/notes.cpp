@@ -245,6 +245,8 @@ StageNotes notes(const LayoutResult& l, const LayoutOptions& options) {
   if (l.sheets > 1)
     os << " (no nesting fits them on fewer than " << l.sheets_lower_bound_spaced
        << " with this spacing, " << l.sheets_lower_bound << " by area alone)";
+  if (l.sheets > 1 && static_cast<int>(l.sheet_utilization.size()) == l.sheets)
+    os << "; the last sheet is " << 100 * l.sheet_utilization.back() << "% used";
   n.lines.push_back(os.str());
   if (l.too_large() > 0)
     n.warnings.push_back(std::to_string(l.too_large()) +
