@@ -608,6 +608,41 @@ TEST(Cli, TooTightShapesAreResolvedIntoCleanSheets) {
   }
 }
 
+// The resolve step keeps a time limit: with a limit shorter than its first round (the sphere
+// of the test above, too tight at 30 mm) it starts no round, says so on stderr and in the
+// report, and lists every region it left as unresolved, with that reason. The sheets are still
+// written (the regions cut at the minimum spacing, as with --no-resolve).
+TEST(Cli, TheResolveStepKeepsItsTimeLimit) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "sphere.obj", out = scratch / "out";
+  write_mesh(test::sphere(40, 4).quads, target);
+  const CliRun r = run_cli("run --target " + target.string() +
+                               " --size 30 --resolve-time-limit 0.000001 --out " + out.string(),
+                           scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  const auto& res = report["resolve"];
+  EXPECT_TRUE(res["time_limited"].get<bool>());
+  EXPECT_EQ(res["rounds"].get<int>(), 0);
+  EXPECT_GT(res["critical_before"].get<int>(), 0);
+  EXPECT_EQ(res["critical_after"], res["critical_before"]);
+  int unresolved = 0;
+  for (const auto& change : res["changes"]) {
+    EXPECT_EQ(change["action"], "unresolved");
+    EXPECT_NE(change["reason"].get<std::string>().find("time limit"), std::string::npos)
+        << change["reason"];
+    ++unresolved;
+  }
+  EXPECT_EQ(unresolved, res["critical_after"].get<int>() + res["small_parts_after"].get<int>());
+  EXPECT_NE(r.err.find("stopped at its time limit"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::is_empty(out / "cut"));
+  // Out of range: one line, exit 1.
+  const CliRun bad = run_cli("run --target " + target.string() +
+                                 " --resolve-time-limit 0 --out " + (scratch / "bad").string(),
+                             scratch);
+  EXPECT_EQ(bad.exit_code, 1) << bad.err;
+}
+
 // A given quad mesh far too fine for 3 mm MDF (a ring of 2 mm rows, R 30 mm): the quads stage
 // collapses rows, says so in the report and writes the mesh it used; the sheets come out clean
 // with kerf cuts on bent rings. With --no-coarsen the rows stay as given (the resolve stage then

@@ -346,6 +346,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       "--no-resolve", [&f](std::int64_t) { f.options.resolve.enabled = false; },
       "Keep critical kerf regions as they are and only report them (the paper's "
       "behaviour) instead of changing the layout there until the parts can be cut");
+  cmd.add_option("--resolve-time-limit", f.options.resolve.time_limit,
+                 "No new round of the resolve step starts after this long; the run goes on with "
+                 "the best build it saw and lists the regions left [s, > 0]")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd.add_flag(
       "--no-coarsen", [&f](std::int64_t) { f.options.coarsen.enabled = false; },
       "Use a given quad mesh as it is, instead of collapsing rows of quads where the strips "

@@ -367,6 +367,8 @@ json resolve_section(const ResolveResult& r, const ResolveOptions& options) {
         {{"material", m.material}, {"thickness_mm", m.thickness}, {"min_size_mm", m.size_mm}});
   return {{"enabled", options.enabled},
           {"rounds", r.rounds},
+          {"time_limit_s", options.time_limit},
+          {"time_limited", r.time_limited},
           {"critical_before", r.critical_before},
           {"critical_after", r.critical_after},
           {"small_parts_after", r.small_parts_after},

@@ -215,12 +215,20 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
      << " -> " << r.minutes_after << " min";
   n.lines.push_back(os.str());
   const int changed = static_cast<int>(r.changes.size()) - actions["unresolved"];
+  if (r.time_limited) {
+    Line w(3);
+    w << "the resolve step stopped at its time limit after " << r.seconds << " s and "
+      << r.rounds << " rebuilds (--resolve-time-limit); what it had not reached is listed as "
+      << "unresolved (resolve.changes)";
+    n.warnings.push_back(w.str());
+  }
   if (r.critical_after > 0 || changed > 0 || r.small_parts_after > 0) {
     Line w(4);
     if (changed > 0) w << changed << " regions were changed to be buildable (resolve.changes)";
     if (r.critical_after > 0)
       w << (changed > 0 ? " and " : "") << r.critical_after << " remain critical: their cuts keep "
-        << kerf.min_cut_spacing << " mm but the bend overstresses the beams there (kerf.critical)";
+        << kerf.min_cut_spacing << " mm but the bend overstresses the beams there (kerf.critical"
+        << (r.time_limited ? "; the loop stopped at its time limit before it reached them)" : ")");
     if (r.small_parts_after > 0)
       w << "; " << r.small_parts_after
         << " parts stay too small or narrow to handle (resolve.changes, \"unresolved\")";

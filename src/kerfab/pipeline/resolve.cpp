@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <set>
@@ -209,9 +210,17 @@ class Resolver {
           build_.flat.strips.patches.size()};
       if (!best || score < best->score) best = Best{build_, accepted_, out_.changes.size(), score};
     };
+    const auto started = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    };
     for (int round = 0; r_.enabled && round < r_.max_rounds; ++round) {
       keep_if_best();
       std::vector<Region> pending = current_regions();
+      if (!pending.empty() && elapsed() >= r_.time_limit) {
+        out_.time_limited = true;
+        break;
+      }
       if (progress_) {
         std::ostringstream line;
         line << "round " << round + 1 << ": " << build_.kerf.critical.size()
@@ -327,7 +336,10 @@ class Resolver {
     for (const CriticalRegion& c : build_.kerf.critical) {
       const Region r = region_of(build_.flat.strips, build_.flat.flattening, c);
       record(r, "unresolved");
-      out_.changes.back().reason = "the bend overstresses the beams even at the minimum spacing";
+      out_.changes.back().reason =
+          out_.time_limited
+              ? "left when the loop reached its time limit (--resolve-time-limit)"
+              : "the bend overstresses the beams even at the minimum spacing";
     }
     const double max_angle = o_.flatten.max_angle_error;
     for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width, max_angle)) {
@@ -349,13 +361,15 @@ class Resolver {
       } else {
         why << "part " << p << " is too small to handle (" << area << " mm^2 as cut";
         if (build_.joints.parts[p].repaired) why << ", falls apart at its slots";
-        why << "; no flat plate around it is big enough)";
+        why << (out_.time_limited ? "; left when the loop reached its time limit)"
+                                  : "; no flat plate around it is big enough)");
       }
       c.reason = why.str();
       c.size_factor =
           area > 0 ? std::max(1.0, std::sqrt(r_.min_part_area / area)) : 0.0;  // 0: unknown
       ++out_.small_parts_after;
     }
+    out_.seconds = elapsed();
     finish();
     return std::move(out_);
   }
@@ -1081,6 +1095,7 @@ ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& i
                                        const PartsOptions& options, const ResolveOptions& resolve,
                                        const ResolveProgress& progress) {
   if (resolve.max_rounds < 1) throw InvalidInput("resolve: max_rounds must be >= 1");
+  if (!(resolve.time_limit > 0)) throw InvalidInput("--resolve-time-limit must be > 0 s");
   return Resolver(build, input, options, resolve, progress).run();
 }
 

@@ -32,6 +32,10 @@ namespace kerfab {
 struct ResolveOptions {
   bool enabled = true;  ///< false: only report critical regions (the paper's behaviour)
   int max_rounds = 16;  ///< rounds at most (each up to three rebuilds) [-], >= 1
+  /// No round starts once the loop has run this long; it ends with the best build it saw, the
+  /// regions left listed as unresolved [s], > 0. (A round is one to three rebuilds: about
+  /// 0.5 s on the demo, 10-40 s at 4000-6000 quads.)
+  double time_limit = 120;
   double max_merge_deviation = 0.004;  ///< a merge may move inner rail vertices by at most this
                                        ///< fraction of the target's bbox diagonal [-]
   double facet_flatness = 0.0035;      ///< quads join one flat facet while their corners stay
@@ -75,6 +79,8 @@ struct MaterialSize {
 
 struct ResolveResult {
   int rounds = 0;             ///< rebuilds made
+  bool time_limited = false;  ///< the loop stopped at its time limit with regions left
+  double seconds = 0;         ///< the loop's wall time [s]
   int critical_before = 0;    ///< critical regions of the first build
   int critical_after = 0;     ///< left at the end (listed in kerf.critical)
   int small_parts_after = 0;  ///< parts still too small or narrow to handle at the end
