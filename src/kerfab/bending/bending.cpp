@@ -92,9 +92,11 @@ constexpr int kRingMoatSteps = 64;
 // of objective `known` optimal (all weights equal w: objectives are multiples of w, so a bound
 // below known + w suffices), or after `budget_s` seconds in all (each simplex is stopped at what
 // is left of them). Returns the time of the first relaxation solve, infinity if it did not
-// finish in the budget, -1 if there was no budget.
+// finish in the budget, -1 if there was no budget; \p out_of_time: the rounds stopped because
+// the budget ran out (not because they were done).
 double separate_odd_cycles(PackingProblem& problem, PackingRelaxationSolver& relaxation,
-                           BendingResult& r, double known, double budget_s) {
+                           BendingResult& r, double known, double budget_s, bool& out_of_time) {
+  out_of_time = false;
   const auto t0 = std::chrono::steady_clock::now();
   const auto [w_lo, w_hi] = std::minmax_element(problem.weights.begin(), problem.weights.end());
   const bool uniform = w_lo != problem.weights.end() && *w_hi - *w_lo <= 1e-12 * std::abs(*w_hi);
@@ -103,10 +105,16 @@ double separate_odd_cycles(PackingProblem& problem, PackingRelaxationSolver& rel
   for (;;) {
     const double left =
         budget_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (left <= 0) break;
+    if (left <= 0) {
+      out_of_time = true;
+      break;
+    }
     const PackingRelaxation lp = relaxation.solve(left);
     if (first < 0) first = lp.optimal ? lp.seconds : std::numeric_limits<double>::infinity();
-    if (!lp.optimal) break;  // the cuts only help; CBC still solves the program
+    if (!lp.optimal) {  // the cuts only help; CBC still solves the program
+      out_of_time = true;
+      break;
+    }
     r.relaxation_bound = lp.objective;
     if (lp.objective < proven_below) break;
     const auto cycles = violated_odd_cycles(problem.conflicts, lp.x, {});
@@ -219,9 +227,10 @@ BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& t
   // The time limit covers the whole stage: the weights and seams before, the cut rounds (at most
   // 30 % of it) and the branch and bound.
   PackingRelaxationSolver relaxation(problem);
+  bool exhausted = false;
   const double first_lp = separate_odd_cycles(problem, relaxation, r,
                                               std::max(r.start_objective, 0.0),
-                                              0.3 * options.time_limit_s - elapsed());
+                                              0.3 * options.time_limit_s - elapsed(), exhausted);
   r.cut_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - cuts_start).count();
   const double left = options.time_limit_s - elapsed();
@@ -230,7 +239,16 @@ BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& t
   // cut rounds' share), the branch and bound is not started: the start selection is kept, and
   // the relaxation, finished in what is left if need be, bounds it (spot with four Catmull-Clark
   // steps, 46,848 quads: one relaxation 28 s; CBC given 3 s took 33 s).
-  const bool search = first_lp < 0 || left > 1.5 * first_lp;
+  // A large program whose cut rounds used their whole share has a root relaxation CBC solves
+  // far more slowly than the first one here (it starts again with every cut added) and root
+  // heuristics that do not look at the clock: Spot with four Catmull-Clark steps coarsened to
+  // 7470 quads (14,940 edges): first relaxation 1.8 s, CBC's 25 s, then 60 s of heuristics —
+  // the stage took 118 s of its 60. There the start selection is kept and the last relaxation
+  // bounds it (CBC had found nothing better). Smaller programs go on to CBC as before: Amo
+  // (1670 edges) and Spot with two steps (5856) also use the whole share and are then solved to
+  // optimality within the limit.
+  const bool large = problem.weights.size() > 10000;
+  const bool search = (first_lp < 0 || left > 1.5 * first_lp) && !(large && exhausted);
   PackingResult solved = solve_packing(
       problem, {.time_limit_s = std::max(0.05 * options.time_limit_s, left),
                 .relative_gap = options.relative_gap,
