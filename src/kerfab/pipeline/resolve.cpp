@@ -201,12 +201,10 @@ class Resolver {
       std::pair<int, std::size_t> score;  // (defects, parts)
     };
     std::optional<Best> best;
-    auto keep_if_best = [&] {
+    // \p small: small_now() of the current build.
+    auto keep_if_best = [&](const std::vector<int>& small) {
       const std::pair<int, std::size_t> score = {
-          static_cast<int>(build_.kerf.critical.size() +
-                           small_parts(build_, r_.min_part_area, r_.min_part_width,
-                                       o_.flatten.max_angle_error)
-                               .size()),
+          static_cast<int>(build_.kerf.critical.size() + small.size()),
           build_.flat.strips.patches.size()};
       if (!best || score < best->score) best = Best{build_, accepted_, out_.changes.size(), score};
     };
@@ -215,8 +213,9 @@ class Resolver {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     };
     for (int round = 0; r_.enabled && round < r_.max_rounds; ++round) {
-      keep_if_best();
-      std::vector<Region> pending = current_regions();
+      const std::vector<int> small = small_now();
+      keep_if_best(small);
+      std::vector<Region> pending = current_regions(small);
       if (!pending.empty() && elapsed() >= r_.time_limit) {
         out_.time_limited = true;
         break;
@@ -284,7 +283,7 @@ class Resolver {
             }
           }
         }
-        pending = current_regions();
+        pending = current_regions(small_now());
       }
       // 2. Facets where nothing cheaper applies or it did not help.
       const Added before = accepted_;
@@ -323,14 +322,16 @@ class Resolver {
         }
       }
     }
+    std::vector<int> small = small_now();
     if (best) {
       const Best earlier = *best;  // the final build competes with the best one seen
       best.reset();
-      keep_if_best();
+      keep_if_best(small);
       if (earlier.score < best->score) {
         build_ = earlier.build;
         accepted_ = earlier.accepted;
         out_.changes.resize(earlier.changes);
+        small = small_now();
       }
     }
     for (const CriticalRegion& c : build_.kerf.critical) {
@@ -342,7 +343,7 @@ class Resolver {
               : "the bend overstresses the beams even at the minimum spacing";
     }
     const double max_angle = o_.flatten.max_angle_error;
-    for (int p : small_parts(build_, r_.min_part_area, r_.min_part_width, max_angle)) {
+    for (int p : small) {
       record(part_region(build_.flat.strips, p), "unresolved");
       const Polygon2& outline = build_.joints.parts[p].designed;
       const double area = outline.size() < 3 ? 0.0 : std::abs(polygon_area(outline));
@@ -416,15 +417,20 @@ class Resolver {
     into.split.insert(from.split.begin(), from.split.end());
   }
 
+  /// The parts of the current build too small or narrow to handle (small_parts).
+  std::vector<int> small_now() const {
+    return small_parts(build_, r_.min_part_area, r_.min_part_width, o_.flatten.max_angle_error);
+  }
+
   /// What the loop works on: critical regions, and parts too small or too narrow to handle.
   /// Facets that could not grow into a part a maker can handle are not tried again: each try
   /// would release and regrow the same quads.
-  std::vector<Region> current_regions() const {
+  /// \p small: small_now() of the current build.
+  std::vector<Region> current_regions(const std::vector<int>& small) const {
     std::vector<Region> out;
     for (const CriticalRegion& c : build_.kerf.critical)
       out.push_back(region_of(build_.flat.strips, build_.flat.flattening, c));
-    for (int p :
-         small_parts(build_, r_.min_part_area, r_.min_part_width, o_.flatten.max_angle_error)) {
+    for (int p : small) {
       const Patch& patch = build_.flat.strips.patches[p];
       if (bent_facet(build_, p, o_.flatten.max_angle_error))
         for (int q : patch.all_quads()) bent_.insert(q);
