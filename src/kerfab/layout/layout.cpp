@@ -205,6 +205,13 @@ struct SheetGrid {
 
 namespace {
 
+/// A part turned to several angles: per angle its raster (grown by half the spacing) and the
+/// box of the turned part itself (not grown), for the margins.
+struct Turned {
+  std::vector<Raster> rasters;
+  std::vector<Box> boxes;
+};
+
 /// A part ready for placing: its rasters and turned boxes at the minimum-rectangle angle and
 /// its quarter turns.
 struct Prepared {
@@ -212,9 +219,19 @@ struct Prepared {
   double area = 0, grown_area = 0, rect_area = 0, length = 0;
   double rect_angle = 0;  ///< the minimum rectangle's angle [rad]
   Polygon2 outline, inflated;  ///< as cut, and grown by half the spacing
-  std::vector<Raster> rasters;
-  std::vector<Box> boxes;  ///< the turned part itself (not grown), for the margins
+  Turned quarters;
 };
+
+/// \p part at \p turns equal turns of a full circle from its minimum rectangle's angle.
+Turned turned(const Prepared& part, int turns, double cell) {
+  Turned t;
+  for (int k = 0; k < turns; ++k) {
+    const double angle = -part.rect_angle + k * 2 * M_PI / turns;
+    t.rasters.push_back(rasterise(part.inflated, angle, cell));
+    t.boxes.push_back(box_of(transformed(part.outline, angle, Vec2(0, 0))));
+  }
+  return t;
+}
 
 /// Which free position a part takes on a sheet: the lowest, then leftmost (bottom-left), or
 /// the one whose far corner (top plus half the right edge) is nearest the sheet's origin,
@@ -222,13 +239,14 @@ struct Prepared {
 /// area to 80-83 %).
 enum class Rule { kBottomLeft, kCorner };
 
-/// A part's best position on one sheet over the rasters given (\p rasters and \p boxes alike).
+/// A part's best position on one sheet over the turns given: which of them, and where.
 struct Spot {
   int raster = -1, x = 0, y = 0;
 };
 
-Spot find_spot(const SheetGrid& grid, const std::vector<Raster>& rasters,
-               const std::vector<Box>& boxes, Rule rule, const LayoutOptions& o) {
+Spot find_spot(const SheetGrid& grid, const Turned& turns, Rule rule, const LayoutOptions& o) {
+  const std::vector<Raster>& rasters = turns.rasters;
+  const std::vector<Box>& boxes = turns.boxes;
   const double cell = o.step;
   Spot best;
   double best_score = std::numeric_limits<double>::infinity();
@@ -302,7 +320,7 @@ Pass place_in_order(const std::vector<int>& order, const std::vector<Prepared>& 
     for (std::size_t s = 0; s <= pass.grids.size() && !placed; ++s) {
       const bool fresh = s == pass.grids.size();
       if (fresh) pass.grids.emplace_back(gw, gh);
-      const Spot spot = find_spot(pass.grids[s], part.rasters, part.boxes, rule, o);
+      const Spot spot = find_spot(pass.grids[s], part.quarters, rule, o);
       if (spot.raster < 0) {
         if (fresh) {
           pass.grids.pop_back();
@@ -310,7 +328,8 @@ Pass place_in_order(const std::vector<int>& order, const std::vector<Prepared>& 
         }
         continue;
       }
-      put(pass, i, static_cast<int>(s), part.rasters[spot.raster], spot, part.area, cell);
+      put(pass, i, static_cast<int>(s), part.quarters.rasters[spot.raster], spot, part.area,
+          cell);
       placed = true;
     }
     if (!placed) pass.unplaced.push_back(i);
@@ -319,27 +338,11 @@ Pass place_in_order(const std::vector<int>& order, const std::vector<Prepared>& 
   return pass;
 }
 
-/// A part's rasters at \p turns turns of a full circle from its minimum rectangle's angle.
-struct Turned {
-  std::vector<Raster> rasters;
-  std::vector<Box> boxes;
-};
-
-Turned turned(const Prepared& part, int turns, double cell) {
-  Turned t;
-  for (int k = 0; k < turns; ++k) {
-    const double angle = -part.rect_angle + k * 2 * M_PI / turns;
-    t.rasters.push_back(rasterise(part.inflated, angle, cell));
-    t.boxes.push_back(box_of(transformed(part.outline, angle, Vec2(0, 0))));
-  }
-  return t;
-}
-
 /// Places part \p i on the first of sheets [0, \p sheets) with room, turned in 10 degree steps.
 bool place_turned(Pass& pass, int i, const Prepared& part, int sheets, const LayoutOptions& o) {
   const Turned t = turned(part, 36, o.step);
   for (int s = 0; s < sheets; ++s) {
-    const Spot spot = find_spot(pass.grids[s], t.rasters, t.boxes, Rule::kBottomLeft, o);
+    const Spot spot = find_spot(pass.grids[s], t, Rule::kBottomLeft, o);
     if (spot.raster < 0) continue;
     put(pass, i, s, t.rasters[spot.raster], spot, part.area, o.step);
     return true;
@@ -395,10 +398,7 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     p.inflated = inflated;
     p.rect_area = rect.width * rect.height;
     p.length = std::max(rect.width, rect.height);
-    for (int quarter = 0; quarter < 4; ++quarter) {
-      p.rasters.push_back(rasterise(inflated, -rect.angle + quarter * M_PI / 2, o.step));
-      p.boxes.push_back(box_of(transformed(outline, -rect.angle + quarter * M_PI / 2, Vec2(0, 0))));
-    }
+    p.quarters = turned(p, 4, o.step);
   });
   LayoutResult result;
   // Bounds on the sheets any nesting needs: the parts' area over the usable area, and with the
@@ -432,18 +432,23 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   // else only the two other orders, bottom-left.
   const bool cheap = static_cast<double>(n) * best.sheets() <= 2000;
   if (best.sheets() > result.sheets_lower_bound_spaced) {
-    const std::vector<std::vector<int>> orders = {
-        by_area, order_by([&](int i) { return parts[i].rect_area; }),
-        order_by([&](int i) { return parts[i].length; })};
-    std::vector<Pass> more(2 * orders.size());
+    const std::vector<int> by_rect = order_by([&](int i) { return parts[i].rect_area; });
+    const std::vector<int> by_length = order_by([&](int i) { return parts[i].length; });
+    // Each extra pass: its order and rule; no order: the first pass again (for its last sheet).
+    using Extra = std::vector<std::pair<const std::vector<int>*, Rule>>;
+    const Extra extra =
+        cheap ? Extra{{&by_area, Rule::kCorner},   {nullptr, Rule::kBottomLeft},
+                      {&by_rect, Rule::kCorner},   {&by_rect, Rule::kBottomLeft},
+                      {&by_length, Rule::kCorner}, {&by_length, Rule::kBottomLeft}}
+              : Extra{{&by_rect, Rule::kBottomLeft}, {&by_length, Rule::kBottomLeft}};
+    std::vector<Pass> more(extra.size());
     for_each_index(static_cast<int>(more.size()), hardware_threads(), [&](int k) {
-      const Rule rule = k % 2 == 0 ? Rule::kCorner : Rule::kBottomLeft;
-      if (!cheap && (k == 1 || rule == Rule::kCorner)) return;  // not run: left empty
-      more[k] = k == 1 ? best : place_in_order(orders[k / 2], parts, o, rule);
+      const auto& [order, rule] = extra[k];
+      more[k] = order ? place_in_order(*order, parts, o, rule) : best;
       if (cheap) empty_last_sheet(more[k], parts, o);
     });
     for (Pass& p : more)
-      if (!p.placements.empty() && p.better_than(best)) best = std::move(p);
+      if (p.better_than(best)) best = std::move(p);
     // Parts that ended on the last sheet first, for a few rounds.
     std::vector<int> order = by_area;
     for (int round = 0; cheap && round < 4 && best.sheets() > result.sheets_lower_bound_spaced;
