@@ -1,5 +1,7 @@
 #include "fixtures.h"
 
+#include <stdexcept>
+
 #include "kerfab/io/mesh_io.h"
 #include "test_util.h"
 
@@ -54,9 +56,13 @@ PreparedInput load(const RealModel& model) {
 
 Strips real_strips(const PreparedInput& model) {
   BendingOptions bending;
-  bending.time_limit_s = 10;
-  return build_strips(model.quads, choose_bending_edges(model.quads, model.surface, bending),
-                      model.surface, {});
+  bending.time_limit_s = 300;
+  const BendingResult chosen = choose_bending_edges(model.quads, model.surface, bending);
+  if (chosen.status != PackingStatus::kOptimal)
+    throw std::runtime_error("the test model's bending program was not proven optimal (" +
+                             to_string(chosen.status) +
+                             "): its strips would depend on the machine's speed");
+  return build_strips(model.quads, chosen, model.surface, {});
 }
 
 }  // namespace kerfab::test
