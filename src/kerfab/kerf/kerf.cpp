@@ -128,8 +128,11 @@ class TwistProfile {
       return (1 - u) * ruling_len_[i] + u * ruling_len_[i + 1];
     };
     double w = std::min(at(a), at(b));
-    for (std::size_t i = 0; i < ruling_s_.size(); ++i)
-      if (ruling_s_[i] > a && ruling_s_[i] < b) w = std::min(w, ruling_len_[i]);
+    // The rulings strictly inside (a, b): one index range, as the coordinates are sorted.
+    const auto first = std::upper_bound(ruling_s_.begin(), ruling_s_.end(), a);
+    const auto last = std::lower_bound(first, ruling_s_.end(), b);
+    for (auto it = first; it < last; ++it)
+      w = std::min(w, ruling_len_[static_cast<std::size_t>(it - ruling_s_.begin())]);
     return w;
   }
 
