@@ -674,5 +674,26 @@ TEST(Cli, AFineGivenQuadMeshIsCoarsenedIntoCleanBentStrips) {
   EXPECT_EQ(given["options"]["coarsen"], false);
 }
 
+// Spot's fine quad mesh (2928 quads, coarsened) at 250 mm: no part of the written sheets hangs
+// on a neck narrower than the smallest feature, read back by the independent auditor. Where the
+// joints made such a neck (part 288 here: a 4 x 3 mm strip end joined by 0.95 mm, between a slot
+// on one side and a tooth on the other), the intervals near it go plain, but never a border's
+// last joint: the borders without a joint stay the 7 stubs of 1-3 mm they were.
+TEST(Cli, JointsLeaveNoThinNeckOnSpotsFineQuadMesh) {
+  const fs::path scratch = test::fresh_dir(), out = scratch / "out";
+  const std::string target = test::real_mesh("spot_triangulated.obj").string(),
+                    quad = test::real_mesh("spot_quadrangulated.obj").string();
+  const CliRun r = run_cli(
+      "run --quiet --target " + target + " --quad " + quad + " --size 250 --out " + out.string(),
+      scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  EXPECT_EQ(report["resolve"]["critical_after"].get<int>(), 0);
+  EXPECT_LE(report["joints"]["borders_without_joint"].get<int>(), 7);
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_EQ(audit.thin_features, 0) << (audit.findings.empty() ? "" : audit.findings[0]);
+  EXPECT_TRUE(audit.clean()) << (audit.findings.empty() ? "" : audit.findings[0]);
+}
+
 }  // namespace
 }  // namespace kerfab

@@ -113,6 +113,7 @@ class Builder {
       if (out_.parts[p].repaired) out_ = before, lost_ = lost_before;
     }
     give_stubs_a_tooth(forbidden);
+    widen_thin_necks();
     for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
     for (std::size_t b = 0; b < out_.borders.size(); ++b) {
       std::vector<TabFlare> flares;
@@ -815,9 +816,74 @@ class Builder {
   /// The intervals of part \p p's joints whose stretch on it (tooth, slot or cut-back, from
   /// its border line out to its offset) comes within a millimetre of a piece the part lost when
   /// it was cut, made plain; the parts on both sides go into \p changed.
-  void plain_where_lost(int p, std::set<int>& changed) {
-    if (lost_[p].empty()) return;
-    const auto near = polygon_offset(lost_[p], 1.0);
+  void plain_where_lost(int p, std::set<int>& changed) { plain_near(p, lost_[p], changed); }
+
+  /// Where part \p p's outline narrows to less than the smallest feature between two pieces
+  /// that are both larger than a square tooth (an opening by half the smallest feature falls
+  /// in two there): the stretches of the outline the opening takes away that touch two of its
+  /// pieces. without_thin_features() cuts off what hangs on such a neck only when it is no
+  /// larger than a square tooth; a larger piece it leaves hanging, and it breaks off when cut.
+  std::vector<Polygon2> thin_necks(int p) const {
+    const Polygon2& outline = out_.parts[p].designed;
+    const double r = 0.5 * o_.min_feature;
+    if (outline.size() < 3 || !(r > 0)) return {};
+    std::vector<Polygon2> opened;
+    for (auto& c : polygon_offset(polygon_offset({outline}, -r), r))
+      if (polygon_area(c) > 0) opened.push_back(std::move(c));
+    if (opened.size() < 2) return {};
+    std::vector<Polygon2> necks;
+    for (auto& piece : polygon_difference({outline}, opened)) {
+      if (!(polygon_area(piece) > 0)) continue;
+      int touched = 0;
+      for (const Polygon2& ring : opened) {
+        double d = std::numeric_limits<double>::infinity();
+        for (const Vec2& v : piece) d = std::min(d, distance_to_boundary(v, ring));
+        touched += d < 1e-3 ? 1 : 0;
+      }
+      if (touched >= 2) necks.push_back(std::move(piece));
+    }
+    return necks;
+  }
+
+  /// Thin necks (thin_necks) that joints made: the intervals whose tooth, slot or cut-back comes
+  /// near a neck go plain on both parts (as plain_where_lost does for a part that fell apart),
+  /// kept only where that leaves the part without a thin neck, takes no border's last joint, and
+  /// makes no part fall apart or gain a neck. A neck of the flattened strip itself, or one only
+  /// a border's last joint could widen, stays (the auditor reports it).
+  void widen_thin_necks() {
+    std::vector<int> all(out_.parts.size());
+    for (std::size_t p = 0; p < all.size(); ++p) all[p] = static_cast<int>(p);
+    std::vector<std::size_t> necks(all.size());
+    for_each_of(all, [&](int p) { necks[p] = thin_necks(p).size(); });
+    for (int p : all) {
+      if (necks[p] == 0) continue;
+      const Joints before = out_;
+      const std::vector<std::vector<Polygon2>> lost_before = lost_;
+      std::set<int> redo;
+      plain_near(p, thin_necks(p), redo);
+      if (redo.empty()) continue;
+      redraw(redo);
+      bool better = thin_necks(p).empty() && !out_.parts[p].repaired;
+      for (std::size_t b = 0; b < out_.borders.size() && better; ++b)
+        better = out_.borders[b].teeth > 0 || before.borders[b].teeth == 0;
+      for (int q : redo)
+        if (q != p && better)
+          better = (!out_.parts[q].repaired || before.parts[q].repaired) &&
+                   thin_necks(q).size() <= necks[q];
+      if (!better) {
+        out_ = before, lost_ = lost_before;
+        continue;
+      }
+      necks[p] = 0;
+      for (int q : redo) necks[q] = thin_necks(q).size();
+    }
+  }
+
+  /// The intervals of part \p p's joints whose stretch on it comes within a millimetre of one
+  /// of \p pieces, made plain; the parts on both sides go into \p changed.
+  void plain_near(int p, const std::vector<Polygon2>& pieces, std::set<int>& changed) {
+    if (pieces.empty()) return;
+    const auto near = polygon_offset(pieces, 1.0);
     // The spans of the same drawing as the lost pieces; intervals another part has made plain
     // since are skipped by their owner.
     for (const JointSpan& sp : out_.parts[p].spans) {
