@@ -708,6 +708,51 @@ TEST(Joints, ACubeInPaperHasMountainFoldsOnly) {
   EXPECT_GE(folds, 12);  // every cube edge
 }
 
+// An OutlineMemo changes nothing: on sheets folded by 90 degrees (box teeth) and 12 degrees
+// (dovetail tabs), make_joints gives the same outlines, spans and counts without a memo, with an
+// empty one (every outline drawn), with the same memo again (every outline reused), and with a
+// memo too small to keep anything (emptied on every insert).
+TEST(Joints, AMemoOfOutlinesChangesNothing) {
+  for (double fold : {90.0, 12.0}) {
+    SCOPED_TRACE(fold);
+    const Case c = folded_sheet(fold);
+    auto joints = [&](OutlineMemo* memo) {
+      return make_joints(c.strips, c.flat, kMdf, kLaser, {}, memo);
+    };
+    auto expect_same = [](const Joints& a, const Joints& b) {
+      EXPECT_EQ(a.teeth, b.teeth);
+      EXPECT_EQ(a.tabs, b.tabs);
+      EXPECT_EQ(a.borders_without_joint, b.borders_without_joint);
+      EXPECT_EQ(a.toothed_length, b.toothed_length);
+      ASSERT_EQ(a.parts.size(), b.parts.size());
+      for (std::size_t p = 0; p < a.parts.size(); ++p) {
+        EXPECT_TRUE(a.parts[p].designed == b.parts[p].designed) << "part " << p;
+        EXPECT_TRUE(a.parts[p].cut == b.parts[p].cut) << "part " << p;
+        EXPECT_EQ(a.parts[p].repaired, b.parts[p].repaired);
+        ASSERT_EQ(a.parts[p].spans.size(), b.parts[p].spans.size());
+        for (std::size_t k = 0; k < a.parts[p].spans.size(); ++k) {
+          EXPECT_EQ(a.parts[p].spans[k].border, b.parts[p].spans[k].border);
+          EXPECT_EQ(a.parts[p].spans[k].interval, b.parts[p].spans[k].interval);
+          EXPECT_TRUE(a.parts[p].spans[k].region == b.parts[p].spans[k].region);
+        }
+      }
+    };
+    const Joints plain = joints(nullptr);
+    ASSERT_GT(plain.teeth, 0);
+    OutlineMemo memo;
+    expect_same(plain, joints(&memo));
+    const std::size_t drawn = memo.misses();
+    EXPECT_GE(drawn, plain.parts.size());
+    expect_same(plain, joints(&memo));
+    EXPECT_EQ(memo.misses(), drawn);  // the second call drew nothing
+    EXPECT_GE(memo.hits(), drawn);
+    OutlineMemo tiny(1);
+    expect_same(plain, joints(&tiny));
+    expect_same(plain, joints(&tiny));
+    EXPECT_EQ(tiny.hits(), 0u);
+  }
+}
+
 TEST(Joints, RejectsBadOptions) {
   const Case c = folded_sheet(90);
   Material thin;

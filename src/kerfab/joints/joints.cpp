@@ -39,8 +39,9 @@ constexpr int kStubDrawings = 16;
 class Builder {
  public:
   Builder(const Strips& s, const Flattening& f, double thickness, double kerf_width,
-          const JointOptions& o)
-      : s_(s),
+          const JointOptions& o, OutlineMemo* memo)
+      : memo_(memo),
+        s_(s),
         f_(f),
         thickness_(thickness),
         kerf_width_(kerf_width),
@@ -126,6 +127,7 @@ class Builder {
   }
 
  private:
+  OutlineMemo* memo_;  // may be null
   const Strips& s_;
   const Flattening& f_;
   const double thickness_, kerf_width_;  // [mm]
@@ -991,8 +993,53 @@ class Builder {
     return f;
   }
 
+  /// What outline() draws from, as bytes: the options and kerf width it uses, the body and
+  /// teeth it adds, the cut-backs it takes away and the tooth regions it keeps (not the spans'
+  /// border and interval numbers, which differ between calls).
+  std::string outline_key(const Shapes& sh) const {
+    std::string key;
+    auto put = [&key](const auto& value) {
+      key.append(reinterpret_cast<const char*>(&value), sizeof(value));
+    };
+    auto put_polygons = [&](const std::vector<Polygon2>& polygons) {
+      put(polygons.size());
+      for (const Polygon2& poly : polygons) {
+        put(poly.size());
+        for (const Vec2& v : poly) put(v.x()), put(v.y());
+      }
+    };
+    put(o_.tooth_width), put(o_.min_depth), put(o_.min_feature), put(kerf_width_);
+    put_polygons(sh.add);
+    put_polygons(sh.cut);
+    std::vector<Polygon2> teeth;
+    for (const JointSpan& sp : sh.spans)
+      if (sp.tooth && sp.region.size() >= 3) teeth.push_back(sp.region);
+    put_polygons(teeth);
+    return key;
+  }
+
   PartOutline outline(int p) {
     Shapes sh = shapes(p);
+    std::string key;
+    if (memo_) {
+      key = outline_key(sh);
+      if (auto hit = memo_->find(key)) {
+        PartOutline part;
+        part.spans = std::move(sh.spans);
+        part.designed = std::move(hit->designed);
+        part.cut = std::move(hit->cut);
+        part.repaired = hit->repaired;
+        lost_[p] = std::move(hit->lost);
+        return part;
+      }
+    }
+    PartOutline part = drawn_outline(p, sh);
+    if (memo_) memo_->insert(std::move(key), {part.designed, part.cut, part.repaired, lost_[p]});
+    return part;
+  }
+
+  /// The outline of part \p p drawn from its shapes \p sh; sets lost_[p].
+  PartOutline drawn_outline(int p, Shapes& sh) {
     PartOutline part;
     part.spans = std::move(sh.spans);
     // The body with its teeth, without holes: where teeth close over a notch of the flattened
@@ -1160,8 +1207,39 @@ double plain_offset(double fold, double thickness) {
   return -0.5 * thickness * std::tan(0.5 * std::min(std::abs(fold), kMaxJointFold));
 }
 
+std::optional<OutlineMemo::Drawn> OutlineMemo::find(const std::string& key) const {
+  const std::lock_guard lock(mutex_);
+  const auto it = drawn_.find(key);
+  if (it == drawn_.end()) {
+    ++misses_;
+    return std::nullopt;
+  }
+  ++hits_;
+  return it->second;
+}
+
+void OutlineMemo::insert(std::string key, Drawn drawn) {
+  std::size_t bytes =
+      key.size() + sizeof(Drawn) + sizeof(Vec2) * (drawn.designed.size() + drawn.cut.size());
+  for (const Polygon2& piece : drawn.lost) bytes += sizeof(Vec2) * piece.size();
+  if (bytes > max_bytes_) return;
+  const std::lock_guard lock(mutex_);
+  if (bytes_ + bytes > max_bytes_) drawn_.clear(), bytes_ = 0;
+  if (drawn_.emplace(std::move(key), std::move(drawn)).second) bytes_ += bytes;
+}
+
+std::size_t OutlineMemo::hits() const {
+  const std::lock_guard lock(mutex_);
+  return hits_;
+}
+
+std::size_t OutlineMemo::misses() const {
+  const std::lock_guard lock(mutex_);
+  return misses_;
+}
+
 Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,
-                   const Machine& machine, const JointOptions& options) {
+                   const Machine& machine, const JointOptions& options, OutlineMemo* memo) {
   if (!(material.thickness >= 0)) throw InvalidInput("--thickness must be >= 0 mm");
   if (!(options.protrusion >= 0)) throw InvalidInput("--protrusion must be >= 0 mm");
   // A tooth narrower than 1 mm breaks off when glued (and a micrometre one asks for a billion
@@ -1179,7 +1257,7 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
     throw InvalidInput("joints: flattening does not belong to these strips");
   if (material.thickness == 0 && options.glue_tab > 0)
     return make_glue_tabs(strips, flat, machine, options);
-  return Builder(strips, flat, material.thickness, machine.kerf_width, options).run();
+  return Builder(strips, flat, material.thickness, machine.kerf_width, options, memo).run();
 }
 
 }  // namespace kerfab

@@ -8,7 +8,11 @@
 /// JointOptions::tab_misfit.
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <mutex>
+#include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "kerfab/adapters/polygon_ops.h"
@@ -148,12 +152,41 @@ struct Joints {
   int repaired_parts = 0;
 };
 
+/// Part outlines drawn by earlier make_joints calls, for calls on strips that share most parts
+/// (the resolve stage rebuilds the whole model many times, changing a few regions each time). A
+/// part's outline is drawn from its body, its teeth and its cut-backs alone (with the options
+/// and the kerf width), so where all of these are the same to the bit the earlier drawing is
+/// reused: the joints come out identical with or without a memo. It keeps at most `max_bytes`
+/// of keys and drawings and is emptied when full; it may be shared between threads.
+class OutlineMemo {
+ public:
+  /// What drawing an outline gave, apart from its spans (which name this call's borders).
+  struct Drawn {
+    Polygon2 designed, cut;
+    bool repaired = false;
+    std::vector<Polygon2> lost;  ///< pieces the part lost, if it fell apart
+  };
+  explicit OutlineMemo(std::size_t max_bytes = std::size_t{48} << 20) : max_bytes_(max_bytes) {}
+  std::optional<Drawn> find(const std::string& key) const;
+  void insert(std::string key, Drawn drawn);
+  std::size_t hits() const;
+  std::size_t misses() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::unordered_map<std::string, Drawn> drawn_;
+  std::size_t max_bytes_, bytes_ = 0;
+  mutable std::size_t hits_ = 0, misses_ = 0;
+};
+
 /// Builds the joints of every shared border and the outline of every part, for sheets of
 /// \p material (its thickness) cut on \p machine (outlines grow by half its kerf width). Paper
-/// (thickness 0) gets glue tabs (make_glue_tabs) unless JointOptions::glue_tab is 0.
+/// (thickness 0) gets glue tabs (make_glue_tabs) unless JointOptions::glue_tab is 0. With a
+/// \p memo, outlines drawn by earlier calls are reused where they are the same (OutlineMemo).
 /// \pre \p flat was computed from \p strips. \throw InvalidInput options out of range.
 Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,
-                   const Machine& machine, const JointOptions& options);
+                   const Machine& machine, const JointOptions& options,
+                   OutlineMemo* memo = nullptr);
 
 /// Folds sharper than this are joined as if they were this sharp [rad]: two parts folded back
 /// onto each other (only where a strip's rail collapses to a point) would need a cut-back

@@ -63,14 +63,15 @@ LoadedInputs load_inputs(const RunInputs& in) {
 /// The resolve stage: the parts built so far go in, the rebuilt ones come back into \p r. Its
 /// notes carry the warnings that hold for the rebuilt parts and replace the earlier stages'.
 static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double diagonal,
-                                double deformation_spacing, const Progress& progress) {
+                                double deformation_spacing, const Progress& progress,
+                                OutlineMemo& outlines) {
   const PipelineOptions& o = r.options;
   PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
                    std::move(*r.joints), std::move(*r.kerf)};
   const auto round_done = [&](const std::string& line) {
     if (progress) progress("  " + line);
   };
-  r.resolve = resolve_critical_regions(build, *r.input, parts, o.resolve, round_done);
+  r.resolve = resolve_critical_regions(build, *r.input, parts, o.resolve, round_done, &outlines);
   r.bending = std::move(build.bending);
   r.strips = std::move(build.strips);
   r.flat = std::move(build.flat);
@@ -118,6 +119,8 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
     return p;
   };
 
+  // Part outlines drawn by the joints stage and reused by the resolve stage's rebuilds.
+  OutlineMemo outlines;
   // The stages in order; each stores its result in r and returns what it tells the user.
   const std::vector<std::pair<Stage, std::function<StageNotes()>>> stages = {
       {Stage::kLoad,
@@ -179,8 +182,8 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kJoints,
        [&] {
-         r.joints =
-             make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, o.joints);
+         r.joints = make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, o.joints,
+                                &outlines);
          return notes(*r.joints, o.joints);
        }},
       {Stage::kKerf,
@@ -191,7 +194,8 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kResolve,
        [&] {
-         return resolve_stage(r, parts_options(), diag(), deformation_spacing(), progress);
+         return resolve_stage(r, parts_options(), diag(), deformation_spacing(), progress,
+                              outlines);
        }},
       {Stage::kLayout,
        [&] {

@@ -176,8 +176,14 @@ struct Added {
 class Resolver {
  public:
   Resolver(PartsBuild& build, const PreparedInput& input, const PartsOptions& options,
-           const ResolveOptions& resolve, const ResolveProgress& progress)
-      : build_(build), in_(input), m_(input.quads), o_(options), r_(resolve), progress_(progress) {}
+           const ResolveOptions& resolve, const ResolveProgress& progress, OutlineMemo* memo)
+      : build_(build),
+        in_(input),
+        m_(input.quads),
+        o_(options),
+        r_(resolve),
+        progress_(progress),
+        memo_(memo ? *memo : own_memo_) {}
 
   ResolveResult run() {
     out_.critical_before = static_cast<int>(build_.kerf.critical.size());
@@ -390,6 +396,9 @@ class Resolver {
   // Quads of facets that flattened inverted or crossing (corners shared with facets at other
   // angles bent them): regrown from single quads, flatter.
   mutable std::set<int> bent_;
+  // The rebuilds change a few regions each: most parts' outlines are drawn once.
+  OutlineMemo own_memo_;
+  OutlineMemo& memo_;
 
   /// True when one of \p quads was in a facet that flattened bent.
   template <class Quads>
@@ -402,7 +411,8 @@ class Resolver {
         in_, o_, a.guidance,
         a.stiff == accepted_.stiff && a.guidance.edges.size() == accepted_.guidance.edges.size()
             ? &build_.bending
-            : nullptr);
+            : nullptr,
+        &memo_);
   }
 
   static void merge_into(Added& into, const Added& from) {
@@ -1074,7 +1084,7 @@ class Resolver {
 }  // namespace
 
 PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const Guidance& g,
-                       const BendingResult* reuse) {
+                       const BendingResult* reuse, OutlineMemo* memo) {
   PartsBuild b;
   if (reuse) {
     b.bending = *reuse;
@@ -1091,7 +1101,7 @@ PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const 
   FlattenOptions flatten = o.flatten;
   flatten.mimic_3d = false;  // an evaluation: measured once, on the final build
   b.flat = flatten_cuttable(b.strips, flatten, o.usable);
-  b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints);
+  b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints, memo);
   b.kerf =
       place_kerf_cuts(b.flat.strips, b.flat.flattening, b.joints, o.material, o.machine, o.kerf);
   return b;
@@ -1099,10 +1109,10 @@ PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const 
 
 ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& input,
                                        const PartsOptions& options, const ResolveOptions& resolve,
-                                       const ResolveProgress& progress) {
+                                       const ResolveProgress& progress, OutlineMemo* memo) {
   if (resolve.max_rounds < 1) throw InvalidInput("resolve: max_rounds must be >= 1");
   if (!(resolve.time_limit > 0)) throw InvalidInput("--resolve-time-limit must be > 0 s");
-  return Resolver(build, input, options, resolve, progress).run();
+  return Resolver(build, input, options, resolve, progress, memo).run();
 }
 
 }  // namespace kerfab

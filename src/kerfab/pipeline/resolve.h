@@ -107,17 +107,22 @@ struct PartsOptions {
 
 /// Bending (forced edges of \p guidance added), strips (its splits and merges added),
 /// flattening until cuttable, joints and kerf cuts. \p reuse: a bending result to keep when
-/// \p guidance forces no edge beyond the options'.
+/// \p guidance forces no edge beyond the options'. \p memo: part outlines of earlier builds to
+/// reuse where they are the same (the result does not depend on it).
 PartsBuild build_parts(const PreparedInput& input, const PartsOptions& options,
-                       const Guidance& guidance, const BendingResult* reuse = nullptr);
+                       const Guidance& guidance, const BendingResult* reuse = nullptr,
+                       OutlineMemo* memo = nullptr);
 
 /// One line per round of the loop (what is left to resolve), for a long run's progress.
 using ResolveProgress = std::function<void(const std::string&)>;
 
 /// Rebuilds with more guidance until no critical region remains or nothing more applies;
 /// \p build holds the first build (made with \p options) and is replaced by the final one.
+/// \p memo: part outlines drawn before (by the first build's joints), reused by the rebuilds
+/// where they are the same; without one the loop keeps its own.
 ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& input,
                                        const PartsOptions& options, const ResolveOptions& resolve,
-                                       const ResolveProgress& progress = {});
+                                       const ResolveProgress& progress = {},
+                                       OutlineMemo* memo = nullptr);
 
 }  // namespace kerfab
