@@ -820,11 +820,11 @@ class Builder {
   /// it was cut, made plain; the parts on both sides go into \p changed.
   void plain_where_lost(int p, std::set<int>& changed) { plain_near(p, lost_[p], changed); }
 
-  /// Where part \p p's outline narrows to less than the smallest feature between two pieces
-  /// that are both larger than a square tooth (an opening by half the smallest feature falls
-  /// in two there): the stretches of the outline the opening takes away that touch two of its
-  /// pieces. without_thin_features() cuts off what hangs on such a neck only when it is no
-  /// larger than a square tooth; a larger piece it leaves hanging, and it breaks off when cut.
+  /// Where part \p p's outline narrows to less than the smallest feature between two of its
+  /// pieces (an opening by half the smallest feature falls in two there): the stretches of the
+  /// outline the opening takes away that touch two of its pieces. without_thin_features() cuts
+  /// off what hangs on such a neck only when it is no larger than a square tooth; a larger piece
+  /// it leaves hanging, and it breaks off when cut.
   std::vector<Polygon2> thin_necks(int p) const {
     const Polygon2& outline = out_.parts[p].designed;
     const double r = 0.5 * o_.min_feature;
@@ -855,29 +855,30 @@ class Builder {
   void widen_thin_necks() {
     std::vector<int> all(out_.parts.size());
     for (std::size_t p = 0; p < all.size(); ++p) all[p] = static_cast<int>(p);
-    std::vector<std::size_t> necks(all.size());
-    for_each_of(all, [&](int p) { necks[p] = thin_necks(p).size(); });
+    std::vector<std::vector<Polygon2>> necks(all.size());
+    for_each_of(all, [&](int p) { necks[p] = thin_necks(p); });
     for (int p : all) {
-      if (necks[p] == 0) continue;
+      if (necks[p].empty()) continue;
       const Joints before = out_;
       const std::vector<std::vector<Polygon2>> lost_before = lost_;
       std::set<int> redo;
-      plain_near(p, thin_necks(p), redo);
+      plain_near(p, necks[p], redo);
       if (redo.empty()) continue;
       redraw(redo);
-      bool better = thin_necks(p).empty() && !out_.parts[p].repaired;
+      std::map<int, std::vector<Polygon2>> after;
+      for (int q : redo) after[q] = thin_necks(q);
+      bool better = after[p].empty() && !out_.parts[p].repaired;
       for (std::size_t b = 0; b < out_.borders.size() && better; ++b)
         better = out_.borders[b].teeth > 0 || before.borders[b].teeth == 0;
-      for (int q : redo)
+      for (const auto& [q, left] : after)
         if (q != p && better)
           better = (!out_.parts[q].repaired || before.parts[q].repaired) &&
-                   thin_necks(q).size() <= necks[q];
+                   left.size() <= necks[q].size();
       if (!better) {
         out_ = before, lost_ = lost_before;
         continue;
       }
-      necks[p] = 0;
-      for (int q : redo) necks[q] = thin_necks(q).size();
+      for (auto& [q, left] : after) necks[q] = std::move(left);
     }
   }
 
