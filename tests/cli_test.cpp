@@ -678,7 +678,7 @@ TEST(Cli, AFineGivenQuadMeshIsCoarsenedIntoCleanBentStrips) {
 // on a neck narrower than the smallest feature, read back by the independent auditor. Where the
 // joints made such a neck (part 288 here: a 4 x 3 mm strip end joined by 0.95 mm, between a slot
 // on one side and a tooth on the other), the intervals near it go plain, but never a border's
-// last joint: the borders without a joint stay the 7 stubs of 1-3 mm they were.
+// last joint: the borders without a joint stay the 7 stubs of 0.7-3.2 mm they were.
 TEST(Cli, JointsLeaveNoThinNeckOnSpotsFineQuadMesh) {
   const fs::path scratch = test::fresh_dir(), out = scratch / "out";
   const std::string target = test::real_mesh("spot_triangulated.obj").string(),
