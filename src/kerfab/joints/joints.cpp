@@ -837,11 +837,7 @@ class Builder {
     for (auto& piece : polygon_difference({outline}, opened)) {
       if (!(polygon_area(piece) > 0)) continue;
       int touched = 0;
-      for (const Polygon2& ring : opened) {
-        double d = std::numeric_limits<double>::infinity();
-        for (const Vec2& v : piece) d = std::min(d, distance_to_boundary(v, ring));
-        touched += d < 1e-3 ? 1 : 0;
-      }
+      for (const Polygon2& ring : opened) touched += touches(piece, ring) ? 1 : 0;
       if (touched >= 2) necks.push_back(std::move(piece));
     }
     return necks;
@@ -1099,12 +1095,17 @@ class Builder {
     double smallest = std::numeric_limits<double>::infinity();
     for (const Polygon2& ring : opened) {
       const double area = polygon_area(ring);
-      if (!(area > 0)) continue;
-      double d = std::numeric_limits<double>::infinity();
-      for (const Vec2& v : piece) d = std::min(d, distance_to_boundary(v, ring));
-      if (d < 1e-3) ++touched, smallest = std::min(smallest, area);
+      if (area > 0 && touches(piece, ring)) ++touched, smallest = std::min(smallest, area);
     }
     return touched >= 2 && smallest <= o_.tooth_width * o_.tooth_width;
+  }
+
+  /// True when a vertex of \p piece lies on the boundary of \p ring (within a micrometre): a
+  /// piece an opening took away that was joined to that ring.
+  static bool touches(const Polygon2& piece, const Polygon2& ring) {
+    double d = std::numeric_limits<double>::infinity();
+    for (const Vec2& v : piece) d = std::min(d, distance_to_boundary(v, ring));
+    return d < 1e-3;
   }
 
   /// The outline without tails or slits narrower than JointOptions::min_feature (where a tooth
