@@ -362,3 +362,81 @@ TEST(Kerf, SpotAdaptiveNeedsFarLessCuttingThanAConstantDensity) {
 
 }  // namespace
 }  // namespace kerfab
+
+namespace kerfab {
+namespace {
+
+void expect_same_cuts(const KerfResult& a, const KerfResult& b) {
+  EXPECT_EQ(a.cuts, b.cuts);
+  EXPECT_EQ(a.cut_length, b.cut_length);
+  EXPECT_EQ(a.quad_cuts, b.quad_cuts);
+  EXPECT_EQ(a.tightest_bend, b.tightest_bend);
+  EXPECT_EQ(a.cutting.minutes, b.cutting.minutes);
+  ASSERT_EQ(a.critical.size(), b.critical.size());
+  for (std::size_t i = 0; i < a.critical.size(); ++i) {
+    const CriticalRegion &x = a.critical[i], &y = b.critical[i];
+    EXPECT_EQ(x.patch, y.patch) << "region " << i;
+    EXPECT_EQ(x.start, y.start);
+    EXPECT_EQ(x.end, y.end);
+    EXPECT_EQ(x.spacing, y.spacing);
+    EXPECT_EQ(x.cuts, y.cuts);
+    EXPECT_EQ(x.stress_ratio, y.stress_ratio);
+    EXPECT_EQ(x.cause, y.cause);
+    EXPECT_EQ(x.quads, y.quads);
+    EXPECT_TRUE(x.centre == y.centre);
+  }
+  ASSERT_EQ(a.patches.size(), b.patches.size());
+  for (std::size_t p = 0; p < a.patches.size(); ++p) {
+    const PatchKerf &x = a.patches[p], &y = b.patches[p];
+    EXPECT_EQ(x.twist, y.twist) << "patch " << p;
+    EXPECT_EQ(x.positions, y.positions);
+    EXPECT_EQ(x.min_spacing, y.min_spacing);
+    EXPECT_EQ(x.stress_ratio, y.stress_ratio);
+    EXPECT_EQ(x.tightest_bend, y.tightest_bend);
+    EXPECT_EQ(x.face_density, y.face_density);
+    EXPECT_EQ(x.face_critical, y.face_critical);
+    ASSERT_EQ(x.cuts.size(), y.cuts.size()) << "patch " << p;
+    for (std::size_t k = 0; k < x.cuts.size(); ++k) {
+      EXPECT_TRUE(x.cuts[k].a == y.cuts[k].a && x.cuts[k].b == y.cuts[k].b);
+      EXPECT_EQ(x.cuts[k].position, y.cuts[k].position);
+      EXPECT_EQ(x.cuts[k].face, y.cuts[k].face);
+    }
+  }
+}
+
+// A KerfMemo changes nothing. On Spot's strips (with critical regions), place_kerf_cuts gives
+// the same cuts, regions and totals without a memo, with an empty one (every patch placed),
+// with the same memo again (every patch reused), under another material and other options with
+// that memo (nothing reused that does not apply), and with a memo too small to keep anything.
+TEST(Kerf, AMemoOfCutsChangesNothing) {
+  const PreparedInput in = test::load(test::spot());
+  const Strips s =
+      build_strips(in.quads, choose_bending_edges(in.quads, in.surface, {}), in.surface, {});
+  const Flattening f = flatten_patches(s, {});
+  const Joints j = make_joints(s, f, {}, {}, {});
+  auto place = [&](KerfMemo* memo, const Material& m = {}, const KerfOptions& o = {}) {
+    return place_kerf_cuts(s, f, j, m, {}, o, memo);
+  };
+  const KerfResult plain = place(nullptr);
+  ASSERT_GT(plain.cuts, 0);
+  ASSERT_FALSE(plain.critical.empty());
+  KerfMemo memo;
+  expect_same_cuts(plain, place(&memo));
+  EXPECT_EQ(memo.misses(), s.patches.size());
+  expect_same_cuts(plain, place(&memo));
+  EXPECT_EQ(memo.misses(), s.patches.size());  // the second call placed nothing
+  EXPECT_EQ(memo.hits(), s.patches.size());
+  const Material thin = material_preset("mdf2");
+  expect_same_cuts(place(nullptr, thin), place(&memo, thin));
+  KerfOptions wide;
+  wide.min_cut_spacing = 1.5;
+  expect_same_cuts(place(nullptr, {}, wide), place(&memo, {}, wide));
+  EXPECT_EQ(memo.hits(), s.patches.size());  // neither found the mdf cuts
+  KerfMemo tiny(1);
+  expect_same_cuts(plain, place(&tiny));
+  expect_same_cuts(plain, place(&tiny));
+  EXPECT_EQ(tiny.hits(), 0u);
+}
+
+}  // namespace
+}  // namespace kerfab

@@ -1209,35 +1209,10 @@ double plain_offset(double fold, double thickness) {
   return -0.5 * thickness * std::tan(0.5 * std::min(std::abs(fold), kMaxJointFold));
 }
 
-std::optional<OutlineMemo::Drawn> OutlineMemo::find(const std::string& key) const {
-  const std::lock_guard lock(mutex_);
-  const auto it = drawn_.find(key);
-  if (it == drawn_.end()) {
-    ++misses_;
-    return std::nullopt;
-  }
-  ++hits_;
-  return it->second;
-}
-
-void OutlineMemo::insert(std::string key, Drawn drawn) {
-  std::size_t bytes =
-      key.size() + sizeof(Drawn) + sizeof(Vec2) * (drawn.designed.size() + drawn.cut.size());
-  for (const Polygon2& piece : drawn.lost) bytes += sizeof(Vec2) * piece.size();
-  if (bytes > max_bytes_) return;
-  const std::lock_guard lock(mutex_);
-  if (bytes_ + bytes > max_bytes_) drawn_.clear(), bytes_ = 0;
-  if (drawn_.emplace(std::move(key), std::move(drawn)).second) bytes_ += bytes;
-}
-
-std::size_t OutlineMemo::hits() const {
-  const std::lock_guard lock(mutex_);
-  return hits_;
-}
-
-std::size_t OutlineMemo::misses() const {
-  const std::lock_guard lock(mutex_);
-  return misses_;
+std::size_t OutlineDrawing::bytes() const {
+  std::size_t n = sizeof(OutlineDrawing) + sizeof(Vec2) * (designed.size() + cut.size());
+  for (const Polygon2& piece : lost) n += sizeof(Vec2) * piece.size();
+  return n;
 }
 
 Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,

@@ -9,14 +9,13 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <mutex>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "kerfab/adapters/polygon_ops.h"
 #include "kerfab/core/material.h"
+#include "kerfab/core/memo.h"
 #include "kerfab/flatten/flatten.h"
 #include "kerfab/joints/tooth_offsets.h"
 #include "kerfab/strips/strips.h"
@@ -152,31 +151,24 @@ struct Joints {
   int repaired_parts = 0;
 };
 
+/// What drawing an outline gave, apart from its spans (which name that call's borders).
+struct OutlineDrawing {
+  Polygon2 designed, cut;
+  bool repaired = false;
+  std::vector<Polygon2> lost;  ///< pieces the part lost, if it fell apart
+  std::size_t bytes() const;
+};
+
 /// Part outlines drawn by earlier make_joints calls, for calls on strips that share most parts
 /// (the resolve stage rebuilds the whole model many times, changing a few regions each time). A
 /// part's outline is drawn from its body, its teeth and its cut-backs alone (with the options
 /// and the kerf width), so where all of these are the same to the bit the earlier drawing is
 /// reused: the joints come out identical with or without a memo. It keeps at most `max_bytes`
 /// of keys and drawings and is emptied when full; it may be shared between threads.
-class OutlineMemo {
+class OutlineMemo : public Memo<OutlineDrawing> {
  public:
-  /// What drawing an outline gave, apart from its spans (which name this call's borders).
-  struct Drawn {
-    Polygon2 designed, cut;
-    bool repaired = false;
-    std::vector<Polygon2> lost;  ///< pieces the part lost, if it fell apart
-  };
-  explicit OutlineMemo(std::size_t max_bytes = std::size_t{48} << 20) : max_bytes_(max_bytes) {}
-  std::optional<Drawn> find(const std::string& key) const;
-  void insert(std::string key, Drawn drawn);
-  std::size_t hits() const;
-  std::size_t misses() const;
-
- private:
-  mutable std::mutex mutex_;
-  std::unordered_map<std::string, Drawn> drawn_;
-  std::size_t max_bytes_, bytes_ = 0;
-  mutable std::size_t hits_ = 0, misses_ = 0;
+  using Drawn = OutlineDrawing;
+  explicit OutlineMemo(std::size_t max_bytes = std::size_t{48} << 20) : Memo(max_bytes) {}
 };
 
 /// Builds the joints of every shared border and the outline of every part, for sheets of

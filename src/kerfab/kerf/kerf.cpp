@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <set>
+#include <unordered_map>
 
 #include "kerfab/core/errors.h"
 #include "kerfab/core/parallel.h"
@@ -451,7 +452,61 @@ class PatchKerfBuilder {
   }
 };
 
+/// What PatchKerfBuilder reads for patch \p p, as bytes: the material, the options and the
+/// smoothing width, the patch's sub-quads row by row (each corner's 3D point and its place
+/// among the patch's own vertices, which says how the sub-quads join, and the coarse quad
+/// under each), its flattened points and outline, and its part's designed outline. Not the
+/// patch's number or the vertices' ids, which differ between builds.
+std::string patch_key(const Strips& s, const Flattening& f, const Joints& j, const Material& m,
+                      const KerfOptions& o, double smoothing, int p) {
+  std::string key;
+  auto put = [&key](const auto& value) {
+    key.append(reinterpret_cast<const char*>(&value), sizeof(value));
+  };
+  auto put_points = [&](const std::vector<Vec2>& points) {
+    put(points.size());
+    for (const Vec2& v : points) put(v.x()), put(v.y());
+  };
+  put(m.thickness), put(m.shear_modulus), put(m.yield_strength), put(m.safety);
+  put(o.min_cut_spacing), put(o.min_cut_length), put(o.bridge), put(o.margin), put(smoothing);
+  put(o.constant_cuts_per_quad.has_value()), put(o.constant_cuts_per_quad.value_or(0));
+  const Patch& patch = s.patches[p];
+  put(patch.flat), put(patch.faces.size()), put(patch.rows());
+  // The patch's own vertices: each one's first place among them (equal ids, equal places).
+  const std::vector<int> lv = patch.local_vertices();
+  std::unordered_map<int, int> first;
+  for (std::size_t k = 0; k < lv.size(); ++k) {
+    first.try_emplace(lv[k], static_cast<int>(k));
+    put(first.at(lv[k]));
+  }
+  for (int row = 0; row < patch.rows(); ++row)
+    for (std::size_t i = 0; i < patch.faces.size(); ++i) {
+      const int face = patch.face(static_cast<int>(i), row);
+      put(s.face_quad[face]);
+      for (int v : s.faces[face]) {
+        const auto at = first.find(v);
+        put(at == first.end() ? -1 : at->second);
+        put(s.vertices[v].x()), put(s.vertices[v].y()), put(s.vertices[v].z());
+      }
+    }
+  for (int q : patch.quads) put(s.quad_segments[q]);
+  for (const OutlineEdge& e : patch.outline()) put(e.v[0]);
+  put_points(f.patches[p].points);
+  put_points(j.parts[p].designed);
+  return key;
+}
+
 }  // namespace
+
+std::size_t PatchPlacement::bytes() const {
+  std::size_t n =
+      sizeof(PatchPlacement) +
+      sizeof(double) * (kerf.twist.size() + kerf.positions.size() + kerf.face_density.size()) +
+      sizeof(KerfCut) * kerf.cuts.size() + kerf.face_critical.size();
+  for (const CriticalRegion& c : critical)
+    n += sizeof(CriticalRegion) + sizeof(int) * c.quads.size();
+  return n;
+}
 
 std::string to_string(CriticalCause cause) {
   switch (cause) {
@@ -491,7 +546,8 @@ double beams_needed(double angle, double width, double length, double thickness,
 }
 
 KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const Joints& joints,
-                           const Material& m, const Machine& machine, const KerfOptions& options) {
+                           const Material& m, const Machine& machine, const KerfOptions& options,
+                           KerfMemo* memo) {
   if (!(m.thickness >= 0) || !std::isfinite(m.thickness))
     throw InvalidInput("--thickness must be >= 0 mm");
   if (!(m.shear_modulus > 0)) throw InvalidInput("--shear-modulus must be > 0 MPa");
@@ -515,7 +571,18 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
   r.patches.resize(np);
   std::vector<std::vector<CriticalRegion>> critical(np);
   for_each_index(np, hardware_threads(), [&](int p) {
+    std::string key;
+    if (memo) {
+      key = patch_key(strips, flat, joints, m, options, r.smoothing, p);
+      if (auto hit = memo->find(key)) {
+        r.patches[p] = std::move(hit->kerf);
+        critical[p] = std::move(hit->critical);
+        for (CriticalRegion& c : critical[p]) c.patch = p;
+        return;
+      }
+    }
     r.patches[p] = PatchKerfBuilder(strips, flat, joints, m, options, p).run(critical[p]);
+    if (memo) memo->insert(std::move(key), {r.patches[p], critical[p]});
   });
   for (auto& list : critical) r.critical.insert(r.critical.end(), list.begin(), list.end());
   for (std::size_t p = 0; p < strips.patches.size(); ++p) {

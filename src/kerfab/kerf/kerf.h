@@ -7,11 +7,13 @@
 /// stays within tau_yield / safety, with as few cuts as that allows and the largest stress as
 /// low as that count allows; where the bend would need cuts closer than the laser can make, or
 /// the strip is too narrow for a cut, the stretch is a critical region.
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "kerfab/core/material.h"
+#include "kerfab/core/memo.h"
 #include "kerfab/flatten/flatten.h"
 #include "kerfab/joints/joints.h"
 #include "kerfab/strips/strips.h"
@@ -120,10 +122,32 @@ struct KerfResult {
 /// no beam narrower than \p spacing in \p material [-] (1 when nothing bends).
 double bend_scale(double tightest_bend, const Material& material, double spacing);
 
+/// What placing a patch's cuts gave: its cuts and its critical regions (their patch number is
+/// the caller's to set).
+struct PatchPlacement {
+  PatchKerf kerf;
+  std::vector<CriticalRegion> critical;
+  std::size_t bytes() const;
+};
+
+/// Patches' cuts placed by earlier place_kerf_cuts calls, for calls on strips that share most
+/// patches (the resolve stage rebuilds the whole model many times, changing a few regions each
+/// time). A patch's cuts follow from its own sub-quads alone (their 3D corners and how they
+/// join), its flattened points and outline, its part's designed outline, the material and the
+/// options; where all of these are the same to the bit, the earlier cuts are reused, so the
+/// result is identical with or without a memo. It keeps at most `max_bytes` of keys and cuts
+/// and is emptied when full; it may be shared between threads.
+class KerfMemo : public Memo<PatchPlacement> {
+ public:
+  using Placed = PatchPlacement;
+  explicit KerfMemo(std::size_t max_bytes = std::size_t{32} << 20) : Memo(max_bytes) {}
+};
+
 /// Places the kerf cuts of every patch in \p material and estimates the cutting time on
-/// \p machine. \throw InvalidInput options or material out of range.
+/// \p machine. With a \p memo, patches placed by earlier calls are reused where they are the
+/// same (KerfMemo). \throw InvalidInput options or material out of range.
 KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const Joints& joints,
                            const Material& material, const Machine& machine,
-                           const KerfOptions& options);
+                           const KerfOptions& options, KerfMemo* memo = nullptr);
 
 }  // namespace kerfab

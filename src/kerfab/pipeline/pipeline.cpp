@@ -64,14 +64,14 @@ LoadedInputs load_inputs(const RunInputs& in) {
 /// notes carry the warnings that hold for the rebuilt parts and replace the earlier stages'.
 static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double diagonal,
                                 double deformation_spacing, const Progress& progress,
-                                OutlineMemo& outlines) {
+                                PartsMemo& memo) {
   const PipelineOptions& o = r.options;
   PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
                    std::move(*r.joints), std::move(*r.kerf)};
   const auto round_done = [&](const std::string& line) {
     if (progress) progress("  " + line);
   };
-  r.resolve = resolve_critical_regions(build, *r.input, parts, o.resolve, round_done, &outlines);
+  r.resolve = resolve_critical_regions(build, *r.input, parts, o.resolve, round_done, &memo);
   r.bending = std::move(build.bending);
   r.strips = std::move(build.strips);
   r.flat = std::move(build.flat);
@@ -119,8 +119,9 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
     return p;
   };
 
-  // Part outlines drawn by the joints stage and reused by the resolve stage's rebuilds.
-  OutlineMemo outlines;
+  // Part outlines drawn by the joints stage and patches' cuts placed by the kerf stage, reused
+  // by the resolve stage's rebuilds.
+  PartsMemo memo;
   // The stages in order; each stores its result in r and returns what it tells the user.
   const std::vector<std::pair<Stage, std::function<StageNotes()>>> stages = {
       {Stage::kLoad,
@@ -183,19 +184,18 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
       {Stage::kJoints,
        [&] {
          r.joints = make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, o.joints,
-                                &outlines);
+                                &memo.outlines);
          return notes(*r.joints, o.joints);
        }},
       {Stage::kKerf,
        [&] {
          r.kerf = place_kerf_cuts(r.flat->strips, r.flat->flattening, *r.joints, o.material,
-                                  o.machine, o.kerf);
+                                  o.machine, o.kerf, &memo.kerf);
          return notes(*r.kerf, o.kerf);
        }},
       {Stage::kResolve,
        [&] {
-         return resolve_stage(r, parts_options(), diag(), deformation_spacing(), progress,
-                              outlines);
+         return resolve_stage(r, parts_options(), diag(), deformation_spacing(), progress, memo);
        }},
       {Stage::kLayout,
        [&] {

@@ -176,7 +176,7 @@ struct Added {
 class Resolver {
  public:
   Resolver(PartsBuild& build, const PreparedInput& input, const PartsOptions& options,
-           const ResolveOptions& resolve, const ResolveProgress& progress, OutlineMemo* memo)
+           const ResolveOptions& resolve, const ResolveProgress& progress, PartsMemo* memo)
       : build_(build),
         in_(input),
         m_(input.quads),
@@ -396,9 +396,10 @@ class Resolver {
   // Quads of facets that flattened inverted or crossing (corners shared with facets at other
   // angles bent them): regrown from single quads, flatter.
   mutable std::set<int> bent_;
-  // The rebuilds change a few regions each: most parts' outlines are drawn once.
-  OutlineMemo own_memo_;
-  OutlineMemo& memo_;
+  // The rebuilds change a few regions each: most parts' outlines are drawn and most patches'
+  // cuts placed once.
+  PartsMemo own_memo_;
+  PartsMemo& memo_;
 
   /// True when one of \p quads was in a facet that flattened bent.
   template <class Quads>
@@ -1084,7 +1085,7 @@ class Resolver {
 }  // namespace
 
 PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const Guidance& g,
-                       const BendingResult* reuse, OutlineMemo* memo) {
+                       const BendingResult* reuse, PartsMemo* memo) {
   PartsBuild b;
   if (reuse) {
     b.bending = *reuse;
@@ -1101,15 +1102,16 @@ PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const 
   FlattenOptions flatten = o.flatten;
   flatten.mimic_3d = false;  // an evaluation: measured once, on the final build
   b.flat = flatten_cuttable(b.strips, flatten, o.usable);
-  b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints, memo);
-  b.kerf =
-      place_kerf_cuts(b.flat.strips, b.flat.flattening, b.joints, o.material, o.machine, o.kerf);
+  b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints,
+                         memo ? &memo->outlines : nullptr);
+  b.kerf = place_kerf_cuts(b.flat.strips, b.flat.flattening, b.joints, o.material, o.machine,
+                           o.kerf, memo ? &memo->kerf : nullptr);
   return b;
 }
 
 ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& input,
                                        const PartsOptions& options, const ResolveOptions& resolve,
-                                       const ResolveProgress& progress, OutlineMemo* memo) {
+                                       const ResolveProgress& progress, PartsMemo* memo) {
   if (resolve.max_rounds < 1) throw InvalidInput("resolve: max_rounds must be >= 1");
   if (!(resolve.time_limit > 0)) throw InvalidInput("--resolve-time-limit must be > 0 s");
   return Resolver(build, input, options, resolve, progress, memo).run();

@@ -105,24 +105,31 @@ struct PartsOptions {
   KerfOptions kerf;
 };
 
+/// What earlier builds made and later ones may reuse where it is the same: part outlines and
+/// patches' kerf cuts (the results never depend on it).
+struct PartsMemo {
+  OutlineMemo outlines;
+  KerfMemo kerf;
+};
+
 /// Bending (forced edges of \p guidance added), strips (its splits and merges added),
 /// flattening until cuttable, joints and kerf cuts. \p reuse: a bending result to keep when
-/// \p guidance forces no edge beyond the options'. \p memo: part outlines of earlier builds to
-/// reuse where they are the same (the result does not depend on it).
+/// \p guidance forces no edge beyond the options'. \p memo: outlines and cuts of earlier
+/// builds to reuse where they are the same.
 PartsBuild build_parts(const PreparedInput& input, const PartsOptions& options,
                        const Guidance& guidance, const BendingResult* reuse = nullptr,
-                       OutlineMemo* memo = nullptr);
+                       PartsMemo* memo = nullptr);
 
 /// One line per round of the loop (what is left to resolve), for a long run's progress.
 using ResolveProgress = std::function<void(const std::string&)>;
 
 /// Rebuilds with more guidance until no critical region remains or nothing more applies;
 /// \p build holds the first build (made with \p options) and is replaced by the final one.
-/// \p memo: part outlines drawn before (by the first build's joints), reused by the rebuilds
-/// where they are the same; without one the loop keeps its own.
+/// \p memo: outlines and cuts made before (by the first build's joints and kerf stages),
+/// reused by the rebuilds where they are the same; without one the loop keeps its own.
 ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& input,
                                        const PartsOptions& options, const ResolveOptions& resolve,
                                        const ResolveProgress& progress = {},
-                                       OutlineMemo* memo = nullptr);
+                                       PartsMemo* memo = nullptr);
 
 }  // namespace kerfab
