@@ -111,6 +111,82 @@ TEST(Prepare, DoubletsAreCollapsedAlongTheirDiagonal) {
   EXPECT_THROW(prepare_input(poly_mesh(plane.target), flat, opt), InvalidInput);
 }
 
+/// Largest fold of any quad of \p mesh across either diagonal: the angle between the normals of
+/// the two triangles there [deg].
+double largest_diagonal_fold(const PolyMesh& mesh) {
+  double worst = 0;
+  for (auto f : mesh.faces()) {
+    const auto c = quad_vertices(mesh, f);
+    auto at = [&](int i) { return to_eigen(mesh.point(OpenMesh::VertexHandle(c[i % 4]))); };
+    for (int k = 0; k < 2; ++k) {
+      const Vec3 a = (at(k + 1) - at(k)).cross(at(k + 2) - at(k)),
+                 b = (at(k + 2) - at(k)).cross(at(k + 3) - at(k));
+      if (a.norm() > 0 && b.norm() > 0)
+        worst = std::max(worst, std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / M_PI);
+    }
+  }
+  return worst;
+}
+
+// A quad folded back onto itself across a diagonal (a dart, as QuadriFlow left two of in
+// fandisk_qf800.obj at a sharp edge) is collapsed: its two corners off that diagonal merge at
+// their midpoint, with a warning. A flat 3 x 3 grid of 10 mm whose middle quad (face 4, corners
+// 5, 6, 10, 9) has corner 6 moved across the diagonal 5-10, to (13, 17): that quad folds by
+// 180 degrees there; corners 6 and 9 merge at (11.5, 18.5). A control cage (subdivided) keeps it.
+TEST(Prepare, QuadsFoldedBackAcrossADiagonalAreCollapsed) {
+  const auto plane = test::quad_plane(30, 3, 2);
+  PolyMesh q;
+  std::vector<OpenMesh::VertexHandle> v;
+  for (int j = 0; j <= 3; ++j)
+    for (int i = 0; i <= 3; ++i) v.push_back(q.add_vertex({10.0 * i, 10.0 * j, 0}));
+  q.set_point(v[6], {13, 17, 0});
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      ASSERT_TRUE(q.add_face({v[4 * j + i], v[4 * j + i + 1], v[4 * j + i + 5], v[4 * j + i + 4]})
+                      .is_valid());
+  ASSERT_GT(largest_diagonal_fold(q), 179.0);
+  InputOptions opt;
+  opt.size = 30;
+  const PreparedInput in = prepare_input(poly_mesh(plane.target), q, opt);
+  EXPECT_EQ(in.quad_summary.faces, 8);
+  EXPECT_EQ(in.quad_summary.vertices, 15);
+  EXPECT_EQ(in.quad_summary.euler_characteristic, 1);
+  EXPECT_EQ(in.quad_summary.boundary_loops, 1);
+  for (auto f : in.quads.faces()) EXPECT_EQ(in.quads.valence(f), 4u);
+  EXPECT_LT(largest_diagonal_fold(in.quads), 150.0);
+  EXPECT_TRUE(in.quads.is_isolated(in.quads.vertex_handle(9)));  // numbers kept: 9 went into 6
+  const auto merged = in.quads.point(in.quads.vertex_handle(6)) / in.scale;
+  EXPECT_NEAR(merged[0], 11.5, 1e-9);
+  EXPECT_NEAR(merged[1], 18.5, 1e-9);
+  EXPECT_EQ(in.quads.valence(in.quads.vertex_handle(6)), 6u);
+  ASSERT_EQ(in.warnings.size(), 1u);
+  EXPECT_NE(in.warnings[0].find("face 4)"), std::string::npos) << in.warnings[0];
+  // Subdivided, the mesh is a cage: nothing collapses (nine quads, four each).
+  opt.subdivide = 1;
+  const PreparedInput cage = prepare_input(poly_mesh(plane.target), q, opt);
+  EXPECT_EQ(cage.quad_summary.faces, 36);
+  EXPECT_TRUE(cage.warnings.empty());
+}
+
+// QuadriFlow's fandisk: its doublet and its two darts (faces 43 and 116, folded 175 and 179
+// degrees at a sharp edge) are collapsed; the mesh stays closed, all quads, with the target's
+// Euler characteristic, and no quad folds across a diagonal by more than 150 degrees.
+TEST(Prepare, QuadriFlowsFandiskLosesItsDarts) {
+  KERFAB_SKIP_WITHOUT_SHARED_MESHES();
+  const PolyMesh target = read_mesh(test::shared_meshes() / "fandisk.obj");
+  const PolyMesh quads = read_mesh(test::shared_meshes() / "quadriflow" / "fandisk_qf800.obj");
+  ASSERT_GT(largest_diagonal_fold(quads), 179.0);
+  InputOptions opt;
+  opt.size = 250;
+  const PreparedInput in = prepare_input(target, quads, opt);
+  EXPECT_EQ(in.quad_summary.faces, static_cast<int>(quads.n_faces()) - 3);
+  EXPECT_EQ(in.quad_summary.euler_characteristic, 2);
+  EXPECT_EQ(in.quad_summary.boundary_loops, 0);
+  EXPECT_LT(largest_diagonal_fold(in.quads), 150.0);
+  ASSERT_EQ(in.warnings.size(), 2u);
+  EXPECT_NE(in.warnings[1].find("face 43 116)"), std::string::npos) << in.warnings[1];
+}
+
 TEST(Prepare, NonQuadFacesNeedSubdivisionAndTriangleTargetWaitsForTheQuadsStage) {
   const PolyMesh cage = read_mesh(test::real_mesh("spot_control_mesh.obj"));
   const PolyMesh target = read_mesh(test::real_mesh("spot_triangulated.obj"));

@@ -1,7 +1,11 @@
 #include "kerfab/input/prepare.h"
 
 #include <OpenMesh/Tools/Subdivider/Uniform/CatmullClarkT.hh>
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
+#include <set>
 #include <sstream>
 
 #include "kerfab/core/errors.h"
@@ -121,6 +125,93 @@ std::vector<int> collapse_doublets(PolyMesh& mesh) {
   return collapsed;
 }
 
+/// A quad whose two triangles across a diagonal face away from each other by more than this is
+/// folded back onto itself (a dart): no strip bends a quad across its diagonal, and flattened as
+/// one plate its corners come out tens of degrees off (QuadriFlow's fandisk_qf800: 175 and 179
+/// degrees at a sharp edge, a facet 51 degrees off) [rad].
+constexpr double kFoldedBack = 150 * M_PI / 180;
+
+/// The fold of quad corners \p c across the diagonal from corner k to k + 2: the angle between
+/// the normals of its two triangles there [rad].
+double fold_across(const PolyMesh& mesh, const std::array<int, 4>& c, int k) {
+  auto at = [&](int i) {
+    const auto p = mesh.point(mesh.vertex_handle(c[i % 4]));
+    return Vec3(p[0], p[1], p[2]);
+  };
+  const Vec3 a = (at(k + 1) - at(k)).cross(at(k + 2) - at(k)),
+             b = (at(k + 2) - at(k)).cross(at(k + 3) - at(k));
+  if (!(a.norm() > 0) || !(b.norm() > 0)) return 0.0;
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+/// \p mesh without face \p drop and with vertex \p from merged into \p into (which moves to
+/// \p at); every other vertex keeps its number (\p from stays, isolated). Empty if that is not
+/// a manifold mesh.
+std::optional<PolyMesh> merged_without(const PolyMesh& mesh, int drop, int from, int into,
+                                       const OpenMesh::Vec3d& at) {
+  PolyMesh out;
+  std::vector<OpenMesh::VertexHandle> handle(mesh.n_vertices());
+  for (auto v : mesh.vertices()) handle[v.idx()] = out.add_vertex(mesh.point(v));
+  out.set_point(handle[into], at);
+  for (auto f : mesh.faces()) {
+    if (f.idx() == drop) continue;
+    std::vector<OpenMesh::VertexHandle> corners;
+    for (auto v : mesh.fv_range(f)) corners.push_back(handle[v.idx() == from ? into : v.idx()]);
+    for (std::size_t i = 0; i < corners.size(); ++i)
+      for (std::size_t j = i + 1; j < corners.size(); ++j)
+        if (corners[i] == corners[j]) return std::nullopt;
+    if (!out.add_face(corners).is_valid()) return std::nullopt;
+  }
+  for (auto v : out.vertices())
+    if (!out.is_isolated(v) && !out.is_manifold(v)) return std::nullopt;
+  return out;
+}
+
+/// Collapses every quad of \p mesh folded back onto itself across a diagonal (kFoldedBack): its
+/// two other corners, on the same side of that diagonal, become one vertex at their midpoint,
+/// the quad goes and its two pairs of sides become two edges (as for a doublet; the surface
+/// keeps its Euler characteristic). A collapse that would leave the mesh non-manifold is not
+/// made. \p dropped: the faces of the file already gone (sorted). Returns the faces collapsed,
+/// numbered as in the file.
+std::vector<int> collapse_folded_quads(PolyMesh& mesh, const std::vector<int>& dropped) {
+  std::vector<int> original;  // face of \p mesh as it is now -> in the file
+  for (int f = 0, k = 0; f < static_cast<int>(mesh.n_faces() + dropped.size()); ++f) {
+    if (k < static_cast<int>(dropped.size()) && dropped[k] == f) {
+      ++k;
+      continue;
+    }
+    original.push_back(f);
+  }
+  std::vector<int> collapsed;
+  std::set<int> refused;  // as in the file
+  for (bool again = true; again;) {
+    again = false;
+    for (auto f : mesh.faces()) {
+      if (mesh.valence(f) != 4 || refused.count(original[f.idx()])) continue;
+      const auto c = quad_vertices(mesh, f);
+      const double f0 = fold_across(mesh, c, 0), f1 = fold_across(mesh, c, 1);
+      if (std::max(f0, f1) <= kFoldedBack) continue;
+      const int k = f0 >= f1 ? 1 : 0;  // corners k, k + 2: off the folded diagonal
+      const auto a = mesh.vertex_handle(c[k]), b = mesh.vertex_handle(c[k + 2]);
+      std::optional<PolyMesh> out;
+      if (!mesh.is_boundary(a) && !mesh.is_boundary(b))
+        out = merged_without(mesh, f.idx(), std::max(c[k], c[k + 2]), std::min(c[k], c[k + 2]),
+                             0.5 * (mesh.point(a) + mesh.point(b)));
+      if (!out) {
+        refused.insert(original[f.idx()]);
+        continue;
+      }
+      collapsed.push_back(original[f.idx()]);
+      original.erase(original.begin() + f.idx());
+      mesh = std::move(*out);
+      again = true;
+      break;
+    }
+  }
+  std::sort(collapsed.begin(), collapsed.end());
+  return collapsed;
+}
+
 void check_geometry(const PolyMesh& mesh, const std::string& what) {
   for (auto v : mesh.vertices()) {
     const auto& p = mesh.point(v);
@@ -183,6 +274,19 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
         << " whose opposite corners coincide (face";
       for (std::size_t i = 0; i < collapsed.size() && i < 8; ++i) w << " " << collapsed[i];
       w << (collapsed.size() > 8 ? " ..." : "") << ") collapsed along that diagonal";
+      warnings.push_back(w.str());
+    }
+    // A control cage (subdivided) is no surface yet: its quads may fold as they like.
+    const std::vector<int> folded =
+        options.subdivide == 0 ? collapse_folded_quads(*repaired, collapsed) : std::vector<int>{};
+    if (!folded.empty()) {
+      std::ostringstream w;
+      w << "quad mesh: " << folded.size() << " quad" << (folded.size() > 1 ? "s" : "")
+        << " folded back onto " << (folded.size() > 1 ? "themselves" : "itself")
+        << " across a diagonal (by more than 150 deg; face";
+      for (std::size_t i = 0; i < folded.size() && i < 8; ++i) w << " " << folded[i];
+      w << (folded.size() > 8 ? " ..." : "")
+        << ") collapsed: the two corners off that diagonal merged at their midpoint";
       warnings.push_back(w.str());
     }
     check_geometry(*repaired, "quad mesh");

@@ -51,8 +51,12 @@ struct PreparedInput {
 /// that is all quads (or becomes so with subdivide >= 1), or all triangles (needs_quads: the
 /// quads stage makes the quad mesh).
 /// A zero-area quad of \p quad whose opposite corners coincide (a doublet, as general remeshers
-/// leave behind) is collapsed along that diagonal, with a warning naming it.
-/// \throw InvalidInput empty mesh, NaN/inf coordinates, other zero-area faces, non-quad faces without
+/// leave behind) is collapsed along that diagonal, with a warning naming it. Without
+/// subdivision, so is a quad folded back onto itself across a diagonal by more than 150 degrees
+/// (a dart, as QuadriFlow leaves at sharp edges): its two corners off that diagonal merge at
+/// their midpoint, where that leaves the mesh manifold.
+/// \throw InvalidInput empty mesh, NaN/inf coordinates, other zero-area faces, non-quad faces
+/// without
 ///        subdivision, a model outside the accepted
 ///        size range without `size`, or a quad mesh far from the target (distance named).
 PreparedInput prepare_input(const PolyMesh& target, const std::optional<PolyMesh>& quad,
