@@ -56,9 +56,8 @@ struct PreparedInput {
 /// (a dart, as QuadriFlow leaves at sharp edges): its two corners off that diagonal merge at
 /// their midpoint, where that leaves the mesh manifold.
 /// \throw InvalidInput empty mesh, NaN/inf coordinates, other zero-area faces, non-quad faces
-/// without
-///        subdivision, a model outside the accepted
-///        size range without `size`, or a quad mesh far from the target (distance named).
+///        without subdivision, a model outside the accepted size range without `size`, or a
+///        quad mesh far from the target (distance named).
 PreparedInput prepare_input(const PolyMesh& target, const std::optional<PolyMesh>& quad,
                             const InputOptions& options);
 
