@@ -35,15 +35,8 @@ int main(int argc, char** argv) {
     if (r.placements[i].sheet >= 0)
       on_sheet[r.placements[i].sheet] += std::abs(kerfab::polygon_area(outlines[i]));
   const double usable = (o.sheet_width - 2 * o.margin) * (o.sheet_height - 2 * o.margin);
-  // The parts grown by half the spacing over the usable area grown alike: how full the sheets
-  // of the spaced bound would have to be.
-  double grown = 0;
-  for (const auto& outline : outlines)
-    for (const auto& g : kerfab::polygon_offset({outline}, 0.5 * o.spacing))
-      grown += std::abs(kerfab::polygon_area(g));
-  const double usable_grown =
-      (o.sheet_width - 2 * o.margin + o.spacing) * (o.sheet_height - 2 * o.margin + o.spacing);
-  std::cout << "grown parts fill " << 100 * grown / usable_grown << "% of one sheet; ";
+  // How full the sheets of the spaced bound would have to be.
+  std::cout << "grown parts fill " << 100 * r.spaced_fill << "% of one sheet; ";
   std::cout << "last sheet " << 100 * on_sheet.back() / usable << "% full; ";
   std::cout << outlines.size() << " parts: " << r.sheets << " sheets (area lower bound "
             << r.sheets_lower_bound << ", with the spacing " << r.sheets_lower_bound_spaced << "), utilisation " << r.utilization << ", unplaced "

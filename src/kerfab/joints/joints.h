@@ -167,7 +167,6 @@ struct OutlineDrawing {
 /// of keys and drawings and is emptied when full; it may be shared between threads.
 class OutlineMemo : public Memo<OutlineDrawing> {
  public:
-  using Drawn = OutlineDrawing;
   explicit OutlineMemo(std::size_t max_bytes = std::size_t{48} << 20) : Memo(max_bytes) {}
 };
 

@@ -475,10 +475,8 @@ std::string patch_key(const Strips& s, const Flattening& f, const Joints& j, con
   // The patch's own vertices: each one's first place among them (equal ids, equal places).
   const std::vector<int> lv = patch.local_vertices();
   std::unordered_map<int, int> first;
-  for (std::size_t k = 0; k < lv.size(); ++k) {
-    first.try_emplace(lv[k], static_cast<int>(k));
-    put(first.at(lv[k]));
-  }
+  for (std::size_t k = 0; k < lv.size(); ++k)
+    put(first.try_emplace(lv[k], static_cast<int>(k)).first->second);
   for (int row = 0; row < patch.rows(); ++row)
     for (std::size_t i = 0; i < patch.faces.size(); ++i) {
       const int face = patch.face(static_cast<int>(i), row);

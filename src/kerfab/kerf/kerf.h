@@ -139,7 +139,6 @@ struct PatchPlacement {
 /// and is emptied when full; it may be shared between threads.
 class KerfMemo : public Memo<PatchPlacement> {
  public:
-  using Placed = PatchPlacement;
   explicit KerfMemo(std::size_t max_bytes = std::size_t{32} << 20) : Memo(max_bytes) {}
 };
 

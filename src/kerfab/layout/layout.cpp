@@ -410,8 +410,8 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   const double usable_grown =
       (o.sheet_width - 2 * o.margin + o.spacing) * (o.sheet_height - 2 * o.margin + o.spacing);
   result.sheets_lower_bound = static_cast<int>(std::ceil(fitting_area / usable - 1e-9));
-  result.sheets_lower_bound_spaced =
-      static_cast<int>(std::ceil(grown_area / usable_grown - 1e-9));
+  result.spaced_fill = grown_area / usable_grown;
+  result.sheets_lower_bound_spaced = static_cast<int>(std::ceil(result.spaced_fill - 1e-9));
   // Largest area first, bottom-left. While that needs more sheets than the spaced bound, also
   // the parts with the largest minimum rectangle first (long thin and curved parts, which
   // otherwise come last and open sheets of their own) and the longest first, each with both

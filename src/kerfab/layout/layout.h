@@ -39,6 +39,8 @@ struct LayoutResult {
   /// within the usable area grown by half the spacing, so their area over that one's is a
   /// lower bound as well, and a tighter one.
   int sheets_lower_bound_spaced = 0;
+  /// The same before rounding up: how many sheets the grown parts fill [-].
+  double spaced_fill = 0;
   std::vector<int> unplaced;  ///< parts on no sheet: larger than any, or nothing left (below)
   std::vector<int> empty;     ///< of those, parts with no outline left to cut (their joints'
                               ///< slots and mitres took all of them)
