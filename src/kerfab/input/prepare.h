@@ -54,7 +54,8 @@ struct PreparedInput {
 /// leave behind) is collapsed along that diagonal, with a warning naming it. Without
 /// subdivision, so is a quad folded back onto itself across a diagonal by more than 150 degrees
 /// (a dart, as QuadriFlow leaves at sharp edges): its two corners off that diagonal merge at
-/// their midpoint, where that leaves the mesh manifold.
+/// their midpoint, where that leaves the mesh manifold (at most 64 tries; the rest are counted
+/// in a warning).
 /// \throw InvalidInput empty mesh, NaN/inf coordinates, other zero-area faces, non-quad faces
 ///        without subdivision, a model outside the accepted size range without `size`, or a
 ///        quad mesh far from the target (distance named).
