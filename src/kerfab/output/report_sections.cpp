@@ -62,6 +62,8 @@ json quads_section(const QuadMeshResult& q) {
           {"lattice_quads", q.lattice_quads},
           {"lattice_triangles", q.lattice_triangles},
           {"triangle_rows", q.triangle_rows},
+          {"dislocations", q.dislocations},
+          {"dislocations_left", q.dislocations_left},
           {"irregular_vertices", q.irregular_vertices},
           {"interior_valences", valences},
           {"feature_edges", q.feature_edges},

@@ -34,11 +34,6 @@ Vec3 lattice_floor(const Vec3& o, const Vec3& q, const Vec3& qp, const Vec3& p, 
   return o + q * (s * std::floor(d.dot(q) / s)) + qp * (s * std::floor(d.dot(qp) / s));
 }
 
-Vec3 lattice_round(const Vec3& o, const Vec3& q, const Vec3& qp, const Vec3& p, double s) {
-  const Vec3 d = p - o;
-  return o + q * (s * std::round(d.dot(q) / s)) + qp * (s * std::round(d.dot(qp) / s));
-}
-
 /// The pair of lattice points of i and j, each near the edge's middle, closest to each other.
 std::pair<Vec3, Vec3> compatible_points(const Vec3& pi, const Vec3& ni, const Vec3& qi,
                                         const Vec3& oi, const Vec3& pj, const Vec3& nj,
@@ -64,6 +59,11 @@ std::pair<Vec3, Vec3> compatible_points(const Vec3& pi, const Vec3& ni, const Ve
 }
 
 }  // namespace
+
+Vec3 lattice_round(const Vec3& o, const Vec3& q, const Vec3& qp, const Vec3& p, double s) {
+  const Vec3 d = p - o;
+  return o + q * (s * std::round(d.dot(q) / s)) + qp * (s * std::round(d.dot(qp) / s));
+}
 
 Surface make_surface(const TriangleMesh& mesh) {
   Surface s;
@@ -326,7 +326,7 @@ LatticeOffset lattice_offset(const Vec3& pi, const Vec3& ni, const Vec3& qi, con
                            static_cast<int>(std::lround((a - oi).dot(qpi) / s)));
   const Eigen::Vector2i tj(static_cast<int>(std::lround((b - oj).dot(qj) / s)),
                            static_cast<int>(std::lround((b - oj).dot(qpj) / s)));
-  return {ti - tj, (a - b).norm() / s};
+  return {ti - tj, (a - b).norm() / s, Eigen::Vector2d((b - a).dot(qi) / s, (b - a).dot(qpi) / s)};
 }
 
 }  // namespace kerfab::quads

@@ -45,11 +45,17 @@ Vec3 aligned_cross(const Vec3& reference, const Vec3& q, const Vec3& n);
 std::vector<Vec3> position_field(const Surface& surface, const std::vector<Vec3>& cross,
                                  double spacing, int iterations);
 
+/// The lattice point of (o, q, qp) (spacing \p s [mm]) nearest to \p p.
+Vec3 lattice_round(const Vec3& o, const Vec3& q, const Vec3& qp, const Vec3& p, double s);
+
 /// The lattice offset from vertex i's lattice point to vertex j's, in i's axes [-], and how
 /// well the two lattices agree across the edge: |gap| / spacing (small: consistent).
 struct LatticeOffset {
   Eigen::Vector2i offset = Eigen::Vector2i::Zero();
   double gap = 0;
+  /// The rest of the way from i's lattice point to j's beyond the offset, in i's axes [-]:
+  /// j's lattice point is at offset + misfit cells (|misfit| = gap).
+  Eigen::Vector2d misfit = Eigen::Vector2d::Zero();
 };
 
 LatticeOffset lattice_offset(const Vec3& pi, const Vec3& ni, const Vec3& qi, const Vec3& oi,

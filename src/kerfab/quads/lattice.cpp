@@ -45,6 +45,7 @@ class Extractor {
  public:
   explicit Extractor(const LatticeInput& in)
       : in_(in), s_(*in.surface), pos_(in.positions), cross_(in.cross), normal_(s_.normals) {
+    if (in.offsets) offsets_ = *in.offsets;
     const auto& m = *s_.mesh;
     mesh_.reserve(m.vertices.size(), 3 * m.vertices.size(), m.triangles.size());
     for (const Vec3& p : m.vertices) mesh_.add_vertex(to_openmesh(p));
@@ -92,6 +93,7 @@ class Extractor {
   }
 
   LatticeOffset offset(int a, int b) const {
+    if (offsets_ && offsets_->has(a, b)) return {offsets_->offset(a, b), 0.0, {}};
     return lattice_offset(point(VH(a)), normal_[a], cross_[a], pos_[a],
                           point(VH(b)), normal_[b], cross_[b], pos_[b],
                           in_.spacing);
@@ -154,6 +156,11 @@ class Extractor {
     std::sort(nt.begin(), nt.end());
     nt.erase(std::unique(nt.begin(), nt.end()), nt.end());
     feature_nb_[from].clear();
+    if (offsets_ && offsets_->has(to, from)) {
+      std::vector<int> around;
+      for (auto v : mesh_.vv_range(VH(from))) around.push_back(v.idx());
+      offsets_->merge(to, from, around);
+    }
     // Two feature lines that met here make a corner.
     const int rank = nt.empty() ? kFree : nt.size() == 2 ? kFeature : kCorner;
     rank_[to] = std::max(rank_[to], rank);
@@ -881,6 +888,7 @@ class Extractor {
   const LatticeInput& in_;
   const Surface& s_;
   WorkMesh mesh_;
+  std::optional<IntegerLattice> offsets_;   ///< as given, kept through the collapses
   std::vector<Vec3> pos_, cross_, normal_;  // per vertex, growing with border splits
   std::vector<std::vector<int>> feature_nb_;
   std::vector<int> rank_;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "kerfab/core/mesh.h"
+#include "kerfab/quads/dislocations.h"
 #include "kerfab/quads/fields.h"
 
 namespace kerfab::quads {
@@ -36,6 +37,9 @@ struct LatticeInput {
   /// each at most 0.4 of its mean edge, toward corners of 30 to 150 degrees and edges at least
   /// a quarter of their quad's mean edge (never making the worst quad around a vertex worse).
   bool polish = true;
+  /// The lattice offsets between neighbours, as the dislocation step left them (edges whose
+  /// ends share a lattice point collapse by these); null: measured from the positions.
+  const IntegerLattice* offsets = nullptr;
 };
 
 struct LatticeResult {

@@ -9,6 +9,7 @@
 
 #include "kerfab/adapters/remesh.h"
 #include "kerfab/core/errors.h"
+#include "kerfab/quads/dislocations.h"
 #include "kerfab/quads/fields.h"
 #include "kerfab/quads/lattice.h"
 
@@ -19,6 +20,9 @@ constexpr double kPi = 3.14159265358979323846;
 /// Pure and split lattices are told apart by their sharp features on quad edges first when
 /// the two differ by more than this share of the feature length.
 constexpr double kFeatureMargin = 0.1;
+/// The dislocation step's longest path, in triangles crossed (about 30 remeshed edges, eight
+/// lattice spacings: a lattice of 1/3.5 spacing remeshing edges).
+constexpr int kMaxDislocationPath = 100;
 
 std::string fmt(double v) {
   std::ostringstream os;
@@ -374,31 +378,67 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
     const std::vector<Vec3> cross = quads::cross_field(surface, direction, weight);
     const std::vector<Vec3> positions =
         quads::position_field(surface, cross, spacing, o.smoothing_iterations);
+    const quads::DislocationResult step = quads::remove_dislocations(
+        surface, cross, positions, spacing, remeshed.features, kMaxDislocationPath);
 
-    // Polished quads first; where polishing moved a thin part's tip out of reach (the check's
-    // gap), the quads as untangled.
-    for (const auto& [on_surface, polish] :
-         {std::pair{true, true}, std::pair{true, false}, std::pair{false, true},
-          std::pair{false, false}}) {
-      quads::LatticeInput li{&surface,   cross, positions, remeshed.features, spacing, mode,
-                             on_surface, [&](const Vec3& p) { return target.closest(p).point; },
-                             [&](const Vec3& p) { return target.closest(p).normal; }, polish};
-      quads::LatticeResult lattice = quads::extract_quads(li);
-      r.lattice_quads = lattice.lattice_quads;
-      r.lattice_triangles = lattice.lattice_triangles;
-      r.triangle_rows = lattice.rows;
-      r.quads = std::move(lattice.quads);
-      r.method = mode == Mode::kTriangles ? "triangles split into quads (no lattice)"
-                 : lattice.split         ? "lattice, faces split"
-                 : lattice.rows > 0      ? "lattice, triangles paired by rows"
-                                         : "lattice";
-      if (!on_surface) r.method += ", new points not projected";
-      r.problem = r.quads.n_faces() == 0
-                      ? std::to_string(r.lattice_triangles) + " triangles found no partner"
-                      : check(r.quads, mesh, target, r.size.size);
-      if (r.quads.n_faces() == 0) break;  // the pairing does not depend on on_surface
-      if (r.problem.empty()) break;
+    // Where the dislocations were paired off, the lattice they leave is extracted by its own
+    // offsets and, where those measured again agree, as rounded lattice points; the field as
+    // smoothed competes with both (a stretched lattice can collapse worse than the
+    // dislocations it lost): the sound one with the fewest irregular vertices is kept.
+    struct Candidate {
+      const std::vector<Vec3>* positions;
+      const quads::IntegerLattice* offsets;
+      int dislocations_left;
+    };
+    std::vector<Candidate> candidates;
+    if (step.applied) {
+      candidates.push_back({&step.positions, &*step.lattice, 0});
+      if (step.rounded_clean) candidates.push_back({&step.rounded, nullptr, 0});
     }
+    candidates.push_back({&positions, nullptr, step.charges_before});
+    std::optional<QuadMeshResult> best;
+    for (const Candidate& candidate : candidates) {
+      QuadMeshResult c = r;
+      c.dislocations = step.charges_before;
+      c.dislocations_left = candidate.dislocations_left;
+      // Polished quads first; where polishing moved a thin part's tip out of reach (the
+      // check's gap), the quads as untangled.
+      for (const auto& [on_surface, polish] : {std::pair{true, true}, std::pair{true, false},
+                                               std::pair{false, true}, std::pair{false, false}}) {
+        quads::LatticeInput li{&surface,
+                               cross,
+                               *candidate.positions,
+                               remeshed.features,
+                               spacing,
+                               mode,
+                               on_surface,
+                               [&](const Vec3& p) { return target.closest(p).point; },
+                               [&](const Vec3& p) { return target.closest(p).normal; },
+                               polish,
+                               candidate.offsets};
+        quads::LatticeResult lattice = quads::extract_quads(li);
+        c.lattice_quads = lattice.lattice_quads;
+        c.lattice_triangles = lattice.lattice_triangles;
+        c.triangle_rows = lattice.rows;
+        c.quads = std::move(lattice.quads);
+        c.method = mode == Mode::kTriangles ? "triangles split into quads (no lattice)"
+                   : lattice.split          ? "lattice, faces split"
+                   : lattice.rows > 0       ? "lattice, triangles paired by rows"
+                                            : "lattice";
+        if (!on_surface) c.method += ", new points not projected";
+        c.problem = c.quads.n_faces() == 0
+                        ? std::to_string(c.lattice_triangles) + " triangles found no partner"
+                        : check(c.quads, mesh, target, c.size.size);
+        if (c.quads.n_faces() == 0) break;  // the pairing does not depend on on_surface
+        if (c.problem.empty()) break;
+      }
+      const bool better = !best || (c.problem.empty() && !best->problem.empty()) ||
+                          (c.problem.empty() == best->problem.empty() && c.quads.n_faces() > 0 &&
+                           (best->quads.n_faces() == 0 ||
+                            irregular_vertices(c.quads) < irregular_vertices(best->quads)));
+      if (better) best = std::move(c);
+    }
+    r = std::move(*best);
     if (pure) {  // this split lattice competed with the sound pure one
       bool keep_pure = !r.problem.empty();
       if (!keep_pure) {

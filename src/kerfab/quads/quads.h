@@ -57,6 +57,9 @@ struct QuadMeshResult {
   /// Rows of quads split to make the left-over triangles quads in pairs (pure lattice; a split
   /// lattice makes each triangle 3 quads instead).
   int triangle_rows = 0;
+  /// Unit dislocations of the position field (dislocations.h) found, and left after the
+  /// global integer step (which is kept only where it leaves none).
+  int dislocations = 0, dislocations_left = 0;
   int irregular_vertices = 0;          ///< interior vertices of valence != 4, border != 3
   std::vector<std::pair<int, int>> valences;  ///< (valence, count) over interior vertices
   double max_distance = 0;             ///< farthest quad vertex from the target [mm]
