@@ -4,7 +4,6 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <limits>
 #include <queue>
 #include <unordered_map>
@@ -13,16 +12,6 @@ namespace kerfab::quads {
 namespace {
 
 using Vec2i = Eigen::Vector2i;
-
-/// k such that q_j turned by k quarter turns about n_j (q, n x q, -q, -n x q) is the cross
-/// direction of j best aligned with q_i.
-int aligned_index(const Vec3& qi, const Vec3& qj, const Vec3& nj) {
-  const Vec3 candidates[4] = {qj, nj.cross(qj), -qj, -nj.cross(qj)};
-  int best = 0;
-  for (int k = 1; k < 4; ++k)
-    if (candidates[k].dot(qi) > candidates[best].dot(qi)) best = k;
-  return best;
-}
 
 int count_charges(const IntegerLattice& l, const TriangleMesh& m) {
   int n = 0;
@@ -96,7 +85,7 @@ IntegerLattice::IntegerLattice(const Surface& s, const std::vector<Vec3>& cross,
         edges_.push_back({a, b, 0, Vec2i::Zero(), Eigen::Vector2d::Zero(), Vec2i::Zero()});
     }
   for (auto& e : edges_) {
-    e.k = aligned_index(cross[e.a], cross[e.b], s.normals[e.b]);
+    e.k = aligned_turns(cross[e.a], cross[e.b], s.normals[e.b]);
     const LatticeOffset o =
         lattice_offset(m.vertices[e.a], s.normals[e.a], cross[e.a], pos[e.a], m.vertices[e.b],
                        s.normals[e.b], cross[e.b], pos[e.b], spacing);

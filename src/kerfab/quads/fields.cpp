@@ -249,12 +249,17 @@ std::vector<Vec3> cross_field(const Surface& s, const std::vector<Vec3>& target_
   return q;
 }
 
-Vec3 aligned_cross(const Vec3& reference, const Vec3& q, const Vec3& n) {
+int aligned_turns(const Vec3& reference, const Vec3& q, const Vec3& n) {
   const Vec3 candidates[4] = {q, n.cross(q), -q, -n.cross(q)};
   int best = 0;
   for (int k = 1; k < 4; ++k)
     if (candidates[k].dot(reference) > candidates[best].dot(reference)) best = k;
-  return candidates[best];
+  return best;
+}
+
+Vec3 aligned_cross(const Vec3& reference, const Vec3& q, const Vec3& n) {
+  const Vec3 candidates[4] = {q, n.cross(q), -q, -n.cross(q)};
+  return candidates[aligned_turns(reference, q, n)];
 }
 
 std::vector<Vec3> position_field(const Surface& s, const std::vector<Vec3>& cross,

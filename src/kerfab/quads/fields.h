@@ -39,6 +39,8 @@ std::vector<Vec3> cross_field(const Surface& surface, const std::vector<Vec3>& t
 
 /// The representative of the cross (q, n) best aligned with \p reference.
 Vec3 aligned_cross(const Vec3& reference, const Vec3& q, const Vec3& n);
+/// Its quarter turns: q turned k times about n (q, n x q, -q, -n x q), k in 0..3.
+int aligned_turns(const Vec3& reference, const Vec3& q, const Vec3& n);
 
 /// Position field: per vertex a lattice point o (spacing \p spacing [mm], axes q and n x q)
 /// near the vertex, the lattices of neighbours made to agree.
