@@ -60,6 +60,16 @@ TEST(Prepare, NanCoordinatesAndZeroAreaFacesAreRejected) {
   EXPECT_THROW(prepare_input(target, squashed, {}), InvalidInput);
 }
 
+/// \p in's quads are \p faces quads on \p vertices corners forming one disk (Euler
+/// characteristic 1, one border loop).
+void expect_quad_disk(const PreparedInput& in, int faces, int vertices) {
+  EXPECT_EQ(in.quad_summary.faces, faces);
+  EXPECT_EQ(in.quad_summary.vertices, vertices);
+  EXPECT_EQ(in.quad_summary.euler_characteristic, 1);
+  EXPECT_EQ(in.quad_summary.boundary_loops, 1);
+  for (auto f : in.quads.faces()) EXPECT_EQ(in.quads.valence(f), 4u);
+}
+
 // A doublet (a zero-area quad whose opposite corners are two vertices at one point, as
 // QuadriFlow left in fandisk_qf800.obj) is collapsed along that diagonal, with a warning: a
 // 3 x 3 grid with its middle-left interior vertex doubled comes back as the 3 x 3 grid.
@@ -87,11 +97,7 @@ TEST(Prepare, DoubletsAreCollapsedAlongTheirDiagonal) {
   InputOptions opt;
   opt.size = 30;
   const PreparedInput in = prepare_input(poly_mesh(plane.target), q, opt);
-  EXPECT_EQ(in.quad_summary.faces, 9);
-  EXPECT_EQ(in.quad_summary.vertices, 16);
-  EXPECT_EQ(in.quad_summary.euler_characteristic, 1);
-  EXPECT_EQ(in.quad_summary.boundary_loops, 1);
-  for (auto f : in.quads.faces()) EXPECT_EQ(in.quads.valence(f), 4u);
+  expect_quad_disk(in, 9, 16);
   int isolated = 0;
   for (auto vh : in.quads.vertices()) {
     if (in.quads.is_isolated(vh)) {
@@ -148,11 +154,7 @@ TEST(Prepare, QuadsFoldedBackAcrossADiagonalAreCollapsed) {
   InputOptions opt;
   opt.size = 30;
   const PreparedInput in = prepare_input(poly_mesh(plane.target), q, opt);
-  EXPECT_EQ(in.quad_summary.faces, 8);
-  EXPECT_EQ(in.quad_summary.vertices, 15);
-  EXPECT_EQ(in.quad_summary.euler_characteristic, 1);
-  EXPECT_EQ(in.quad_summary.boundary_loops, 1);
-  for (auto f : in.quads.faces()) EXPECT_EQ(in.quads.valence(f), 4u);
+  expect_quad_disk(in, 8, 15);
   EXPECT_LT(largest_diagonal_fold(in.quads), 150.0);
   EXPECT_TRUE(in.quads.is_isolated(in.quads.vertex_handle(9)));  // numbers kept: 9 went into 6
   const auto merged = in.quads.point(in.quads.vertex_handle(6)) / in.scale;

@@ -127,13 +127,22 @@ DislocationResult remove_dislocations(const Surface& s, const std::vector<Vec3>&
       auto& side = sides[l.edge(m.triangles[t][c], m.triangles[t][(c + 1) % 3])];
       (side[0] < 0 ? side[0] : side[1]) = t;
     }
+  // Each triangle's sum of offsets, kept up to date as charges move (zero round a field
+  // singularity, where it means nothing); their sizes add up to the charges left.
   std::vector<Vec2i> curl(nt, Vec2i::Zero());
   auto measure = [&](int t) { curl[t] = l.curl(m.triangles[t]); };
+  auto charges = [&] {
+    int n = 0;
+    for (const Vec2i& c : curl) n += c.cwiseAbs().sum();
+    return n;
+  };
   for (int t = 0; t < nt; ++t) {
-    if (l.singular(m.triangles[t])) ++r.orientation_singular;
-    measure(t);
+    if (l.singular(m.triangles[t]))
+      ++r.orientation_singular;
+    else
+      measure(t);
   }
-  r.charges_before = r.charges_after = count_charges(l, m);
+  r.charges_before = r.charges_after = charges();
   // Where the cross field has singularities of its own, the step is not taken: round them
   // the offsets cannot all agree, the lattice solved to follow them strays most there, and
   // on the sphere and ten shared meshes no extraction came out better for it (sphere 37
@@ -227,7 +236,7 @@ DislocationResult remove_dislocations(const Surface& s, const std::vector<Vec3>&
       apply(f, found, 0);
       if (curl[f].cwiseAbs().sum() >= before) break;
     }
-  r.charges_after = count_charges(l, m);
+  r.charges_after = charges();
   r.applied = r.charges_after == 0;
   if (!r.applied) {
     r.charges_after = r.charges_before;
