@@ -85,6 +85,48 @@ TEST(PolygonOps, ACavityOpenOnlyThroughAPointIsAHole) {
   expect_outer_and_hole(left, 15.0, -3.0);
 }
 
+TEST(PolygonOps, AWedgeBetweenTwoCutsGoesWithThemNotAsASpikeAndAHole) {
+  // The demo's part where a slot's cut-back turns a concave corner of 5 deg (coordinates as
+  // drawn, mm): a 0.06 mm cut-back on the edge before the corner, the slot's cut-back after it,
+  // and the wedge between them, its tip on the corner. All three are open to the outside, so the
+  // result is one ring with a notch. Clipper alone returned the outer ring with the wedge as a
+  // spike of material plus a hole of exactly the wedge: an outline taken alone kept a 0.15 mm
+  // wide, 1.6 mm long hair there.
+  Polygon2 part = {{82.18278, -103.3318},
+                   {80.2716, -101.05843},
+                   {79.12343, -102.02368},
+                   {79.08564, -101.97872},
+                   {77.43328, -99.58182},
+                   {72, -100},
+                   {76, -110},
+                   {84, -106}};
+  std::vector<Polygon2> cuts = {{{79.12419614535976, -102.02303053620858},
+                                 {79.0864032938073, -101.9780754521463},
+                                 {77.84538323919125, -103.02137650865764},
+                                 {77.88317609074372, -103.06633159271992}},
+                                {{79.08646116575278, -101.97815137245153},
+                                 {77.4340975192544, -99.58125280262594},
+                                 {76.09924978328846, -100.50146440452167},
+                                 {77.75161342978684, -102.89836297434726}},
+                                {{79.08563784544587, -101.9787189494703},
+                                 {77.75161342978684, -102.89836297434726},
+                                 {77.84538323919125, -103.02137650865764}}};
+  make_counter_clockwise(part);
+  for (auto& c : cuts) make_counter_clockwise(c);
+  const auto left = polygon_difference({part}, cuts);
+  ASSERT_EQ(left.size(), 1u);
+  expect_strictly_simple(left);
+  const double wedge = std::abs(polygon_area(cuts[2]));
+  EXPECT_GT(wedge, 0.1);
+  EXPECT_NEAR(polygon_area(left[0]),
+              polygon_area(part) - signed_total(polygon_union(cuts)) +
+                  signed_total(polygon_difference(cuts, {part})),
+              1e-4);  // the grid's rounding (10 nm) along 20 mm of cuts
+  Vec2 centroid(0, 0);
+  for (const Vec2& v : cuts[2]) centroid += v / 3.0;
+  EXPECT_FALSE(inside(centroid, left[0])) << "the wedge stayed as material";
+}
+
 TEST(PolygonOps, GridCellsGiveTheExactAreaAndStrictlySimpleRings) {
   // A 12 x 12 square minus random unit cells: corners of removed cells touch everywhere, which
   // is where a ring could pass through a point twice. The area is the count of cells kept.
