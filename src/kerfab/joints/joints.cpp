@@ -114,7 +114,7 @@ class Builder {
       if (out_.parts[p].repaired) out_ = before, lost_ = lost_before;
     }
     give_stubs_a_tooth(forbidden);
-    widen_thin_necks();
+    widen_thin_necks(forbidden);
     for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
     for (std::size_t b = 0; b < out_.borders.size(); ++b) {
       std::vector<TabFlare> flares;
@@ -313,13 +313,14 @@ class Builder {
   /// the tooth out of third parts, as for every tooth); widest first, then with a margin of
   /// half the smallest feature, then none; the tooth is as wide as the tooth width allows and at
   /// least 1.2 times the smallest feature (1.2 mm).
-  void give_stubs_a_tooth(const std::vector<std::vector<std::array<double, 2>>>& forbidden) {
+  void give_stubs_a_tooth(const std::vector<std::vector<std::array<double, 2>>>& forbidden,
+                          const std::set<int>* only = nullptr) {
     // A tooth only as wide as the smallest feature is what the outline rules call a tail (an
     // opening by half that width takes all of it): a fifth wider, and at least 1 mm.
     const double narrowest = std::max(1.0, 1.2 * o_.min_feature);
     for (std::size_t i = 0; i < out_.borders.size(); ++i) {
       BorderJoint& b = out_.borders[i];
-      if (b.teeth > 0) continue;
+      if (b.teeth > 0 || (only && !only->contains(static_cast<int>(i)))) continue;
       const Piece& piece = pieces_[i];
       std::vector<std::array<double, 2>> room;  // free stretches, widest first
       double at = 0;
@@ -412,10 +413,16 @@ class Builder {
       if (rings_[order[1]].edges.size() < rings_[order[0]].edges.size())
         std::swap(order[0], order[1]);
       bool sound = true;
-      for (int p : order) {
-        if (!sound) break;
+      for (int k = 0; k < 2 && sound; ++k) {
+        const int p = order[k];
         out_.parts[p] = outline(p);
+        // Whole, no tooth bitten, and no new thin neck: a tooth hanging on one breaks off.
         sound = !out_.parts[p].repaired && bitten_teeth(p).empty();
+        if (sound) {
+          const std::size_t necks = thin_necks(p).size();
+          sound =
+              necks == 0 || necks <= thin_necks(drawn[p == b.patches[0] ? 0 : 1].designed).size();
+        }
       }
       // Into its mate, as both are now drawn (the slot cut).
       if (sound && in_bands)
@@ -825,8 +832,8 @@ class Builder {
   /// outline the opening takes away that touch two of its pieces. without_thin_features() cuts
   /// off what hangs on such a neck only when it is no larger than a square tooth; a larger piece
   /// it leaves hanging, and it breaks off when cut.
-  std::vector<Polygon2> thin_necks(int p) const {
-    const Polygon2& outline = out_.parts[p].designed;
+  std::vector<Polygon2> thin_necks(int p) const { return thin_necks(out_.parts[p].designed); }
+  std::vector<Polygon2> thin_necks(const Polygon2& outline) const {
     const double r = 0.5 * o_.min_feature;
     if (outline.size() < 3 || !(r > 0)) return {};
     std::vector<Polygon2> opened;
@@ -845,10 +852,13 @@ class Builder {
 
   /// Thin necks (thin_necks) that joints made: the intervals whose tooth, slot or cut-back comes
   /// near a neck go plain on both parts (as plain_where_lost does for a part that fell apart),
-  /// kept only where that leaves the part without a thin neck, takes no border's last joint, and
-  /// makes no part fall apart or gain a neck. A neck of the flattened strip itself, or one only
-  /// a border's last joint could widen, stays (the auditor reports it).
-  void widen_thin_necks() {
+  /// kept only where that leaves the part without a thin neck and makes no part fall apart or
+  /// gain a neck. A border that so loses its last joint gets a tooth elsewhere where one fits
+  /// (give_stubs_a_tooth(), which lets no tooth make a neck); where none does, it stays without:
+  /// a tooth hanging on a neck narrower than the smallest feature breaks off (Spot's fine quad
+  /// mesh had one on a 0.3 mm neck). A neck of the flattened strip itself stays (the auditor
+  /// reports it).
+  void widen_thin_necks(const std::vector<std::vector<std::array<double, 2>>>& forbidden) {
     std::vector<int> all(out_.parts.size());
     for (std::size_t p = 0; p < all.size(); ++p) all[p] = static_cast<int>(p);
     std::vector<std::vector<Polygon2>> necks(all.size());
@@ -861,11 +871,19 @@ class Builder {
       plain_near(p, necks[p], redo);
       if (redo.empty()) continue;
       redraw(redo);
+      std::set<int> bare;  // borders of the redrawn parts that lost their last joint
+      for (std::size_t b = 0; b < out_.borders.size(); ++b)
+        if (out_.borders[b].teeth == 0 && before.borders[b].teeth > 0 &&
+            (redo.contains(out_.borders[b].patches[0]) ||
+             redo.contains(out_.borders[b].patches[1])))
+          bare.insert(static_cast<int>(b));
+      if (!bare.empty()) give_stubs_a_tooth(forbidden, &bare);
       std::map<int, std::vector<Polygon2>> after;
-      for (int q : redo) after[q] = thin_necks(q);
+      for (std::size_t q = 0; q < out_.parts.size(); ++q)
+        if (redo.contains(static_cast<int>(q)) ||
+            out_.parts[q].designed != before.parts[q].designed)
+          after[static_cast<int>(q)] = thin_necks(static_cast<int>(q));
       bool better = after[p].empty() && !out_.parts[p].repaired;
-      for (std::size_t b = 0; b < out_.borders.size() && better; ++b)
-        better = out_.borders[b].teeth > 0 || before.borders[b].teeth == 0;
       for (const auto& [q, left] : after)
         if (q != p && better)
           better = (!out_.parts[q].repaired || before.parts[q].repaired) &&
