@@ -218,15 +218,21 @@ void orient_by_fill(ClipperLib::Paths& rings, const std::function<bool(double, d
 /// vertex with an outer ring, the rings united once more by their winding numbers come out
 /// clean; a hole that truly touches its outer ring at a point stays a hole.
 ClipperLib::Paths without_cancelling_holes(ClipperLib::Paths rings) {
-  ClipperLib::Paths outer, holes;
-  for (auto& ring : rings) (ClipperLib::Orientation(ring) ? outer : holes).push_back(ring);
-  if (holes.empty() || outer.empty()) return rings;
+  // Every Boolean passes here: the rings are looked at, not copied, and most results have no
+  // hole at all.
+  std::vector<bool> outer(rings.size());
+  bool any_hole = false;
+  for (std::size_t i = 0; i < rings.size(); ++i)
+    any_hole = !(outer[i] = ClipperLib::Orientation(rings[i])) || any_hole;
+  if (!any_hole) return rings;
   std::unordered_set<ClipperLib::IntPoint, PointHash> on_outer;
-  for (const auto& ring : outer)
-    for (const auto& p : ring) on_outer.insert(p);
+  for (std::size_t i = 0; i < rings.size(); ++i)
+    if (outer[i]) on_outer.insert(rings[i].begin(), rings[i].end());
   bool shared = false;
-  for (const auto& ring : holes)
-    for (const auto& p : ring) shared = shared || on_outer.contains(p);
+  for (std::size_t i = 0; i < rings.size() && !shared; ++i)
+    if (!outer[i])
+      shared = std::any_of(rings[i].begin(), rings[i].end(),
+                           [&](const ClipperLib::IntPoint& p) { return on_outer.contains(p); });
   if (!shared) return rings;
   // The rings as they are, filled by their winding numbers: outer rings count +1, holes -1 (an
   // island in a hole is +1 again).
