@@ -2,16 +2,17 @@
 // passes through a point twice or touches one of its own edges — with holes as clockwise rings,
 // and they cover exactly the right area. Checked on shapes whose answers are known by hand and on
 // random unions of grid cells, where touching corners are everywhere.
+#include "kerfab/adapters/polygon_ops.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 #include <set>
 #include <utility>
 #include <vector>
-
-#include "kerfab/adapters/polygon_ops.h"
 
 namespace kerfab {
 namespace {
@@ -125,6 +126,45 @@ TEST(PolygonOps, AWedgeBetweenTwoCutsGoesWithThemNotAsASpikeAndAHole) {
   Vec2 centroid(0, 0);
   for (const Vec2& v : cuts[2]) centroid += v / 3.0;
   EXPECT_FALSE(inside(centroid, left[0])) << "the wedge stayed as material";
+}
+
+TEST(PolygonOps, ANeedleLeftByTheBooleansGoesButASharpCornerOrANarrowSlotStays) {
+  // The capped cylinder's part 24 as the Booleans returned it (mm, as flattened): a slot 1.59 mm
+  // deep across a vertex of the border line, with a needle of material from the slot's bottom
+  // up to that vertex, 0.4 um at its base. Grown by half the 0.15 mm kerf, it stood in the slot
+  // as a hair of material as wide as the beam.
+  const Polygon2 part = {{42.664, -48.399},   {44.7179, -48.9743}, {45.1466, -47.4439},
+                         {47.6387, -48.1423}, {47.2101, -49.6724},  // the needle's tip
+                         {47.6391, -48.1424}, {48.0808, -48.2660}, {47.6520, -49.7962},
+                         {51.758, -50.947},   {51.758, -40},       {42.664, -40}};
+  const Polygon2 slot = {
+      {44.7179, -48.9743}, {47.6520, -49.7962}, {48.0808, -48.2660}, {45.1466, -47.4439}};
+  ASSERT_GT(polygon_area(part), 0);
+  const auto slot_inside = polygon_offset({slot}, -0.08);  // less a hair for the grid
+  ASSERT_EQ(slot_inside.size(), 1u);
+  auto in_slot = [&](const Polygon2& outline) {
+    double a = 0;
+    for (const auto& g : polygon_offset({outline}, 0.075))
+      a += signed_total(polygon_intersection(g, slot_inside[0]));
+    return a;
+  };
+  EXPECT_GT(in_slot(part), 0.1) << "the needle, grown by the kerf, stands in the slot";
+  const Polygon2 clean = without_needles(part, 0.01);
+  EXPECT_EQ(clean.size(), part.size() - 1);  // the tip
+  EXPECT_LT(in_slot(clean), 1e-6) << "a hair of material stands in the slot";
+  const double needle = std::abs(polygon_area({part[3], part[4], part[5]}));
+  EXPECT_NEAR(polygon_area(clean), polygon_area(part) - needle, 1e-9);
+  // A strip's tip of 2 degrees, 20 mm long, stays: its sides part 0.7 mm.
+  const double tip = 2 * std::numbers::pi / 180;
+  const Polygon2 strip = {{0, 0}, {20, 0}, {0, 20 * std::tan(tip)}};
+  EXPECT_EQ(without_needles(strip, 0.01).size(), 3u);
+  // So does a slit 0.02 mm wide (the widening of slits is the joints' business).
+  const Polygon2 slit = {{0, 0},    {10, 0},   {10, 10},   {5.01, 10},
+                         {5.01, 2}, {4.99, 2}, {4.99, 10}, {0, 10}};
+  EXPECT_EQ(without_needles(slit, 0.01).size(), slit.size());
+  // And one narrower than the width closes.
+  const Polygon2 crack = {{0, 0}, {10, 0}, {10, 10}, {5.001, 10}, {5, 2}, {4.999, 10}, {0, 10}};
+  EXPECT_NEAR(polygon_area(without_needles(crack, 0.01)), 100, 1e-9);
 }
 
 TEST(PolygonOps, GridCellsGiveTheExactAreaAndStrictlySimpleRings) {

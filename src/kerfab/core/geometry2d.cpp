@@ -1,6 +1,7 @@
 #include "kerfab/core/geometry2d.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace kerfab {
@@ -76,6 +77,38 @@ Polygon2 largest_polygon(const std::vector<Polygon2>& polygons) {
 StripFrame::StripFrame(const std::vector<Vec2>& points, int faces)
     : x(points), n(faces), s(faces + 1, 0.0) {
   for (int i = 0; i < n; ++i) s[i + 1] = s[i] + (mid(i + 1) - mid(i)).norm();
+}
+
+Polygon2 without_needles(Polygon2 ring, double width) {
+  auto needle = [width](const Vec2& a, const Vec2& b, const Vec2& c) {
+    const Vec2 u = b - a, w = c - b, v = c - a;
+    if (u.dot(w) >= 0) return false;  // turns by a right angle or less
+    const double longest = std::sqrt(std::max({u.squaredNorm(), w.squaredNorm(), v.squaredNorm()}));
+    return std::abs(cross2(u, v)) < width * longest;
+  };
+  // A stack walk: a needle's tip goes, then the vertex before it is looked at again as a tip.
+  Polygon2 kept;
+  kept.reserve(ring.size());
+  for (int pass = 0; pass < 2 && ring.size() >= 3; ++pass) {  // the second sees across the seam
+    kept.clear();
+    for (const Vec2& p : ring) {
+      kept.push_back(p);
+      while (kept.size() >= 3 && needle(kept[kept.size() - 3], kept[kept.size() - 2], kept.back()))
+        kept.erase(kept.end() - 2);
+    }
+    bool more = true;
+    while (more && kept.size() >= 3) {
+      more = false;
+      if (needle(kept[kept.size() - 2], kept.back(), kept.front())) kept.pop_back(), more = true;
+      if (kept.size() >= 3 && needle(kept.back(), kept[0], kept[1]))
+        kept.erase(kept.begin()), more = true;
+    }
+    const bool same = kept.size() == ring.size();
+    ring.swap(kept);
+    if (same) break;
+  }
+  if (ring.size() < 3) ring.clear();
+  return ring;
 }
 
 int StripFrame::face_at(double at) const {

@@ -38,6 +38,14 @@ double distance_to_boundary(const Vec2& p, const Polygon2& polygon);
 /// empty polygon if none has a positive area.
 Polygon2 largest_polygon(const std::vector<Polygon2>& polygons);
 
+/// \p ring without needles narrower than \p width [mm] anywhere along them: a vertex where the
+/// ring turns back by more than a right angle goes when the triangle it spans with its
+/// neighbours is nowhere that wide (its smallest height is below \p width), and its neighbours
+/// are then looked at again. Booleans leave such needles where the sides of the polygons they
+/// combine nearly coincide; grown by half the kerf, each becomes a hair of material as wide as
+/// the beam. A sharp corner whose sides part wider than \p width stays.
+Polygon2 without_needles(Polygon2 ring, double width);
+
 /// A flattened patch seen along its length: the strip coordinate is the arc length through the
 /// rulings' midpoints (shared by the kerf cuts and the labels placed between them).
 struct StripFrame {

@@ -35,6 +35,10 @@ constexpr double kMateReach = 0.2;
 /// Candidate teeth drawn per short border at most once the bands are left behind (with 8, one
 /// 3.1 mm border of the demo found none: its first candidates reach 0.26-0.47 mm into its mate).
 constexpr int kStubDrawings = 16;
+/// Needles of material narrower than this along all their length are taken off an outline:
+/// nothing a cutter makes is that thin, and grown by half the kerf each would become a hair as
+/// wide as the beam [mm].
+constexpr double kNeedleWidth = 0.01;
 
 class Builder {
  public:
@@ -1084,8 +1088,13 @@ class Builder {
             lost.push_back(c);
     }
     // Pinches closed: a cavity joined to the outside only through a slit of zero width (where a
-    // widened slit stopped at a tooth) would be skipped by the laser path around the part.
-    part.designed = largest_polygon(polygon_offset(polygon_offset({largest_polygon(left)}, 1e-3), -1e-3));
+    // widened slit stopped at a tooth) would be skipped by the laser path around the part. And
+    // needles taken off: where a slot's cut-back and the wedge beside it nearly share a side,
+    // the Booleans left needles of material 3 um at the base and 1.6 mm long (the capped
+    // cylinder: three), which the kerf offset below grew into hairs as wide as the beam.
+    part.designed = without_needles(
+        largest_polygon(polygon_offset(polygon_offset({largest_polygon(left)}, 1e-3), -1e-3)),
+        kNeedleWidth);
     part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
     return part;
   }
