@@ -1093,16 +1093,10 @@ class Builder {
     // the Booleans left needles of material 3 um at the base and 1.6 mm long (the capped
     // cylinder: three), which the kerf offset below grew into hairs as wide as the beam.
     part.designed = without_needles(
-        largest_polygon(polygon_offset(
-            polygon_offset({without_hanging_corners(largest_polygon(left))}, 1e-3), -1e-3)),
+        largest_polygon(polygon_offset(polygon_offset({largest_polygon(left)}, 1e-3), -1e-3)),
         kNeedleWidth);
     part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
     return part;
-  }
-
-  Polygon2 without_hanging_corners(const Polygon2& outline) const {
-    return kerfab::without_hanging_corners(outline, o_.min_feature,
-                                           o_.tooth_width * o_.tooth_width);
   }
 
   /// How far the vertices of \p piece reach away from the boundary of \p region [mm].
@@ -1236,38 +1230,6 @@ std::string BorderJoint::kind() const {
   for (const JointInterval& in : intervals)
     box |= in.kind == JointKind::kBox, tab |= in.kind == JointKind::kTab;
   return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : glue > 0 ? "glue" : "none";
-}
-
-Polygon2 without_hanging_corners(const Polygon2& outline, double min_feature, double largest) {
-  const double r = 0.5 * min_feature;
-  if (outline.size() < 3 || !(r > 0)) return outline;
-  std::vector<Polygon2> eroded;
-  for (auto& c : polygon_offset({outline}, -r))
-    if (polygon_area(c) > 1e-6) eroded.push_back(std::move(c));
-  if (eroded.size() < 2) return outline;
-  std::vector<Polygon2> rest, hanging;
-  for (const Polygon2& c : eroded) {
-    auto grown = polygon_offset({c}, r);
-    double area = 0;
-    for (const auto& g : grown) area += polygon_area(g);
-    auto& into = area <= largest ? hanging : rest;
-    into.insert(into.end(), grown.begin(), grown.end());
-  }
-  if (hanging.empty() || rest.empty()) return outline;
-  std::vector<Polygon2> remove;
-  for (auto& piece : polygon_difference({outline}, rest)) {
-    if (!(polygon_area(piece) > 0)) continue;
-    bool holds = false;  // a hanging piece's disc centres lie in it
-    for (const Polygon2& c : eroded)
-      for (const Vec2& v : c)
-        if (inside(v, piece) && !inside(v, rest)) holds = true;
-    if (holds) remove.push_back(std::move(piece));
-  }
-  if (remove.empty()) return outline;
-  for (auto& poly : remove) make_counter_clockwise(poly);
-  const Polygon2 kept =
-      largest_polygon(polygon_difference({outline}, polygon_offset(remove, 1e-4)));
-  return kept.size() >= 3 ? kept : outline;
 }
 
 double plain_offset(double fold, double thickness) {
