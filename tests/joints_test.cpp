@@ -753,6 +753,43 @@ TEST(Joints, AMemoOfOutlinesChangesNothing) {
   }
 }
 
+TEST(Joints, ASmallPieceOnAShortThinNeckIsCutOffAndALargerOneKept) {
+  // A 10 x 10 mm body with a triangle of 1.5 mm2 on a neck 0.2 mm wide and 0.2 mm long (the
+  // shape of amo_quad's strip tip between two mitres): an opening by half the 1 mm smallest
+  // feature closes over the neck, the erosion falls in two. The triangle and the neck go.
+  auto body_with = [](double tip_w, double tip_h) {
+    return Polygon2{{0, 0},
+                    {10, 0},
+                    {10, 10},
+                    {5.1, 10},
+                    {5.1, 10.2},
+                    {5 + 0.5 * tip_w, 10.2},
+                    {5, 10.2 + tip_h},
+                    {5 - 0.5 * tip_w, 10.2},
+                    {4.9, 10.2},
+                    {4.9, 10},
+                    {0, 10}};
+  };
+  const Polygon2 tip = body_with(1.6, 1.875);  // 1.5 mm2, its inscribed circle 0.51 mm
+  const Polygon2 cut = without_hanging_corners(tip, {}, 1.0, 9.0);
+  EXPECT_NEAR(polygon_area(cut), 100.0, 0.05);  // the body, give or take the neck's root
+  double highest = 0;
+  for (const Vec2& v : cut) highest = std::max(highest, v.y());
+  EXPECT_LT(highest, 10.1) << "the tip still hangs on its neck";
+  // A tooth hanging there stays, neck and all: cut off, it would leave its mate's slot empty
+  // (thin_necks() makes such joints plain instead).
+  const Polygon2 tooth = {{4.2, 10.2}, {5.8, 10.2}, {5.8, 11.4}, {4.2, 11.4}};
+  EXPECT_NEAR(polygon_area(without_hanging_corners(tip, {tooth}, 1.0, 9.0)), polygon_area(tip),
+              1e-9);
+  // A lobe of 16 mm2 on the same neck is larger than a square tooth: kept whole.
+  const Polygon2 lobe = body_with(4, 8);
+  EXPECT_NEAR(polygon_area(without_hanging_corners(lobe, {}, 1.0, 9.0)), polygon_area(lobe), 1e-9);
+  // A neck as wide as the smallest feature is no neck.
+  const Polygon2 wide = {{0, 0},    {10, 0},   {10, 10},    {5.6, 10}, {5.6, 10.2}, {6, 10.2},
+                         {5, 12.5}, {4, 10.2}, {4.4, 10.2}, {4.4, 10}, {0, 10}};
+  EXPECT_NEAR(polygon_area(without_hanging_corners(wide, {}, 1.0, 9.0)), polygon_area(wide), 1e-9);
+}
+
 TEST(Joints, RejectsBadOptions) {
   const Case c = folded_sheet(90);
   Material thin;

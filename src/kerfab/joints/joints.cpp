@@ -119,6 +119,18 @@ class Builder {
     }
     give_stubs_a_tooth(forbidden);
     widen_thin_necks(forbidden);
+    // Last, with every joint settled: corners hanging on a short neck go (never a tooth). Done
+    // while drawing, it changed which stub teeth fit (one of the demo's short borders lost its
+    // joint: the tooth would have hung on the neck the cut corner had shared).
+    std::vector<int> every(out_.parts.size());
+    for (std::size_t p = 0; p < every.size(); ++p) every[p] = static_cast<int>(p);
+    for_each_of(every, [&](int p) {
+      PartOutline& part = out_.parts[p];
+      Polygon2 trimmed = without_hanging_corners(part.designed, part.spans);
+      if (trimmed == part.designed) return;
+      part.designed = without_needles(std::move(trimmed), kNeedleWidth);
+      part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
+    });
     for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
     for (std::size_t b = 0; b < out_.borders.size(); ++b) {
       std::vector<TabFlare> flares;
@@ -1099,6 +1111,18 @@ class Builder {
     return part;
   }
 
+  Polygon2 without_hanging_corners(const Polygon2& outline,
+                                   const std::vector<JointSpan>& spans) const {
+    std::vector<Polygon2> teeth;
+    for (const JointSpan& sp : spans)
+      if (sp.tooth && sp.region.size() >= 3) {
+        teeth.push_back(sp.region);
+        make_counter_clockwise(teeth.back());
+      }
+    return kerfab::without_hanging_corners(outline, teeth, o_.min_feature,
+                                           o_.tooth_width * o_.tooth_width);
+  }
+
   /// How far the vertices of \p piece reach away from the boundary of \p region [mm].
   static double reach(const Polygon2& piece, const std::vector<Polygon2>& region) {
     double far = 0;
@@ -1230,6 +1254,56 @@ std::string BorderJoint::kind() const {
   for (const JointInterval& in : intervals)
     box |= in.kind == JointKind::kBox, tab |= in.kind == JointKind::kTab;
   return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : glue > 0 ? "glue" : "none";
+}
+
+Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Polygon2>& teeth,
+                                 double min_feature, double largest) {
+  // 10 um under half the smallest feature: a neck exactly that wide is none (and two slots
+  // from both sides of a 4 mm strip leave exactly 1 mm between them).
+  const double r = 0.5 * min_feature - 0.01;
+  if (outline.size() < 3 || !(r > 0)) return outline;
+  std::vector<Polygon2> eroded;
+  for (auto& c : polygon_offset({outline}, -r))
+    if (polygon_area(c) > 1e-6) eroded.push_back(std::move(c));
+  if (eroded.size() < 2) return outline;
+  std::vector<Polygon2> rest;
+  std::vector<bool> small(eroded.size());
+  for (std::size_t i = 0; i < eroded.size(); ++i) {
+    auto grown = polygon_offset({eroded[i]}, r);
+    double area = 0;
+    for (const auto& g : grown) area += polygon_area(g);
+    small[i] = area <= largest;
+    if (!small[i]) rest.insert(rest.end(), grown.begin(), grown.end());
+  }
+  if (rest.empty()) return outline;
+  Polygon2 kept = outline;
+  for (auto& piece : polygon_difference({outline}, rest)) {
+    if (!(polygon_area(piece) > 0) || polygon_area(piece) > largest) continue;
+    bool holds = false;  // a small component's disc centres lie in it
+    for (std::size_t i = 0; i < eroded.size() && !holds; ++i)
+      if (small[i])
+        for (const Vec2& v : eroded[i])
+          if (inside(v, piece)) holds = true;
+    if (!holds) continue;
+    // A piece with any of a tooth in it (more than 0.01 mm2) stays, neck and all: cut, the
+    // tooth would no longer fill its mate's slot. Making such joints plain is thin_necks()'
+    // business.
+    bool tooth = false;
+    for (const Polygon2& t : teeth) {
+      double in = 0;
+      for (const auto& c : polygon_intersection(t, piece)) in += std::abs(polygon_area(c));
+      if (in > 0.01) tooth = true;
+    }
+    if (tooth) continue;
+    // Only what hangs at one end goes: a piece between two larger ones is a link of the part,
+    // and taking it would cut the part in two.
+    make_counter_clockwise(piece);
+    std::vector<Polygon2> left;
+    for (auto& c : polygon_difference({kept}, polygon_offset({piece}, 1e-4)))
+      if (polygon_area(c) > 1e-3) left.push_back(std::move(c));
+    if (left.size() == 1) kept = std::move(left.front());
+  }
+  return kept.size() >= 3 ? kept : outline;
 }
 
 double plain_offset(double fold, double thickness) {

@@ -186,6 +186,17 @@ inline constexpr double kMaxJointFold = 170.0 * M_PI / 180.0;
 
 /// Offset of both parts where a border has no teeth: the edges meet at the inner mitre point,
 /// -h/2 tan(min(|fold|, kMaxJointFold)/2) [mm]; never overlapping.
+/// \p outline without the small pieces that hang at one end of a short neck narrower than
+/// \p min_feature [mm]: the erosion by half that width (less 10 um) falls in two there, though an
+/// opening closes over the neck (the discs on both sides overlap across it). A piece no larger
+/// than \p largest [mm2] goes with its neck, since it would break off (amo_quad: a strip's tip
+/// of 1.5 mm2 on a neck 0.18 mm wide and as long, left between the mitres of two sharp folds),
+/// unless it holds any of one of \p teeth (counter-clockwise regions; more than 0.01 mm2) or
+/// taking it would cut the part in two. What goes is what the discs inside the rest of the part
+/// cannot reach.
+Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Polygon2>& teeth,
+                                 double min_feature, double largest);
+
 double plain_offset(double fold, double thickness);
 
 }  // namespace kerfab
