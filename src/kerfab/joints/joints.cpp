@@ -122,14 +122,11 @@ class Builder {
     // Last, with every joint settled: corners hanging on a short neck go (never a tooth). Done
     // while drawing, it changed which stub teeth fit (one of the demo's short borders lost its
     // joint: the tooth would have hung on the neck the cut corner had shared).
-    std::vector<int> every(out_.parts.size());
-    for (std::size_t p = 0; p < every.size(); ++p) every[p] = static_cast<int>(p);
-    for_each_of(every, [&](int p) {
+    for_each_of(std::vector<int>(all.begin(), all.end()), [&](int p) {
       PartOutline& part = out_.parts[p];
-      Polygon2 trimmed = without_hanging_corners(part.designed, part.spans);
-      if (trimmed == part.designed) return;
-      part.designed = without_needles(std::move(trimmed), kNeedleWidth);
-      part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
+      Polygon2 trimmed = without_hanging_corners(part.designed, tooth_regions(part.spans),
+                                                 o_.min_feature, o_.tooth_width * o_.tooth_width);
+      if (trimmed != part.designed) set_outline(part, std::move(trimmed));
     });
     for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
     for (std::size_t b = 0; b < out_.borders.size(); ++b) {
@@ -1104,23 +1101,27 @@ class Builder {
     // needles taken off: where a slot's cut-back and the wedge beside it nearly share a side,
     // the Booleans left needles of material 3 um at the base and 1.6 mm long (the capped
     // cylinder: three), which the kerf offset below grew into hairs as wide as the beam.
-    part.designed = without_needles(
-        largest_polygon(polygon_offset(polygon_offset({largest_polygon(left)}, 1e-3), -1e-3)),
-        kNeedleWidth);
-    part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
+    set_outline(part, largest_polygon(
+                          polygon_offset(polygon_offset({largest_polygon(left)}, 1e-3), -1e-3)));
     return part;
   }
 
-  Polygon2 without_hanging_corners(const Polygon2& outline,
-                                   const std::vector<JointSpan>& spans) const {
+  /// The tooth regions of \p spans, counter-clockwise.
+  static std::vector<Polygon2> tooth_regions(const std::vector<JointSpan>& spans) {
     std::vector<Polygon2> teeth;
     for (const JointSpan& sp : spans)
       if (sp.tooth && sp.region.size() >= 3) {
         teeth.push_back(sp.region);
         make_counter_clockwise(teeth.back());
       }
-    return kerfab::without_hanging_corners(outline, teeth, o_.min_feature,
-                                           o_.tooth_width * o_.tooth_width);
+    return teeth;
+  }
+
+  /// \p part's outline set to \p designed without needles, and the laser path half the kerf
+  /// outside it.
+  void set_outline(PartOutline& part, Polygon2 designed) const {
+    part.designed = without_needles(std::move(designed), kNeedleWidth);
+    part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
   }
 
   /// How far the vertices of \p piece reach away from the boundary of \p region [mm].
@@ -1173,12 +1174,7 @@ class Builder {
     if (outline.size() < 3 || !(r > 0)) return {outline};
     const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
     if (opened.empty()) return {outline};  // narrower than a feature everywhere: reported as such
-    std::vector<Polygon2> teeth;
-    for (const JointSpan& sp : spans)
-      if (sp.tooth && sp.region.size() >= 3) {
-        teeth.push_back(sp.region);
-        make_counter_clockwise(teeth.back());
-      }
+    const std::vector<Polygon2> teeth = tooth_regions(spans);
     // Tails: what the opening takes away, except tooth material.
     auto tails = [&](const Polygon2& shape, const std::vector<Polygon2>& opened_shape) {
       std::vector<Polygon2> out;

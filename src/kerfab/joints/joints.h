@@ -184,8 +184,6 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
 /// growing without bound; at 170 degrees it is h/2 tan(85 deg) = 5.7 h.
 inline constexpr double kMaxJointFold = 170.0 * M_PI / 180.0;
 
-/// Offset of both parts where a border has no teeth: the edges meet at the inner mitre point,
-/// -h/2 tan(min(|fold|, kMaxJointFold)/2) [mm]; never overlapping.
 /// \p outline without the small pieces that hang at one end of a short neck narrower than
 /// \p min_feature [mm]: the erosion by half that width (less 10 um) falls in two there, though an
 /// opening closes over the neck (the discs on both sides overlap across it). A piece no larger
@@ -197,6 +195,8 @@ inline constexpr double kMaxJointFold = 170.0 * M_PI / 180.0;
 Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Polygon2>& teeth,
                                  double min_feature, double largest);
 
+/// Offset of both parts where a border has no teeth: the edges meet at the inner mitre point,
+/// -h/2 tan(min(|fold|, kMaxJointFold)/2) [mm]; never overlapping.
 double plain_offset(double fold, double thickness);
 
 }  // namespace kerfab
