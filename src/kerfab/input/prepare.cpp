@@ -167,6 +167,48 @@ std::optional<PolyMesh> merged_without(const PolyMesh& mesh, int drop, int from,
   return out;
 }
 
+/// \p mesh with the two quads around inner vertex \p v merged into one (a doublet: \p v has
+/// valence 2, so the quads share both its edges and each has a corner of about 180 degrees
+/// there, or they fold back onto each other). Quads (v, a, x, b) and (v, b, y, a) become
+/// (a, x, b, y) in the place of the first; \p v stays, isolated, so every vertex keeps its
+/// number. \p second: the face dropped. Empty if \p v is no such vertex, or the merged quad has
+/// no area or leaves the mesh non-manifold.
+std::optional<PolyMesh> without_doublet(const PolyMesh& mesh, OpenMesh::VertexHandle v,
+                                        double min_area, int& second) {
+  if (mesh.is_boundary(v) || mesh.valence(v) != 2) return std::nullopt;
+  std::vector<OpenMesh::FaceHandle> around;
+  for (auto f : mesh.vf_range(v)) around.push_back(f);
+  if (around.size() != 2 || around[0] == around[1] || mesh.valence(around[0]) != 4 ||
+      mesh.valence(around[1]) != 4)
+    return std::nullopt;
+  auto from_v = [&](OpenMesh::FaceHandle f) {  // corners of f starting at v
+    const auto c = quad_vertices(mesh, f);
+    const int at = static_cast<int>(std::find(c.begin(), c.end(), v.idx()) - c.begin());
+    return std::array<int, 4>{c[at % 4], c[(at + 1) % 4], c[(at + 2) % 4], c[(at + 3) % 4]};
+  };
+  const auto p = from_v(around[0]), q = from_v(around[1]);
+  if (q[1] != p[3] || q[3] != p[1] || p[2] == q[2]) return std::nullopt;
+  const std::array<int, 4> quad{p[1], p[2], p[3], q[2]};
+  PolyMesh out;
+  std::vector<OpenMesh::VertexHandle> handle(mesh.n_vertices());
+  for (auto u : mesh.vertices()) handle[u.idx()] = out.add_vertex(mesh.point(u));
+  for (auto f : mesh.faces()) {
+    if (f == around[1]) continue;
+    std::vector<OpenMesh::VertexHandle> corners;
+    if (f == around[0])
+      for (int c : quad) corners.push_back(handle[c]);
+    else
+      for (auto u : mesh.fv_range(f)) corners.push_back(handle[u.idx()]);
+    const auto added = out.add_face(corners);
+    if (!added.is_valid()) return std::nullopt;
+    if (f == around[0] && face_area(out, added) <= min_area) return std::nullopt;
+  }
+  for (auto u : out.vertices())
+    if (!out.is_isolated(u) && !out.is_manifold(u)) return std::nullopt;
+  second = around[1].idx();
+  return out;
+}
+
 /// Collapses tried at most: each rebuilds the mesh, so a mesh folded all over (22,500 quads with
 /// 2,500 darts took 47 s) is not a remesher's stray fault to repair one by one.
 constexpr int kMaxFoldedRepairs = 64;
@@ -178,6 +220,7 @@ bool folded_back(const PolyMesh& mesh, const std::array<int, 4>& c) {
 
 struct FoldedQuads {
   std::vector<int> collapsed;  ///< numbered as in the file
+  std::vector<int> doublets;   ///< the inner vertices of two quads the collapses left, removed
   int left = 0;                ///< still folded back
 };
 
@@ -185,7 +228,11 @@ struct FoldedQuads {
 /// two other corners, on the same side of that diagonal, become one vertex at their midpoint,
 /// the quad goes and its two pairs of sides become two edges (as for a doublet; the surface
 /// keeps its Euler characteristic). A collapse that would leave the mesh non-manifold is not
-/// made, nor any beyond kMaxFoldedRepairs tries. \p dropped: the faces of the file already gone
+/// made, nor any beyond kMaxFoldedRepairs tries. A collapse takes a side from each corner on the
+/// folded diagonal: a corner left with two quads (a doublet, the two folded back onto each other
+/// at a sharp edge: fandisk_qf800's parts 178 and 179 were single quads of 22 mm^2 there, too
+/// small for any part and folded 177 degrees against their neighbour) has the two merged into
+/// one (without_doublet), within the same limit. \p dropped: the faces of the file already gone
 /// (sorted).
 FoldedQuads collapse_folded_quads(PolyMesh& mesh, const std::vector<int>& dropped) {
   std::vector<int> original;  // face of \p mesh as it is now -> in the file
@@ -199,8 +246,24 @@ FoldedQuads collapse_folded_quads(PolyMesh& mesh, const std::vector<int>& droppe
   FoldedQuads out;
   std::set<int> refused;  // as in the file
   int tries = 0;
+  const double diag = bounding_box(mesh).diagonal();
+  const double min_area = kZeroArea * diag * diag;
   for (bool again = true; again && tries < kMaxFoldedRepairs;) {
     again = false;
+    if (!out.collapsed.empty())  // only collapses make doublets here (none in the file stays)
+      for (auto v : mesh.vertices()) {
+        int second = -1;
+        if (mesh.valence(v) != 2) continue;
+        std::optional<PolyMesh> merged = without_doublet(mesh, v, min_area, second);
+        if (!merged) continue;
+        if (++tries > kMaxFoldedRepairs) break;
+        out.doublets.push_back(v.idx());
+        original.erase(original.begin() + second);
+        mesh = std::move(*merged);
+        again = true;
+        break;
+      }
+    if (again) continue;
     for (auto f : mesh.faces()) {
       if (mesh.valence(f) != 4 || refused.count(original[f.idx()])) continue;
       const auto c = quad_vertices(mesh, f);
@@ -306,6 +369,16 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
       for (std::size_t i = 0; i < folded.size() && i < 8; ++i) w << " " << folded[i];
       w << (folded.size() > 8 ? " ..." : "")
         << ") collapsed: the two corners off that diagonal merged at their midpoint";
+      warnings.push_back(w.str());
+    }
+    if (!darts.doublets.empty()) {
+      std::ostringstream w;
+      w << "quad mesh: " << darts.doublets.size() << " vert"
+        << (darts.doublets.size() > 1 ? "ices" : "ex")
+        << " left with two quads by those collapses (vertex";
+      for (std::size_t i = 0; i < darts.doublets.size() && i < 8; ++i)
+        w << " " << darts.doublets[i];
+      w << (darts.doublets.size() > 8 ? " ..." : "") << "): the two quads merged into one";
       warnings.push_back(w.str());
     }
     if (darts.left > 0)
