@@ -234,11 +234,15 @@ TEST(Quads, RealMeshesBecomeSoundQuadMeshesOfTheSameTopology) {
 }
 
 // Sharp features on quad edges, measured here: fandisk's edges folding more than 60 degrees
-// (3.2 m at 250 mm), each counted where a quad edge running within 15 degrees of it passes
-// within a tenth of the quad size of its middle (a chord of a curved feature line sags by
-// up to 5 % of the quad size). 86.8 % here (91.6 % in a CLI run at --size 250) since the pure
-// lattice is kept for its features; the split lattice of twice the spacing, taken before for
-// its fewer irregular vertices, merged lines closer than it: 56 % in that CLI run.
+// (3.2 m at 250 mm), each counted where a quad edge running within 15 degrees of it, with both
+// ends on a sharp edge (within 1 um), passes within a tenth of the quad size of its middle (a
+// chord of a curved feature line sags by up to 5 % of the quad size). 91.0 % here (92.7 % in a
+// CLI run at --size 250) since the corners near a sharp edge are moved onto it (CLI: 24.5 %
+// before; the lattice's corners lay 0.1-4 mm off the target's edges, so quads folded across the
+// edge beside them; a quad edge merely within a tenth of the quad size, wherever its ends:
+// 86.8 % here, 91.6 % in the CLI run). What is left: places where no row of quad edges follows
+// the edge (a feature line ending, or a row leaving it towards a corner 6-8 mm off).
+// The stage's own measure (middles within 2 % of the quad size) is reported, not trusted here.
 TEST(Quads, FandisksSharpEdgesLieOnQuadEdges) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
   TriangleMesh t = triangulate(read_mesh(test::shared_meshes() / "fandisk.obj"));
@@ -255,18 +259,32 @@ TEST(Quads, FandisksSharpEdgesLieOnQuadEdges) {
     return Vec3((t.vertices[tr[1]] - t.vertices[tr[0]]).cross(t.vertices[tr[2]] - t.vertices[tr[0]]))
         .normalized();
   };
+  std::vector<std::pair<Vec3, Vec3>> sharp;
+  for (const auto& [e, fs] : faces_of)
+    if (fs.size() == 2 &&
+        std::acos(std::clamp(normal(fs[0]).dot(normal(fs[1])), -1.0, 1.0)) >= 60 * kPi / 180)
+      sharp.push_back({t.vertices[e.first], t.vertices[e.second]});
+  auto off_sharp = [&](const Vec3& p) {
+    double d = 1e300;
+    for (const auto& [a, b] : sharp) {
+      const Vec3 ab = b - a;
+      d = std::min(d,
+                   (a + std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0) * ab - p).norm());
+    }
+    return d;
+  };
+  std::vector<char> on_sharp(r.quads.n_vertices());
+  for (auto v : r.quads.vertices())
+    on_sharp[v.idx()] = off_sharp(to_eigen(r.quads.point(v))) < 1e-3;
   double total = 0, on = 0;
-  for (const auto& [e, fs] : faces_of) {
-    if (fs.size() != 2 || std::acos(std::clamp(normal(fs[0]).dot(normal(fs[1])), -1.0, 1.0)) <
-                              60 * kPi / 180)
-      continue;
-    const Vec3 a = t.vertices[e.first], b = t.vertices[e.second];
+  for (const auto& [a, b] : sharp) {
     const Vec3 mid = 0.5 * (a + b), dir = (b - a).normalized();
     total += (b - a).norm();
     for (auto qe : r.quads.edges()) {
       const auto h = r.quads.halfedge_handle(qe, 0);
-      const Vec3 p = to_eigen(r.quads.point(r.quads.from_vertex_handle(h)));
-      const Vec3 q = to_eigen(r.quads.point(r.quads.to_vertex_handle(h)));
+      const auto from = r.quads.from_vertex_handle(h), to = r.quads.to_vertex_handle(h);
+      if (!on_sharp[from.idx()] || !on_sharp[to.idx()]) continue;
+      const Vec3 p = to_eigen(r.quads.point(from)), q = to_eigen(r.quads.point(to));
       const Vec3 d = q - p;
       const double s = std::clamp((mid - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
       if ((p + s * d - mid).norm() < 0.1 * r.size.size &&
@@ -277,7 +295,7 @@ TEST(Quads, FandisksSharpEdgesLieOnQuadEdges) {
     }
   }
   EXPECT_GT(total, 3000.0);
-  EXPECT_GT(on / total, 0.85) << on << " of " << total << " mm";
+  EXPECT_GT(on / total, 0.9) << on << " of " << total << " mm";
 }
 
 // Polished quads: on Spot's triangle mesh (bundled) every corner lies between 20 and 160
