@@ -19,6 +19,10 @@ using border::Side;
 // merely touching after rounding [mm].
 constexpr double kOverlap = 1e-3;
 
+/// The share of the glued length a placement with the bare stubs first may give up and still
+/// be kept [-].
+constexpr double kStubGlueLoss = 0.02;
+
 Polygon2 ccw(Polygon2 p) {
   make_counter_clockwise(p);
   return p;
@@ -116,8 +120,15 @@ struct Tab {
 
 class GlueBuilder {
  public:
-  GlueBuilder(const Strips& s, const Flattening& f, const Machine& machine, const JointOptions& o)
-      : s_(s), f_(f), kerf_width_(machine.kerf_width), o_(o), bp_(border::make_pieces(s, f)) {}
+  /// \p first: borders to place before all others (in this order).
+  GlueBuilder(const Strips& s, const Flattening& f, const Machine& machine, const JointOptions& o,
+              std::vector<int> first = {})
+      : s_(s),
+        f_(f),
+        kerf_width_(machine.kerf_width),
+        o_(o),
+        bp_(border::make_pieces(s, f)),
+        first_(std::move(first)) {}
 
   Joints run() {
     const std::size_t parts = bp_.rings.size();
@@ -143,6 +154,14 @@ class GlueBuilder {
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
       return bp_.pieces[a].length > bp_.pieces[b].length;
     });
+    std::vector<char> early(bp_.pieces.size(), 0);
+    for (int i : first_) early[i] = 1;
+    std::stable_partition(order.begin(), order.end(), [&](int i) { return early[i] != 0; });
+    std::stable_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(first_.size()),
+                     [&](int a, int b) {
+                       return std::find(first_.begin(), first_.end(), a) <
+                              std::find(first_.begin(), first_.end(), b);
+                     });
     for (int i : order) place(i);
     for (std::size_t p = 0; p < parts; ++p) out_.parts.push_back(outline(static_cast<int>(p)));
     for (const BorderJoint& b : out_.borders) {
@@ -158,6 +177,7 @@ class GlueBuilder {
   const double kerf_width_;
   const JointOptions& o_;
   const border::Pieces bp_;
+  const std::vector<int> first_;
   std::vector<Polygon2> body_;                // per part: its flattened outline
   std::vector<std::vector<Polygon2>> inner_;  // per part: the body 2 um in (a tab's overlap)
   std::vector<std::vector<Polygon2>> room_;   // per part: the body kGlueTabGap in
@@ -462,7 +482,20 @@ class GlueBuilder {
 
 Joints make_glue_tabs(const Strips& strips, const Flattening& flat, const Machine& machine,
                       const JointOptions& options) {
-  return GlueBuilder(strips, flat, machine, options).run();
+  Joints out = GlueBuilder(strips, flat, machine, options).run();
+  // Short borders left without a tab (stubs where three parts meet: the tabs of the long
+  // borders beside them, placed first, took the room under their mates) go first once more;
+  // that placement is kept where it leaves fewer borders without a tab and keeps nearly all
+  // of the glued length (kStubGlueLoss).
+  std::vector<int> bare;
+  for (std::size_t i = 0; i < out.borders.size(); ++i)
+    if (out.borders[i].glue == 0 && out.borders[i].length > 0) bare.push_back(static_cast<int>(i));
+  if (bare.empty()) return out;
+  Joints again = GlueBuilder(strips, flat, machine, options, bare).run();
+  if (again.borders_without_joint < out.borders_without_joint &&
+      again.glue_length >= (1 - kStubGlueLoss) * out.glue_length)
+    return again;
+  return out;
 }
 
 }  // namespace kerfab
