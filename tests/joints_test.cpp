@@ -268,16 +268,24 @@ TEST(Joints, FoldAnglesAndOffsetsFollowTheSurface) {
   }
 }
 
+/// The strips of a real model with each patch whose flattening crosses itself split in two, as
+/// the pipeline does, and their flattening (\p f).
+Strips flattened_real_strips(const PreparedInput& p, Flattening& f) {
+  Strips s = test::real_strips(p);
+  f = flatten_patches(s, {});
+  for (std::size_t i = 0; i < f.patches.size(); ++i)
+    if (!f.patches[i].outline_simple)
+      s = split_patch(s, static_cast<int>(i), s.patches[i].quads.size() / 2);
+  f = flatten_patches(s, {});
+  return s;
+}
+
 TEST(Joints, RealMeshesHaveSoundOutlines) {
   for (const test::RealModel& model : {test::spot(), test::fandisk()}) {
     SCOPED_TRACE(model.target);
     const PreparedInput p = test::load(model);
-    Strips s = test::real_strips(p);
-    Flattening f = flatten_patches(s, {});
-    for (std::size_t i = 0; i < f.patches.size(); ++i)  // as the pipeline does
-      if (!f.patches[i].outline_simple)
-        s = split_patch(s, static_cast<int>(i), s.patches[i].quads.size() / 2);
-    f = flatten_patches(s, {});
+    Flattening f;
+    const Strips s = flattened_real_strips(p, f);
     const JointOptions o;
     const Joints j = make_joints(s, f, kMdf, kLaser, o);
     EXPECT_GT(j.teeth, 100);
@@ -971,12 +979,8 @@ TEST(Joints, PlatesPlaceFlatPointsIn3D) {
 // under 1 mm deep at the border's middle (no room under either; the tabs' gap is 1 mm).
 TEST(Joints, PaperStubsBlockedByTheirNeighboursTabsGetTheirTabsFirst) {
   const PreparedInput p = test::load({"spot_triangulated.obj", "spot_control_mesh.obj", 1, 200});
-  Strips s = test::real_strips(p);
-  Flattening f = flatten_patches(s, {});
-  for (std::size_t i = 0; i < f.patches.size(); ++i)  // as the pipeline does
-    if (!f.patches[i].outline_simple)
-      s = split_patch(s, static_cast<int>(i), s.patches[i].quads.size() / 2);
-  f = flatten_patches(s, {});
+  Flattening f;
+  const Strips s = flattened_real_strips(p, f);
   const Joints j = make_joints(s, f, kPaper, kLaser, {});
   std::vector<double> bare;
   for (const BorderJoint& b : j.borders)
