@@ -229,9 +229,12 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
       w << (changed > 0 ? " and " : "") << r.critical_after << " remain critical: their cuts keep "
         << kerf.min_cut_spacing << " mm but the bend overstresses the beams there (kerf.critical"
         << (r.time_limited ? "; the loop stopped at its time limit before it reached them)" : ")");
-    if (r.small_parts_after > 0)
+    if (r.small_parts_after > 0) {
       w << "; " << r.small_parts_after
         << " parts stay too small or narrow to handle (resolve.changes, \"unresolved\")";
+      if (r.small_parts_size_mm > r.current_size_mm + 0.5)
+        w << ", which would hold at --size " << std::ceil(r.small_parts_size_mm);
+    }
     if (r.min_size_mm > r.current_size_mm + 0.5) {
       w << "; the tightest bends would need no change at --size " << std::ceil(r.min_size_mm);
       for (const MaterialSize& m : r.materials)

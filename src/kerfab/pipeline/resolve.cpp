@@ -10,6 +10,7 @@
 
 #include "kerfab/adapters/polygon_ops.h"
 #include "kerfab/core/errors.h"
+#include "kerfab/flatten/flatten.h"
 #include "kerfab/joints/tooth_offsets.h"
 
 namespace kerfab {
@@ -365,15 +366,32 @@ class Resolver {
                                                      flat.max_angle_error * 180 / M_PI)) +
                                                  " deg off its 3D angle")
             << " (its corners are shared with facets at other angles)";
-      } else {
+      }
+      double size_factor = area > 0 ? std::max(1.0, std::sqrt(r_.min_part_area / area)) : 0.0;
+      if (!bent_facet(build_, p, max_angle)) {
         why << "part " << p << " is too small to handle (" << area << " mm^2 as cut";
         if (build_.joints.parts[p].repaired) why << ", falls apart at its slots";
+        // Its joints cut it back from its borders by a depth that does not grow with the
+        // model: at its sharpest fold the most. It holds where it is that deep plus half the
+        // narrowest part a maker can handle across (its inscribed circle's radius).
+        const CutBack cut = deepest_cut_back(p);
+        const double across = inscribed_radius(flat_outline(strips(), build_.flat.flattening, p));
+        if (cut.depth > 0 && across > 0) {
+          const double hold = (cut.depth + 0.5 * r_.min_part_width) / across;
+          why << "; its joints cut it back up to " << cut.depth << " mm (beside part " << cut.other
+              << ") and it is " << 2 * across << " mm across";
+          if (cut.fold > 5 * M_PI / 6)
+            why << ", folded back " << std::lround(cut.fold * 180 / M_PI)
+                << " deg onto that part: the shape is thinner there than the sheets";
+          size_factor = std::max(size_factor, hold);
+        }
         why << (out_.time_limited ? "; left when the loop reached its time limit)"
                                   : "; no flat plate around it is big enough)");
       }
       c.reason = why.str();
-      c.size_factor =
-          area > 0 ? std::max(1.0, std::sqrt(r_.min_part_area / area)) : 0.0;  // 0: unknown
+      c.size_factor = size_factor;  // 0: unknown
+      out_.small_parts_size_mm =
+          std::max(out_.small_parts_size_mm, size_factor * out_.current_size_mm);
       ++out_.small_parts_after;
     }
     out_.seconds = elapsed();
@@ -400,6 +418,41 @@ class Resolver {
   // cuts placed once.
   PartsMemo own_memo_;
   PartsMemo& memo_;
+
+  struct CutBack {
+    double depth = 0;  ///< [mm]
+    double fold = 0;   ///< [rad]
+    int other = kNone;
+  };
+
+  /// The deepest cut-back of part \p p from its borders by its joints (mitres and slots), the
+  /// fold in the middle of that stretch (its offsets are for the sharpest fold in it) and the
+  /// part across it.
+  CutBack deepest_cut_back(int p) const {
+    CutBack out;
+    for (const BorderJoint& b : build_.joints.borders) {
+      if (b.patches[0] != p && b.patches[1] != p) continue;
+      for (const JointInterval& in : b.intervals) {
+        const double depth = std::max(-in.plain, -in.offsets.slot);
+        if (depth > out.depth)
+          out = {depth, std::abs(in.fold), b.patches[0] == p ? b.patches[1] : b.patches[0]};
+      }
+    }
+    return out;
+  }
+
+  /// The radius of the largest circle inside \p outline, to 1 % [mm].
+  static double inscribed_radius(const std::vector<Vec2>& outline) {
+    if (outline.size() < 3) return 0;
+    Polygon2 poly(outline.begin(), outline.end());
+    make_counter_clockwise(poly);
+    double lo = 0, hi = std::sqrt(std::abs(polygon_area(poly)) / M_PI) + 1e-9;
+    while (hi - lo > 0.01 * hi) {
+      const double mid = 0.5 * (lo + hi);
+      (polygon_offset({poly}, -mid).empty() ? hi : lo) = mid;
+    }
+    return lo;
+  }
 
   /// True when one of \p quads was in a facet that flattened bent.
   template <class Quads>

@@ -90,6 +90,9 @@ struct ResolveResult {
   Guidance added;              ///< the guidance the loop added (stiff edges, splits, merges)
   double current_size_mm = 0;  ///< the model's largest bbox side as run [mm]
   double min_size_mm = 0;      ///< smallest size at which no region would need a change [mm]
+  /// Smallest size at which every part left too small or narrow would be one a maker can
+  /// handle, as far as known (the largest of their size factors) [mm]; 0: none, or unknown.
+  double small_parts_size_mm = 0;
   std::vector<MaterialSize> materials;  ///< the same per material preset, thinnest first
 };
 
