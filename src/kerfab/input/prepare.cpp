@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -144,26 +145,42 @@ double fold_across(const PolyMesh& mesh, const std::array<int, 4>& c, int k) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
+/// \p mesh rebuilt with each face's corners given by \p corners_of (none: the face goes); every
+/// vertex keeps its number and position. Empty if a face repeats a corner or cannot be added, or
+/// the result is not a manifold mesh.
+std::optional<PolyMesh> rebuilt(
+    const PolyMesh& mesh, const std::function<std::vector<int>(OpenMesh::FaceHandle)>& corners_of) {
+  PolyMesh out;
+  std::vector<OpenMesh::VertexHandle> handle(mesh.n_vertices());
+  for (auto v : mesh.vertices()) handle[v.idx()] = out.add_vertex(mesh.point(v));
+  for (auto f : mesh.faces()) {
+    const std::vector<int> c = corners_of(f);
+    if (c.empty()) continue;
+    std::vector<OpenMesh::VertexHandle> corners;
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      for (std::size_t j = i + 1; j < c.size(); ++j)
+        if (c[i] == c[j]) return std::nullopt;
+      corners.push_back(handle[c[i]]);
+    }
+    if (!out.add_face(corners).is_valid()) return std::nullopt;
+  }
+  for (auto v : out.vertices())
+    if (!out.is_isolated(v) && !out.is_manifold(v)) return std::nullopt;
+  return out;
+}
+
 /// \p mesh without face \p drop and with vertex \p from merged into \p into (which moves to
 /// \p at); every other vertex keeps its number (\p from stays, isolated). Empty if that is not
 /// a manifold mesh.
 std::optional<PolyMesh> merged_without(const PolyMesh& mesh, int drop, int from, int into,
                                        const OpenMesh::Vec3d& at) {
-  PolyMesh out;
-  std::vector<OpenMesh::VertexHandle> handle(mesh.n_vertices());
-  for (auto v : mesh.vertices()) handle[v.idx()] = out.add_vertex(mesh.point(v));
-  out.set_point(handle[into], at);
-  for (auto f : mesh.faces()) {
-    if (f.idx() == drop) continue;
-    std::vector<OpenMesh::VertexHandle> corners;
-    for (auto v : mesh.fv_range(f)) corners.push_back(handle[v.idx() == from ? into : v.idx()]);
-    for (std::size_t i = 0; i < corners.size(); ++i)
-      for (std::size_t j = i + 1; j < corners.size(); ++j)
-        if (corners[i] == corners[j]) return std::nullopt;
-    if (!out.add_face(corners).is_valid()) return std::nullopt;
-  }
-  for (auto v : out.vertices())
-    if (!out.is_isolated(v) && !out.is_manifold(v)) return std::nullopt;
+  std::optional<PolyMesh> out = rebuilt(mesh, [&](OpenMesh::FaceHandle f) {
+    std::vector<int> corners;
+    if (f.idx() != drop)
+      for (auto v : mesh.fv_range(f)) corners.push_back(v.idx() == from ? into : v.idx());
+    return corners;
+  });
+  if (out) out->set_point(out->vertex_handle(into), at);
   return out;
 }
 
@@ -187,24 +204,17 @@ std::optional<PolyMesh> without_doublet(const PolyMesh& mesh, OpenMesh::VertexHa
     return std::array<int, 4>{c[at % 4], c[(at + 1) % 4], c[(at + 2) % 4], c[(at + 3) % 4]};
   };
   const auto p = from_v(around[0]), q = from_v(around[1]);
-  if (q[1] != p[3] || q[3] != p[1] || p[2] == q[2]) return std::nullopt;
-  const std::array<int, 4> quad{p[1], p[2], p[3], q[2]};
-  PolyMesh out;
-  std::vector<OpenMesh::VertexHandle> handle(mesh.n_vertices());
-  for (auto u : mesh.vertices()) handle[u.idx()] = out.add_vertex(mesh.point(u));
-  for (auto f : mesh.faces()) {
-    if (f == around[1]) continue;
-    std::vector<OpenMesh::VertexHandle> corners;
-    if (f == around[0])
-      for (int c : quad) corners.push_back(handle[c]);
-    else
-      for (auto u : mesh.fv_range(f)) corners.push_back(handle[u.idx()]);
-    const auto added = out.add_face(corners);
-    if (!added.is_valid()) return std::nullopt;
-    if (f == around[0] && face_area(out, added) <= min_area) return std::nullopt;
-  }
-  for (auto u : out.vertices())
-    if (!out.is_isolated(u) && !out.is_manifold(u)) return std::nullopt;
+  if (q[1] != p[3] || q[3] != p[1]) return std::nullopt;
+  std::optional<PolyMesh> out = rebuilt(mesh, [&](OpenMesh::FaceHandle f) {
+    if (f == around[1]) return std::vector<int>{};
+    if (f == around[0]) return std::vector<int>{p[1], p[2], p[3], q[2]};
+    std::vector<int> corners;
+    for (auto u : mesh.fv_range(f)) corners.push_back(u.idx());
+    return corners;
+  });
+  // The merged quad, where the first of the two was (the second, if before it, is gone).
+  const int merged = around[0].idx() - (around[1].idx() < around[0].idx() ? 1 : 0);
+  if (!out || face_area(*out, out->face_handle(merged)) <= min_area) return std::nullopt;
   second = around[1].idx();
   return out;
 }
@@ -253,7 +263,6 @@ FoldedQuads collapse_folded_quads(PolyMesh& mesh, const std::vector<int>& droppe
     if (!out.collapsed.empty())  // only collapses make doublets here (none in the file stays)
       for (auto v : mesh.vertices()) {
         int second = -1;
-        if (mesh.valence(v) != 2) continue;
         std::optional<PolyMesh> merged = without_doublet(mesh, v, min_area, second);
         if (!merged) continue;
         if (++tries > kMaxFoldedRepairs) break;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <limits>
 #include <optional>
 
@@ -120,15 +119,11 @@ struct Tab {
 
 class GlueBuilder {
  public:
-  /// \p first: borders to place before all others (in this order).
-  GlueBuilder(const Strips& s, const Flattening& f, const Machine& machine, const JointOptions& o,
-              std::vector<int> first = {})
-      : s_(s),
-        f_(f),
-        kerf_width_(machine.kerf_width),
-        o_(o),
-        bp_(border::make_pieces(s, f)),
-        first_(std::move(first)) {}
+  /// \p bp: the border pieces of \p s and \p f. \p first: borders to place before all others
+  /// (in this order).
+  GlueBuilder(const Strips& s, const Flattening& f, const border::Pieces& bp,
+              const Machine& machine, const JointOptions& o, std::vector<int> first = {})
+      : s_(s), f_(f), kerf_width_(machine.kerf_width), o_(o), bp_(bp), first_(std::move(first)) {}
 
   Joints run() {
     const std::size_t parts = bp_.rings.size();
@@ -147,22 +142,17 @@ class GlueBuilder {
     folds_.resize(parts);
     out_.borders.resize(bp_.pieces.size());
     out_.flares.resize(bp_.pieces.size());
-    // Long borders first: they hold the model together, and get their tabs before short
-    // borders' tabs take the room at the corners.
-    std::vector<int> order(bp_.pieces.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      return bp_.pieces[a].length > bp_.pieces[b].length;
-    });
+    // After the borders asked for first: long borders first, they hold the model together,
+    // and get their tabs before short borders' tabs take the room at the corners.
     std::vector<char> early(bp_.pieces.size(), 0);
     for (int i : first_) early[i] = 1;
-    std::stable_partition(order.begin(), order.end(), [&](int i) { return early[i] != 0; });
-    std::stable_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(first_.size()),
-                     [&](int a, int b) {
-                       return std::find(first_.begin(), first_.end(), a) <
-                              std::find(first_.begin(), first_.end(), b);
-                     });
-    for (int i : order) place(i);
+    std::vector<int> rest;
+    for (int i = 0; i < static_cast<int>(bp_.pieces.size()); ++i)
+      if (!early[i]) rest.push_back(i);
+    std::stable_sort(rest.begin(), rest.end(),
+                     [&](int a, int b) { return bp_.pieces[a].length > bp_.pieces[b].length; });
+    for (int i : first_) place(i);
+    for (int i : rest) place(i);
     for (std::size_t p = 0; p < parts; ++p) out_.parts.push_back(outline(static_cast<int>(p)));
     for (const BorderJoint& b : out_.borders) {
       out_.border_length += b.length;
@@ -176,7 +166,7 @@ class GlueBuilder {
   const Flattening& f_;
   const double kerf_width_;
   const JointOptions& o_;
-  const border::Pieces bp_;
+  const border::Pieces& bp_;
   const std::vector<int> first_;
   std::vector<Polygon2> body_;                // per part: its flattened outline
   std::vector<std::vector<Polygon2>> inner_;  // per part: the body 2 um in (a tab's overlap)
@@ -482,7 +472,8 @@ class GlueBuilder {
 
 Joints make_glue_tabs(const Strips& strips, const Flattening& flat, const Machine& machine,
                       const JointOptions& options) {
-  Joints out = GlueBuilder(strips, flat, machine, options).run();
+  const border::Pieces pieces = border::make_pieces(strips, flat);
+  Joints out = GlueBuilder(strips, flat, pieces, machine, options).run();
   // Short borders left without a tab (stubs where three parts meet: the tabs of the long
   // borders beside them, placed first, took the room under their mates) go first once more;
   // that placement is kept where it leaves fewer borders without a tab and keeps nearly all
@@ -491,7 +482,7 @@ Joints make_glue_tabs(const Strips& strips, const Flattening& flat, const Machin
   for (std::size_t i = 0; i < out.borders.size(); ++i)
     if (out.borders[i].glue == 0 && out.borders[i].length > 0) bare.push_back(static_cast<int>(i));
   if (bare.empty()) return out;
-  Joints again = GlueBuilder(strips, flat, machine, options, bare).run();
+  Joints again = GlueBuilder(strips, flat, pieces, machine, options, bare).run();
   if (again.borders_without_joint < out.borders_without_joint &&
       again.glue_length >= (1 - kStubGlueLoss) * out.glue_length)
     return again;

@@ -357,6 +357,7 @@ class Resolver {
       RegionChange& c = out_.changes.back();
       std::ostringstream why;
       const PatchFlattening& flat = build_.flat.flattening.patches[p];
+      double size_factor = area > 0 ? std::max(1.0, std::sqrt(r_.min_part_area / area)) : 0.0;
       if (bent_facet(build_, p, max_angle)) {
         why << "facet " << p << " flattens "
             << (flat.inverted_quads > 0    ? "with an inverted quad"
@@ -366,9 +367,7 @@ class Resolver {
                                                      flat.max_angle_error * 180 / M_PI)) +
                                                  " deg off its 3D angle")
             << " (its corners are shared with facets at other angles)";
-      }
-      double size_factor = area > 0 ? std::max(1.0, std::sqrt(r_.min_part_area / area)) : 0.0;
-      if (!bent_facet(build_, p, max_angle)) {
+      } else {
         why << "part " << p << " is too small to handle (" << area << " mm^2 as cut";
         if (build_.joints.parts[p].repaired) why << ", falls apart at its slots";
         // Its joints cut it back from its borders by a depth that does not grow with the

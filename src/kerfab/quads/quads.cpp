@@ -192,19 +192,32 @@ QuadSizeRule choose_size(const TriangleMesh& target, double diagonal, const Mate
   return rule;
 }
 
-std::array<double, 4> corner_angles(const PolyMesh& q, OpenMesh::FaceHandle f) {
+/// The corners of quad \p f of \p q, in order [mm].
+std::array<Vec3, 4> quad_points(const PolyMesh& q, OpenMesh::FaceHandle f) {
   const auto v = quad_vertices(q, f);
+  std::array<Vec3, 4> p;
+  for (int c = 0; c < 4; ++c) p[c] = to_eigen(q.point(OpenMesh::VertexHandle(v[c])));
+  return p;
+}
+
+/// Per corner of quad \p p, the cross product of its two sides (next, previous); their sum is
+/// along the quad's normal. A convex quad has every one of them pointing the sum's way.
+std::array<Vec3, 4> corner_normals(const std::array<Vec3, 4>& p) {
+  std::array<Vec3, 4> n;
+  for (int c = 0; c < 4; ++c) n[c] = (p[(c + 1) % 4] - p[c]).cross(p[(c + 3) % 4] - p[c]);
+  return n;
+}
+
+Vec3 sum_of(const std::array<Vec3, 4>& n) { return n[0] + n[1] + n[2] + n[3]; }
+
+std::array<double, 4> corner_angles(const PolyMesh& q, OpenMesh::FaceHandle f) {
+  const auto p = quad_points(q, f);
   std::array<double, 4> out{};
-  for (int c = 0; c < 4; ++c) {
-    const Vec3 a = to_eigen(q.point(OpenMesh::VertexHandle(v[(c + 3) % 4])));
-    const Vec3 b = to_eigen(q.point(OpenMesh::VertexHandle(v[c])));
-    const Vec3 d = to_eigen(q.point(OpenMesh::VertexHandle(v[(c + 1) % 4])));
-    out[c] = angle_between(a - b, d - b);
-  }
+  for (int c = 0; c < 4; ++c) out[c] = angle_between(p[(c + 3) % 4] - p[c], p[(c + 1) % 4] - p[c]);
   return out;
 }
 
-/// The feature (sharp or border) segments of \p remeshed, found by position.
+/// The feature (sharp or border) segments of a triangle mesh, found by position.
 class FeatureLines {
  public:
   struct Nearest {
@@ -213,9 +226,9 @@ class FeatureLines {
   };
 
   /// Segments are looked up within \p reach [mm] (> 0) of a point.
-  FeatureLines(const FeatureTriangleMesh& remeshed, double reach) : cell_(reach) {
-    for (const auto& [a, b] : remeshed.features) {
-      const Vec3 pa = remeshed.mesh.vertices[a], pb = remeshed.mesh.vertices[b];
+  FeatureLines(const FeatureTriangleMesh& features, double reach) : cell_(reach) {
+    for (const auto& [a, b] : features.features) {
+      const Vec3 pa = features.mesh.vertices[a], pb = features.mesh.vertices[b];
       if (!((pb - pa).norm() > 0)) continue;
       const int s = static_cast<int>(segments_.size());
       segments_.push_back({pa, pb});
@@ -265,12 +278,11 @@ class FeatureLines {
 /// flattening angle error 56 -> 19.6 degrees.
 constexpr double kFeatureSnap = 0.3;
 
-/// Quad corners \p corners of one face: convex, none under \p min_corner [rad], and facing
-/// the way \p normal does.
+/// Quad corners \p p of one face: convex, none under \p min_corner [rad], and facing the way
+/// \p normal does.
 bool sound_quad(const std::array<Vec3, 4>& p, double min_corner, const Vec3& normal) {
-  std::array<Vec3, 4> n;
-  Vec3 sum = Vec3::Zero();
-  for (int c = 0; c < 4; ++c) sum += n[c] = (p[(c + 1) % 4] - p[c]).cross(p[(c + 3) % 4] - p[c]);
+  const auto n = corner_normals(p);
+  const Vec3 sum = sum_of(n);
   if (!(sum.dot(normal) > 0)) return false;
   for (int c = 0; c < 4; ++c)
     if (!(n[c].dot(sum) > 0) ||
@@ -279,14 +291,15 @@ bool sound_quad(const std::array<Vec3, 4>& p, double min_corner, const Vec3& nor
   return true;
 }
 
-/// Moves the corners of \p q that lie near a feature line of \p remeshed (within kFeatureSnap
-/// of the quad size \p size) onto it, where the corner is on a row of quad edges along that line
-/// (one of its edges runs within 30 degrees of the line to another corner near it) and every
-/// quad around it stays convex, facing as before, with no corner under 10 degrees (or under its
-/// smallest before). Nearest corners first. Returns the corners moved.
-int snap_to_features(PolyMesh& q, const FeatureTriangleMesh& remeshed, double size) {
+/// Moves the corners of \p q that lie near a feature line of \p features (the target's sharp
+/// and border edges; within kFeatureSnap of the quad size \p size) onto it, where the corner is on
+/// a row of quad edges along that line (one of its edges runs within 30 degrees of the line to
+/// another corner near it) and every quad around it stays convex, facing as before, with no corner
+/// under 10 degrees (or under its smallest before). Nearest corners first. Returns the corners
+/// moved.
+int snap_to_features(PolyMesh& q, const FeatureTriangleMesh& features, double size) {
   const double reach = kFeatureSnap * size;
-  const FeatureLines lines(remeshed, reach);
+  const FeatureLines lines(features, reach);
   const double cos_along = std::cos(30 * kPi / 180), min_corner = 10 * kPi / 180;
   std::vector<FeatureLines::Nearest> near(q.n_vertices());
   for (auto v : q.vertices()) near[v.idx()] = lines.nearest(to_eigen(q.point(v)));
@@ -304,30 +317,22 @@ int snap_to_features(PolyMesh& q, const FeatureTriangleMesh& remeshed, double si
   }
   std::sort(order.begin(), order.end(),
             [&](int a, int b) { return near[a].distance < near[b].distance; });
-  auto corners = [&](OpenMesh::FaceHandle f) {
-    const auto v = quad_vertices(q, f);
-    std::array<Vec3, 4> p;
-    for (int c = 0; c < 4; ++c) p[c] = to_eigen(q.point(OpenMesh::VertexHandle(v[c])));
-    return p;
-  };
   int moved = 0;
   for (int i : order) {
     const auto v = q.vertex_handle(i);
     const auto from = q.point(v);
     std::vector<std::pair<OpenMesh::FaceHandle, std::pair<Vec3, double>>> before;
     for (auto f : q.vf_range(v)) {
-      const auto p = corners(f);
-      Vec3 n = Vec3::Zero();
-      for (int c = 0; c < 4; ++c) n += (p[(c + 1) % 4] - p[c]).cross(p[(c + 3) % 4] - p[c]);
-      double smallest = kPi;
-      for (double a : corner_angles(q, f)) smallest = std::min(smallest, a);
-      before.push_back({f, {n, smallest}});
+      const auto angles = corner_angles(q, f);
+      before.push_back({f,
+                        {sum_of(corner_normals(quad_points(q, f))),
+                         *std::min_element(angles.begin(), angles.end())}});
     }
     const Vec3& to = near[i].point;
     q.set_point(v, {to.x(), to.y(), to.z()});
     bool ok = true;
     for (const auto& [f, was] : before)
-      ok = ok && sound_quad(corners(f), std::min(min_corner, was.second), was.first);
+      ok = ok && sound_quad(quad_points(q, f), std::min(min_corner, was.second), was.first);
     if (ok) {
       ++moved;
     } else {
@@ -403,16 +408,10 @@ std::string check(const PolyMesh& q, const TriangleMesh& mesh, const TargetSurfa
            std::to_string(want.boundaries);
   int bad = 0;
   for (auto f : q.faces()) {
-    const auto v = quad_vertices(q, f);
-    std::array<Vec3, 4> p;
-    for (int c = 0; c < 4; ++c) p[c] = to_eigen(q.point(OpenMesh::VertexHandle(v[c])));
+    const auto p = quad_points(q, f);
     const Vec3 n_surface = target.closest(0.25 * (p[0] + p[1] + p[2] + p[3])).normal;
-    std::array<Vec3, 4> corner_n;
-    Vec3 quad_n = Vec3::Zero();
-    for (int c = 0; c < 4; ++c) {
-      corner_n[c] = (p[(c + 1) % 4] - p[c]).cross(p[(c + 3) % 4] - p[c]);
-      quad_n += corner_n[c];
-    }
+    const auto corner_n = corner_normals(p);
+    const Vec3 quad_n = sum_of(corner_n);
     // Not inside out: the target's normal at one of the corners (they lie on the target)
     // agrees (near thin parts the centre's nearest facet may be the other side's).
     double agree = quad_n.normalized().dot(n_surface);
