@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <unordered_set>
 #include <utility>
+#include <vector>
 
 namespace kerfab {
 namespace {
@@ -138,12 +139,16 @@ std::vector<Polygon2> from_paths(ClipperLib::Paths paths) {
 }
 
 /// Closed paths with their bounding boxes, for winding numbers that skip the paths a point's
-/// rightward ray cannot cross.
+/// rightward ray cannot cross. Asked about many points (\p indexed), a long path also sorts its
+/// edges into bands of y, so that a point looks only at the edges of its band: a part's outline
+/// less its opening asks once or twice per piece of the result, hundreds of pieces at teeth.
 class Region {
  public:
-  explicit Region(const ClipperLib::Paths& paths) : paths_(paths) {
+  Region(const ClipperLib::Paths& paths, bool indexed) : paths_(paths) {
     box_.reserve(paths.size());
-    for (const auto& path : paths) {
+    bands_.resize(paths.size());
+    for (std::size_t k = 0; k < paths.size(); ++k) {
+      const auto& path = paths[k];
       constexpr double inf = std::numeric_limits<double>::infinity();
       Box b{inf, -inf, -inf};  // min y, max x, max y
       for (const auto& q : path) {
@@ -152,6 +157,7 @@ class Region {
         b.max_y = std::max(b.max_y, static_cast<double>(q.Y));
       }
       box_.push_back(b);
+      if (indexed && path.size() >= kIndexedEdges) index(k);
     }
   }
   /// Winding number of the paths around (x, y) [grid units].
@@ -161,25 +167,79 @@ class Region {
       const Box& b = box_[k];
       if (x > b.max_x || y < b.min_y || y > b.max_y) continue;
       const auto& path = paths_[k];
-      for (std::size_t i = 0, n = path.size(); i < n; ++i) {
+      const std::size_t n = path.size();
+      auto count = [&](std::size_t i) {
         const auto &a = path[i], &c = path[(i + 1) % n];
         const double ay = static_cast<double>(a.Y), cy = static_cast<double>(c.Y);
-        if ((ay <= y) == (cy <= y)) continue;
+        if ((ay <= y) == (cy <= y)) return;
         const double ax = static_cast<double>(a.X), cx = static_cast<double>(c.X);
         const double cross = (cx - ax) * (y - ay) - (cy - ay) * (x - ax);
         if (cy > ay && cross > 0) ++w;
         if (cy < ay && cross < 0) --w;
+      };
+      const Bands& bands = bands_[k];
+      if (bands.start.empty()) {
+        for (std::size_t i = 0; i < n; ++i) count(i);
+      } else {
+        const std::size_t band = bands.of(y);
+        for (std::size_t e = bands.start[band]; e < bands.start[band + 1]; ++e)
+          count(bands.edges[e]);
       }
     }
     return w;
   }
 
  private:
+  static constexpr std::size_t kIndexedEdges = 64;
   struct Box {
     double min_y, max_x, max_y;
   };
+  /// A path's edges by bands of equal height in y: band j holds every edge whose y range
+  /// [min, max] meets it (edges[start[j]], ..., edges[start[j + 1] - 1]). An edge crossing the
+  /// horizontal at y has min <= y < max, so it is in the band of y.
+  struct Bands {
+    double min_y = 0, height = 1;
+    std::vector<std::size_t> start, edges;
+    std::size_t of(double y) const {
+      const double j = std::floor((y - min_y) / height);
+      return static_cast<std::size_t>(std::clamp(j, 0.0, static_cast<double>(start.size() - 2)));
+    }
+  };
+  void index(std::size_t k) {
+    const auto& path = paths_[k];
+    const std::size_t n = path.size();
+    const Box& b = box_[k];
+    if (!(b.max_y > b.min_y)) return;
+    Bands bands;
+    const std::size_t count = std::max<std::size_t>(1, n / 8);
+    bands.min_y = b.min_y;
+    bands.height = (b.max_y - b.min_y) / static_cast<double>(count);
+    bands.start.assign(count + 1, 0);
+    auto span = [&](std::size_t i) {
+      const double ay = static_cast<double>(path[i].Y);
+      const double cy = static_cast<double>(path[(i + 1) % n].Y);
+      return std::pair{bands.of(std::min(ay, cy)), bands.of(std::max(ay, cy))};
+    };
+    std::size_t total = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto [lo, hi] = span(i);
+      total += hi - lo + 1;
+      for (std::size_t j = lo; j <= hi; ++j) ++bands.start[j + 1];
+    }
+    // Long edges across most bands (a tall, thin path) gain nothing: the plain scan is kept.
+    if (total > 8 * n) return;
+    for (std::size_t j = 0; j < count; ++j) bands.start[j + 1] += bands.start[j];
+    bands.edges.resize(total);
+    std::vector<std::size_t> at(bands.start.begin(), bands.start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto [lo, hi] = span(i);
+      for (std::size_t j = lo; j <= hi; ++j) bands.edges[at[j]++] = i;
+    }
+    bands_[k] = std::move(bands);
+  }
   const ClipperLib::Paths& paths_;
   std::vector<Box> box_;
+  std::vector<Bands> bands_;  // per path; empty: scanned whole
 };
 
 /// Clipper 1 can hand back a ring with the wrong direction where touching corners abound (an
@@ -258,7 +318,9 @@ std::vector<Polygon2> boolean(Op op, const ClipperLib::Paths& subject,
   c.Execute(type, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
   out = without_cancelling_holes(std::move(out));
   out = split_at_repeated_points(std::move(out));
-  const Region in_s(subject), in_c(clip);
+  // Two winding numbers per ring of the result: worth indexing the inputs' edges for many.
+  const bool indexed = out.size() >= 4;
+  const Region in_s(subject, indexed), in_c(clip, indexed);
   orient_by_fill(out, [&](double x, double y) {
     const bool in_subject = in_s.winding(x, y) != 0;
     switch (op) {

@@ -21,6 +21,8 @@ Plates::Plates(const Strips& strips, const Flattening& flat, double thickness)
       Frame f;
       f.centre2 = Vec2::Zero();
       f.centre3 = Vec3::Zero();
+      f.flat_lo = Vec2::Constant(std::numeric_limits<double>::infinity());
+      f.flat_hi = -f.flat_lo;
       for (int k = 0; k < 4; ++k) {
         const Vec2 x = points[q[k]];
         const Vec3 y = strips.vertices[locals[q[k]]];
@@ -29,6 +31,7 @@ Plates::Plates(const Strips& strips, const Flattening& flat, double thickness)
         f.centre2 += 0.25 * x;
         f.centre3 += 0.25 * y;
         f.flat.push_back(x);
+        f.flat_lo = f.flat_lo.cwiseMin(x), f.flat_hi = f.flat_hi.cwiseMax(x);
         lo = lo.cwiseMin(y), hi = hi.cwiseMax(y);
       }
       const Eigen::Matrix3d sol = a.colPivHouseholderQr().solve(b);
@@ -53,7 +56,8 @@ std::pair<Vec3, Vec3> Plates::place(int p, const Vec2& v) const {
   const Frame* best = nullptr;
   double nearest = std::numeric_limits<double>::infinity();
   for (const Frame& f : frames_[p]) {
-    if (inside(v, f.flat)) {
+    if ((f.flat_lo.array() <= v.array()).all() && (v.array() <= f.flat_hi.array()).all() &&
+        inside(v, f.flat)) {
       best = &f;
       break;
     }
@@ -95,7 +99,10 @@ Vec3 Plates::local(const Window& w, const Vec3& q) const {
   for (const auto& [d, f] : nearest) {
     if (!f) break;
     const Vec3 l = f->inverse * (q - f->origin);
-    if (inside(Vec2(l.x(), l.y()), f->flat)) return l;
+    const Vec2 xy(l.x(), l.y());
+    if ((f->flat_lo.array() <= xy.array()).all() && (xy.array() <= f->flat_hi.array()).all() &&
+        inside(xy, f->flat))
+      return l;
     if (!first.allFinite()) first = l;
   }
   return first;

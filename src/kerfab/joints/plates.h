@@ -47,6 +47,7 @@ class Plates {
     Vec3 origin, e1, e2, n;   // 3D = origin + x e1 + y e2 + w n
     Vec3 centre3;             // centroid of the 3D corners
     Polygon2 flat;            // the flat sub-quad
+    Vec2 flat_lo, flat_hi;    // its bounding box: a point outside it is not inside it
     double radius = 0;        // largest distance of a 3D corner from centre3
     Eigen::Matrix3d inverse;  // 3D offset from origin -> (x, y, w)
   };
