@@ -68,19 +68,30 @@ class Builder {
     draw(all);
     // A part so thin that its slots cut it through takes the teeth of its borders instead: its
     // outline then grows where it was cut back (its mates, larger as a rule, get the slots).
+    // So does a part too small to handle, from mates that are not smaller still; where it
+    // cannot own a tooth, it keeps the slot.
     std::set<int> swapped;
+    const std::vector<PartOutline> drawn = out_.parts;
     for (std::size_t p = 0; p < out_.parts.size(); ++p) {
-      if (!out_.parts[p].repaired) continue;
+      const bool repaired = drawn[p].repaired;
+      if (!repaired && !too_small(drawn[p])) continue;
       for (std::size_t i = 0; i < out_.borders.size(); ++i) {
         BorderJoint& b = out_.borders[i];
         for (int side = 0; side < 2; ++side) {
           if (b.patches[side] != static_cast<int>(p)) continue;
+          const PartOutline& mate = drawn[b.patches[1 - side]];
+          if (!repaired && too_small(mate) &&
+              !(mate.designed.size() >= 3 &&
+                std::abs(polygon_area(mate.designed)) > std::abs(polygon_area(drawn[p].designed))))
+            continue;
           for (JointInterval& in : b.intervals) {
             if (in.owner < 0 || in.owner == side) continue;
             if (untrimmed_owner(static_cast<int>(i), in, side) == side)
               in.owner = side;
-            else
+            else if (repaired)
               make_plain(b, in);
+            else
+              continue;
             swapped.insert(b.patches[0]);
             swapped.insert(b.patches[1]);
           }
@@ -317,6 +328,11 @@ class Builder {
     bool lone = false;      // the only tooth stretch of its free run
   };
 
+  /// True when \p part, drawn whole, is smaller than a maker can handle.
+  bool too_small(const PartOutline& part) const {
+    return part.designed.size() >= 3 && std::abs(polygon_area(part.designed)) < o_.min_part_area;
+  }
+
   /// A border that has no tooth, tab or glue line yet (a short stretch between two corners,
   /// where the free room between the corners' bands is narrower than a tooth plus the usual
   /// margins) gets one tooth in that room if both parts, drawn with it, stay whole and no tooth of
@@ -407,7 +423,9 @@ class Builder {
     const std::vector<JointInterval> before = b.intervals;
     const std::array<PartOutline, 2> drawn = {out_.parts[b.patches[0]], out_.parts[b.patches[1]]};
     const std::array<std::vector<Polygon2>, 2> lost = {lost_[b.patches[0]], lost_[b.patches[1]]};
-    for (int owner : {0, 1}) {
+    // A part too small to handle owns the tooth if it can: a slot would make it smaller still.
+    const bool second_first = too_small(drawn[1]) && !too_small(drawn[0]);
+    for (int owner : second_first ? std::array{1, 0} : std::array{0, 1}) {
       if (untrimmed_owner(i, in, owner) != owner) continue;
       // Into third parts first: they are drawn already and this tooth does not change them.
       std::vector<Zone> zones;
@@ -1323,6 +1341,7 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
   if (!(options.min_depth >= 0)) throw InvalidInput("--min-tooth-depth must be >= 0 mm");
   if (!(machine.kerf_width >= 0)) throw InvalidInput("--kerf-width must be >= 0 mm");
   if (!(options.max_tip > 0)) throw InvalidInput("joints: max_tip must be > 0 mm");
+  if (!(options.min_part_area >= 0)) throw InvalidInput("joints: min_part_area must be >= 0 mm^2");
   if (!(options.tab_misfit >= 0) || !std::isfinite(options.tab_misfit))
     throw InvalidInput("--tab-misfit must be >= 0 mm");
   if (!(options.glue_tab >= 0) || !std::isfinite(options.glue_tab))

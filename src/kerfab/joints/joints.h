@@ -36,6 +36,9 @@ struct JointOptions {
   double tab_misfit = 0.3;       ///< where box teeth would be shallower than min_depth, dovetail
                                  ///< tabs whose tip leaves the other part's faces by at most this
                                  ///< [mm], >= 0; 0: no tabs (such borders stay plain)
+  double min_part_area = 50;     ///< a part smaller than this as drawn takes the teeth of its
+                                 ///< borders instead of their slots where it can (the size a
+                                 ///< maker can handle; ResolveOptions::min_part_area) [mm^2], >= 0
   // Paper (thickness 0): glue tabs instead of teeth (joints/glue_tabs.h).
   double glue_tab = 6.0;         ///< height of a glue tab, root to edge [mm], >= 0; 0: no glue
                                  ///< tabs (plain borders, the paper's emulation)
