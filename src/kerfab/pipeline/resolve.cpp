@@ -29,10 +29,6 @@ struct Region {
   bool small_part = false;  // a whole part too small or too narrow to handle, not a bend
 };
 
-/// Parts a maker cannot handle: less than \p min_area as cut, nowhere as wide as \p
-/// min_width (the outline shrunk by half of it is empty), fallen apart when cut, or a facet
-/// that flattens inverted or crossing itself (its corners shared with other facets moved it
-/// off its plane) [mm^2, mm].
 /// True when patch \p p of \p b is a facet that flattens with an inverted quad, crossing
 /// itself, or with a corner angle off by the flattening's limit or more (its corners, shared
 /// with facets at other angles, bent it: a plate that does not have the angles of its
@@ -44,6 +40,10 @@ bool bent_facet(const PartsBuild& b, int p, double max_angle_error) {
           flat.max_angle_error >= max_angle_error);
 }
 
+/// Parts a maker cannot handle: less than \p min_area as cut, nowhere as wide as \p
+/// min_width (the outline shrunk by half of it is empty), fallen apart when cut, or a facet
+/// that flattens inverted or crossing itself (its corners shared with other facets moved it
+/// off its plane) [mm^2, mm].
 std::vector<int> small_parts(const PartsBuild& b, double min_area, double min_width,
                              double max_angle_error) {
   std::vector<int> out;
