@@ -1142,22 +1142,44 @@ class Builder {
     part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
   }
 
-  /// How far the vertices of \p piece reach away from the boundary of \p region [mm].
-  static double reach(const Polygon2& piece, const std::vector<Polygon2>& region) {
-    double far = 0;
-    for (const Vec2& v : piece) {
-      double d = std::numeric_limits<double>::infinity();
-      for (const Polygon2& ring : region) d = std::min(d, distance_to_boundary(v, ring));
-      far = std::max(far, d);
-    }
-    return far;
+  /// The edges of \p rings that come within \p margin of \p piece's bounding box: the only
+  /// ones a vertex of \p piece can be within \p margin of.
+  static std::vector<std::array<Vec2, 2>> edges_near(const Polygon2& piece,
+                                                     const std::vector<const Polygon2*>& rings,
+                                                     double margin) {
+    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Vec2& v : piece) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    lo -= Vec2::Constant(margin), hi += Vec2::Constant(margin);
+    std::vector<std::array<Vec2, 2>> near;
+    for (const Polygon2* ring : rings)
+      for (std::size_t i = 0, n = ring->size(); i < n; ++i) {
+        const Vec2& a = (*ring)[i];
+        const Vec2& b = (*ring)[(i + 1) % n];
+        if (std::max(a.x(), b.x()) < lo.x() || std::min(a.x(), b.x()) > hi.x() ||
+            std::max(a.y(), b.y()) < lo.y() || std::min(a.y(), b.y()) > hi.y())
+          continue;
+        near.push_back({a, b});
+      }
+    return near;
+  }
+
+  /// True when some vertex of \p piece lies farther than \p r from the boundary of \p region.
+  static bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, double r) {
+    std::vector<const Polygon2*> rings;
+    for (const Polygon2& ring : region) rings.push_back(&ring);
+    const auto near = edges_near(piece, rings, r);
+    for (const Vec2& v : piece)
+      if (std::none_of(near.begin(), near.end(),
+                       [&](const auto& e) { return distance_to_segment(v, e[0], e[1]) <= r; }))
+        return true;
+    return false;
   }
 
   /// True when \p piece, taken away by an opening whose result is \p opened, joined two of its
   /// pieces, one of them no larger than a square tooth, and holds more than a square of the
   /// minimum feature width: a neck with a small corner hanging on it. Its vertices all lie near
-  /// the rest (reach() sees nothing), but what hangs on it breaks off. A neck between two large
-  /// pieces is left: cut, the part would fall in two.
+  /// the rest (reaches_beyond() sees nothing), but what hangs on it breaks off. A neck between two
+  /// large pieces is left: cut, the part would fall in two.
   bool neck(const Polygon2& piece, const std::vector<Polygon2>& opened) const {
     const double w = o_.min_feature;
     if (std::abs(polygon_area(piece)) <= w * w) return false;
@@ -1173,9 +1195,12 @@ class Builder {
   /// True when a vertex of \p piece lies on the boundary of \p ring (within a micrometre): a
   /// piece an opening took away that was joined to that ring.
   static bool touches(const Polygon2& piece, const Polygon2& ring) {
-    double d = std::numeric_limits<double>::infinity();
-    for (const Vec2& v : piece) d = std::min(d, distance_to_boundary(v, ring));
-    return d < 1e-3;
+    constexpr double kTouch = 1e-3;
+    const auto near = edges_near(piece, {&ring}, kTouch);
+    for (const Vec2& v : piece)
+      for (const auto& e : near)
+        if (distance_to_segment(v, e[0], e[1]) < kTouch) return true;
+    return false;
   }
 
   /// The outline without tails or slits narrower than JointOptions::min_feature (where a tooth
@@ -1197,7 +1222,7 @@ class Builder {
     auto tails = [&](const Polygon2& shape, const std::vector<Polygon2>& opened_shape) {
       std::vector<Polygon2> out;
       for (const auto& piece : polygon_difference({shape}, opened_shape)) {
-        if (reach(piece, opened_shape) <= r && !neck(piece, opened_shape)) continue;
+        if (!reaches_beyond(piece, opened_shape, r) && !neck(piece, opened_shape)) continue;
         for (auto& rest :
              teeth.empty() ? std::vector<Polygon2>{piece} : polygon_difference({piece}, teeth))
           out.push_back(std::move(rest));
@@ -1210,7 +1235,7 @@ class Builder {
     // tooth: the slot it goes into is cut to its width).
     const auto closed = polygon_offset(polygon_offset({outline}, r), -r);
     for (const auto& gap : polygon_difference(closed, {outline})) {
-      if (reach(gap, closed) <= r) continue;
+      if (!reaches_beyond(gap, closed, r)) continue;
       // Widened by what it lacks: a slit of mean width w (area over half its perimeter) grows
       // by r - w/2 on each side, its end by as much; wider cuts would eat into thin parts.
       double perimeter = 0;
