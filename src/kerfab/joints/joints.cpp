@@ -70,19 +70,18 @@ class Builder {
     // outline then grows where it was cut back (its mates, larger as a rule, get the slots).
     // So does a part too small to handle, from mates that are not smaller still; where it
     // cannot own a tooth, it keeps the slot.
+    // (Only intervals change here; the parts are redrawn after.)
     std::set<int> swapped;
-    const std::vector<PartOutline> drawn = out_.parts;
     for (std::size_t p = 0; p < out_.parts.size(); ++p) {
-      const bool repaired = drawn[p].repaired;
-      if (!repaired && !too_small(drawn[p])) continue;
+      const bool repaired = out_.parts[p].repaired;
+      if (!repaired && !too_small(out_.parts[p])) continue;
+      const double area = std::abs(polygon_area(out_.parts[p].designed));
       for (std::size_t i = 0; i < out_.borders.size(); ++i) {
         BorderJoint& b = out_.borders[i];
         for (int side = 0; side < 2; ++side) {
           if (b.patches[side] != static_cast<int>(p)) continue;
-          const PartOutline& mate = drawn[b.patches[1 - side]];
-          if (!repaired && too_small(mate) &&
-              !(mate.designed.size() >= 3 &&
-                std::abs(polygon_area(mate.designed)) > std::abs(polygon_area(drawn[p].designed))))
+          const PartOutline& mate = out_.parts[b.patches[1 - side]];
+          if (!repaired && too_small(mate) && !(std::abs(polygon_area(mate.designed)) > area))
             continue;
           for (JointInterval& in : b.intervals) {
             if (in.owner < 0 || in.owner == side) continue;

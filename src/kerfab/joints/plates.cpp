@@ -56,8 +56,7 @@ std::pair<Vec3, Vec3> Plates::place(int p, const Vec2& v) const {
   const Frame* best = nullptr;
   double nearest = std::numeric_limits<double>::infinity();
   for (const Frame& f : frames_[p]) {
-    if ((f.flat_lo.array() <= v.array()).all() && (v.array() <= f.flat_hi.array()).all() &&
-        inside(v, f.flat)) {
+    if (f.holds(v)) {
       best = &f;
       break;
     }
@@ -99,10 +98,7 @@ Vec3 Plates::local(const Window& w, const Vec3& q) const {
   for (const auto& [d, f] : nearest) {
     if (!f) break;
     const Vec3 l = f->inverse * (q - f->origin);
-    const Vec2 xy(l.x(), l.y());
-    if ((f->flat_lo.array() <= xy.array()).all() && (xy.array() <= f->flat_hi.array()).all() &&
-        inside(xy, f->flat))
-      return l;
+    if (f->holds(Vec2(l.x(), l.y()))) return l;
     if (!first.allFinite()) first = l;
   }
   return first;

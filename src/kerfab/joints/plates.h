@@ -48,6 +48,11 @@ class Plates {
     Vec3 centre3;             // centroid of the 3D corners
     Polygon2 flat;            // the flat sub-quad
     Vec2 flat_lo, flat_hi;    // its bounding box: a point outside it is not inside it
+    /// True when the flat sub-quad holds \p v (its box tested first).
+    bool holds(const Vec2& v) const {
+      return (flat_lo.array() <= v.array()).all() && (v.array() <= flat_hi.array()).all() &&
+             inside(v, flat);
+    }
     double radius = 0;        // largest distance of a 3D corner from centre3
     Eigen::Matrix3d inverse;  // 3D offset from origin -> (x, y, w)
   };
