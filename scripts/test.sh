@@ -2,8 +2,9 @@
 # README command 2: install what is missing, build, and run the whole test suite with CTest;
 # then the unit tests again in a second build under AddressSanitizer and
 # UndefinedBehaviorSanitizer (build-sanitize/, any finding fails its test). The sanitized pass
-# leaves out the end-to-end runs of real meshes and the longer quad-meshing tests (minutes each
-# when sanitized; the fuzzers in scripts/fuzz.sh cover the readers). KERFAB_NO_SANITIZE=1
+# leaves out the end-to-end runs of real meshes, the quad sphere's joints and the longer
+# quad-meshing tests (minutes each when sanitized; the fuzzers in scripts/fuzz.sh cover the
+# readers). KERFAB_NO_SANITIZE=1
 # skips it. The assembly guide's page is opened in headless Chromium (Debian's chromium).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -18,7 +19,7 @@ if [ "${KERFAB_NO_SANITIZE:-0}" != 1 ]; then
     >/dev/null
   cmake --build "$root/build-sanitize"
   slow='^(Cli\.|OutputSafety\.|HostileInput\.MemoryLimits|Layout\.(EveryTestShape|Oversized)'
-  slow+='|Bending\.Spot|Flatten\.RealMeshes|Strips\.(CylinderRings|RealMeshes)|Joints\.RealMeshes'
+  slow+='|Bending\.Spot|Flatten\.RealMeshes|Strips\.(CylinderRings|RealMeshes)|Joints\.(RealMeshes|StubTeethPinch)'
   slow+='|Kerf\.Spot|Quads\.(RealMeshes|ClosedShapes|Deterministic|SizeRule|TriangleTarget'
   slow+='|QuadsTooNarrow|SpotsQuads|FandisksSharpEdges|TorusComesOut)|SurfaceDistance\.TheSearchAgreesWithADense'
   slow+='|Assembly\.EveryStep|Guide\.)'

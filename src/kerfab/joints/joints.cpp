@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <optional>
@@ -35,6 +36,13 @@ constexpr double kMateReach = 0.2;
 /// Candidate teeth drawn per short border at most once the bands are left behind (with 8, one
 /// 3.1 mm border of the demo found none: its first candidates reach 0.26-0.47 mm into its mate).
 constexpr int kStubDrawings = 16;
+/// Outline vertices from which drawing a part costs so much more than looks_sound() that stub
+/// teeth are screened by it before they are drawn: the quad sphere's raw strips (about 500 to
+/// 1000 vertices, 20 to 30 ms a drawing) where a slot pinching a V-shaped strip end failed 14
+/// drawings per border; the parts of the demo after its first build have under 520, those of
+/// spot_quadrangulated under 200 (there the screening bought nothing and changed which stub
+/// teeth were chosen).
+constexpr std::size_t kScreenFrom = 600;
 /// Needles of material narrower than this along all their length are taken off an outline:
 /// nothing a cutter makes is that thin, and grown by half the kerf each would become a hair as
 /// wide as the beam [mm].
@@ -161,6 +169,7 @@ class Builder {
   const border::Plates plates_;
   std::vector<std::vector<Polygon2>> lost_;  // per part: the pieces it lost when last drawn
   int drawings_ = 0;                         // candidate stub teeth drawn so far
+  int failed_last_ = -1;  // the part that failed the last stub tooth tried on a border
   Joints out_;
 
 
@@ -350,6 +359,7 @@ class Builder {
       BorderJoint& b = out_.borders[i];
       if (b.teeth > 0 || (only && !only->contains(static_cast<int>(i)))) continue;
       const Piece& piece = pieces_[i];
+      failed_last_ = -1;
       std::vector<std::array<double, 2>> room;  // free stretches, widest first
       double at = 0;
       for (const auto& f : blocked(piece.length, forbidden[2 * i], forbidden[2 * i + 1])) {
@@ -381,26 +391,95 @@ class Builder {
       // No room between the bands: the bands are the conservative rule (every tooth they let
       // through is clear of third parts in 3D); here the tooth is checked in 3D directly against
       // the plates of the parts around it, as drawn, and may reach into the bands.
-      // Widest first, centred first; only the candidates clear of third parts are drawn, and
-      // at most kStubDrawings of them (drawing is what costs).
-      const int drawn_before = drawings_;
-      for (double width = std::min(o_.tooth_width, piece.length); !done && width >= narrowest - 1e-9;
+      // Widest first, centred first, but where a part is long (kScreenFrom) and a drawing
+      // failed, those that look sound near the border (looks_sound) before the others; only the
+      // candidates clear of third parts are drawn, and at most kStubDrawings of them (drawing is
+      // what costs).
+      if (done) continue;
+      std::vector<std::array<double, 2>> candidates;
+      for (double width = std::min(o_.tooth_width, piece.length); width >= narrowest - 1e-9;
            width -= 0.5) {
         const double slack = piece.length - width;
         for (double place : {0.5, 0.25, 0.75, 0.0, 1.0}) {
-          if (drawings_ - drawn_before >= kStubDrawings) break;
-          if (try_tooth(static_cast<int>(i), place * slack, place * slack + width, true)) {
-            done = true;
-            break;
-          }
+          candidates.push_back({place * slack, place * slack + width});
+          if (slack < 1e-9) break;  // one place only
         }
+      }
+      const int drawn_before = drawings_;
+      const bool screen = std::max(out_.parts[b.patches[0]].designed.size(),
+                                   out_.parts[b.patches[1]].designed.size()) >= kScreenFrom;
+      std::vector<std::pair<std::array<double, 2>, std::array<bool, 2>>> later;
+      for (const auto& c : candidates) {
+        if (drawings_ - drawn_before >= kStubDrawings) break;
+        // Until a drawing fails, every candidate looks sound: most first candidates are.
+        const std::array<bool, 2> looks = !screen || drawings_ == drawn_before
+                                              ? std::array{true, true}
+                                              : looks_sound(static_cast<int>(i), c[0], c[1]);
+        if (!looks[0] || !looks[1]) later.push_back({c, {!looks[0], !looks[1]}});
+        if ((looks[0] || looks[1]) && try_tooth(static_cast<int>(i), c[0], c[1], true, looks)) {
+          done = true;
+          break;
+        }
+      }
+      for (const auto& [c, owners] : later) {
+        if (done || drawings_ - drawn_before >= kStubDrawings) break;
+        done = try_tooth(static_cast<int>(i), c[0], c[1], true, owners);
       }
     }
   }
 
-  /// Border \p i (all plain) with a tooth on [s0, s1] instead, kept if one of its sides can own
-  /// it with both parts whole and no tooth of theirs bitten; otherwise everything as before.
-  bool try_tooth(int i, double s0, double s1, bool in_bands = false) {
+  /// Per side of border \p i, whether a tooth on [s0, s1] it owns, reaching into the bands,
+  /// looks sound before either part is drawn with it: the side may own it and neither part falls in
+  /// more pieces near the border under an opening by half the smallest feature (adds_thin_neck)
+  /// when the tooth's rectangle is added to the owner as drawn and the slot's cut from its mate.
+  /// Drawing decides (try_tooth); this only orders the candidates, as drawing a long strip costs
+  /// tens of milliseconds and a slot that pinches its mate through (the quad sphere's V-shaped
+  /// strip ends) fails at every width.
+  std::array<bool, 2> looks_sound(int i, double s0, double s1) const {
+    const BorderJoint& b = out_.borders[i];
+    JointKind kind;
+    const JointInterval in = interval_on(pieces_[i], s0, s1, kind);
+    std::array<bool, 2> looks = {false, false};
+    if (kind == JointKind::kNone || in.offsets.tip - in.offsets.slot < o_.min_depth) return looks;
+    constexpr double kOverlap = 1e-3;  // as in shapes(): the rectangles cross the border line
+    for (int owner : {0, 1}) {
+      if (untrimmed_owner(i, in, owner) != owner) continue;
+      bool sound = true;
+      for (int k = 0; k < 2 && sound; ++k) {
+        const Polygon2& before = out_.parts[b.patches[k]].designed;
+        if (before.size() < 3) continue;
+        // From the plain cut-back to the tip on the owner, from the border line to the slot on
+        // its mate.
+        const double lo = k == owner ? std::min(in.plain, 0.0) : kOverlap,
+                     hi = k == owner ? in.offsets.tip : std::min(in.offsets.slot, in.plain);
+        std::vector<Polygon2> rects;
+        for (const Zone& z : tooth_zones(i, in, k)) {
+          Polygon2 r = {z.from + lo * z.normal, z.to + lo * z.normal, z.to + hi * z.normal,
+                        z.from + hi * z.normal};
+          if (std::abs(polygon_area(r)) < 1e-12) continue;
+          make_counter_clockwise(r);
+          rects.push_back(std::move(r));
+        }
+        if (rects.empty()) continue;
+        Vec2 bl = rects[0][0], tr = rects[0][0];
+        for (const Polygon2& r : rects)
+          for (const Vec2& v : r) bl = bl.cwiseMin(v), tr = tr.cwiseMax(v);
+        const std::vector<Polygon2> near = clipped(before, bl, tr);
+        std::vector<Polygon2> with = near;
+        with.insert(with.end(), rects.begin(), rects.end());
+        sound =
+            !more_pieces(k == owner ? polygon_union(with) : polygon_difference(near, rects), near);
+      }
+      looks[owner] = sound;
+    }
+    return looks;
+  }
+
+  /// Border \p i (all plain) with a tooth on [s0, s1] instead, kept if one of its sides (of those
+  /// \p owners allows) can own it with both parts whole, no tooth of theirs bitten and no new
+  /// thin neck (adds_thin_neck); otherwise everything as before.
+  bool try_tooth(int i, double s0, double s1, bool in_bands = false,
+                 std::array<bool, 2> owners = {true, true}) {
     BorderJoint& b = out_.borders[i];
     JointKind kind;
     const JointInterval in = interval_on(pieces_[i], s0, s1, kind);
@@ -425,7 +504,7 @@ class Builder {
     // A part too small to handle owns the tooth if it can: a slot would make it smaller still.
     const bool second_first = too_small(drawn[1]) && !too_small(drawn[0]);
     for (int owner : second_first ? std::array{1, 0} : std::array{0, 1}) {
-      if (untrimmed_owner(i, in, owner) != owner) continue;
+      if (!owners[owner] || untrimmed_owner(i, in, owner) != owner) continue;
       // Into third parts first: they are drawn already and this tooth does not change them.
       std::vector<Zone> zones;
       if (in_bands) {
@@ -437,10 +516,12 @@ class Builder {
       for (JointInterval& x : b.intervals)
         if (x.s0 == s0 && x.s1 == s1) x.owner = owner, x.kind = kind;
       ++drawings_;
-      // The part with fewer borders first: drawing is what costs, and the second part is not
-      // drawn if the first fails.
+      // The part that failed the last trial on this border first, else the part with fewer
+      // borders: drawing is what costs, and the second part is not drawn if the first fails.
       std::array<int, 2> order = b.patches;
-      if (rings_[order[1]].edges.size() < rings_[order[0]].edges.size())
+      if (failed_last_ == order[1] ||
+          (failed_last_ != order[0] &&
+           rings_[order[1]].edges.size() < rings_[order[0]].edges.size()))
         std::swap(order[0], order[1]);
       bool sound = true;
       for (int k = 0; k < 2 && sound; ++k) {
@@ -448,11 +529,10 @@ class Builder {
         out_.parts[p] = outline(p);
         // Whole, no tooth bitten, and no new thin neck: a tooth hanging on one breaks off.
         sound = !out_.parts[p].repaired && bitten_teeth(p).empty();
-        if (sound) {
-          const std::size_t necks = thin_necks(p).size();
+        if (sound)
           sound =
-              necks == 0 || necks <= thin_necks(drawn[p == b.patches[0] ? 0 : 1].designed).size();
-        }
+              !adds_thin_neck(out_.parts[p].designed, drawn[p == b.patches[0] ? 0 : 1].designed);
+        if (!sound) failed_last_ = p;
       }
       // Into its mate, as both are now drawn (the slot cut).
       if (sound && in_bands)
@@ -864,20 +944,73 @@ class Builder {
   /// it leaves hanging, and it breaks off when cut.
   std::vector<Polygon2> thin_necks(int p) const { return thin_necks(out_.parts[p].designed); }
   std::vector<Polygon2> thin_necks(const Polygon2& outline) const {
+    if (outline.size() < 3) return {};
+    return thin_necks(std::vector<Polygon2>{outline});
+  }
+  /// thin_necks() of a region given as disjoint simple polygons (an outline clipped to a box).
+  std::vector<Polygon2> thin_necks(const std::vector<Polygon2>& region) const {
     const double r = 0.5 * o_.min_feature;
-    if (outline.size() < 3 || !(r > 0)) return {};
+    if (region.empty() || !(r > 0)) return {};
     std::vector<Polygon2> opened;
-    for (auto& c : polygon_offset(polygon_offset({outline}, -r), r))
+    for (auto& c : polygon_offset(polygon_offset(region, -r), r))
       if (polygon_area(c) > 0) opened.push_back(std::move(c));
     if (opened.size() < 2) return {};
     std::vector<Polygon2> necks;
-    for (auto& piece : polygon_difference({outline}, opened)) {
+    for (auto& piece : polygon_difference(region, opened)) {
       if (!(polygon_area(piece) > 0)) continue;
       int touched = 0;
       for (const Polygon2& ring : opened) touched += touches(piece, ring) ? 1 : 0;
       if (touched >= 2) necks.push_back(std::move(piece));
     }
     return necks;
+  }
+
+  /// True when outline \p after (a part drawn with one joint changed) falls in more pieces than
+  /// \p before near the change under an opening by half the smallest feature: a tooth that
+  /// hangs on a neck narrower than that feature (it breaks off), or a slot that pinches its part
+  /// through. Only the neighbourhood of the change is looked at (the opening there depends on the
+  /// outline within a feature of it), so a neck elsewhere on the part, or one the change only
+  /// splits, does not count, and a large part costs no more than a small one. A thin wedge
+  /// between a tooth and another edge of its part joins two pieces that are joined anyway and
+  /// does not count either (thin_necks() of the clipped outline would see two pieces there).
+  bool adds_thin_neck(const Polygon2& after, const Polygon2& before) const {
+    if (after.size() < 3 || !(o_.min_feature > 0)) return false;
+    // The box of the vertices either outline has and the other lacks.
+    const auto less = [](const Vec2& a, const Vec2& b) {
+      return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+    };
+    Polygon2 sa = after, sb = before, changed;
+    std::sort(sa.begin(), sa.end(), less);
+    std::sort(sb.begin(), sb.end(), less);
+    std::set_symmetric_difference(sa.begin(), sa.end(), sb.begin(), sb.end(),
+                                  std::back_inserter(changed), less);
+    if (changed.empty()) return false;
+    Vec2 lo = changed.front(), hi = changed.front();
+    for (const Vec2& v : changed) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+    return more_pieces(clipped(after, lo, hi), clipped(before, lo, hi));
+  }
+
+  /// \p outline clipped to the box [lo, hi] grown by three smallest features: an opening by half
+  /// that feature within a feature of [lo, hi] is the same on the clipped outline as on the whole.
+  std::vector<Polygon2> clipped(const Polygon2& outline, Vec2 lo, Vec2 hi) const {
+    if (outline.size() < 3) return {};
+    const double g = 3 * o_.min_feature;
+    lo -= Vec2(g, g), hi += Vec2(g, g);
+    return polygon_intersection(outline, {lo, {hi.x(), lo.y()}, hi, {lo.x(), hi.y()}});
+  }
+
+  /// True when region \p after falls in more pieces than \p before under an opening by half
+  /// the smallest feature (both clipped() to the same box).
+  bool more_pieces(const std::vector<Polygon2>& after, const std::vector<Polygon2>& before) const {
+    const double r = 0.5 * o_.min_feature;
+    const auto pieces = [&](const std::vector<Polygon2>& region) {
+      std::size_t n = 0;
+      if (!region.empty())
+        for (const Polygon2& c : polygon_offset(polygon_offset(region, -r), r))
+          n += polygon_area(c) > 0 ? 1 : 0;
+      return n;
+    };
+    return pieces(after) > pieces(before);
   }
 
   /// Thin necks (thin_necks) that joints made: the intervals whose tooth, slot or cut-back comes
