@@ -422,13 +422,10 @@ TEST(Joints, BothSidesOfABorderMeasureFromTheSamePlace) {
 // flattened vertices (exact: the halves are planar and flatten isometrically).
 struct PartFrame {
   Vec3 origin, e1, e2, normal;
+  Eigen::Matrix3d to_local;  // inverse of [e1 e2 normal], once per frame (frame_of)
   Vec3 to3d(const Vec2& p, double w) const { return origin + p.x() * e1 + p.y() * e2 + w * normal; }
   // (x, y, w) of a 3D point in this part's frame.
-  Vec3 local(const Vec3& q) const {
-    Eigen::Matrix3d m;
-    m << e1, e2, normal;
-    return m.colPivHouseholderQr().solve(q - origin);
-  }
+  Vec3 local(const Vec3& q) const { return to_local * (q - origin); }
 };
 
 PartFrame frame_of(const Strips& s, const Flattening& f, int p) {
@@ -445,6 +442,9 @@ PartFrame frame_of(const Strips& s, const Flattening& f, int p) {
   fr.e2 = sol.row(1).transpose();
   fr.origin = sol.row(2).transpose();
   fr.normal = fr.e1.cross(fr.e2).normalized();
+  Eigen::Matrix3d m;
+  m << fr.e1, fr.e2, fr.normal;
+  fr.to_local = m.inverse();
   return fr;
 }
 
