@@ -945,18 +945,10 @@ class Builder {
   std::vector<Polygon2> thin_necks(int p) const { return thin_necks(out_.parts[p].designed); }
   std::vector<Polygon2> thin_necks(const Polygon2& outline) const {
     if (outline.size() < 3) return {};
-    return thin_necks(std::vector<Polygon2>{outline});
-  }
-  /// thin_necks() of a region given as disjoint simple polygons (an outline clipped to a box).
-  std::vector<Polygon2> thin_necks(const std::vector<Polygon2>& region) const {
-    const double r = 0.5 * o_.min_feature;
-    if (region.empty() || !(r > 0)) return {};
-    std::vector<Polygon2> opened;
-    for (auto& c : polygon_offset(polygon_offset(region, -r), r))
-      if (polygon_area(c) > 0) opened.push_back(std::move(c));
+    const std::vector<Polygon2> opened = opening({outline});
     if (opened.size() < 2) return {};
     std::vector<Polygon2> necks;
-    for (auto& piece : polygon_difference(region, opened)) {
+    for (auto& piece : polygon_difference({outline}, opened)) {
       if (!(polygon_area(piece) > 0)) continue;
       int touched = 0;
       for (const Polygon2& ring : opened) touched += touches(piece, ring) ? 1 : 0;
@@ -1002,15 +994,18 @@ class Builder {
   /// True when region \p after falls in more pieces than \p before under an opening by half
   /// the smallest feature (both clipped() to the same box).
   bool more_pieces(const std::vector<Polygon2>& after, const std::vector<Polygon2>& before) const {
+    return opening(after).size() > opening(before).size();
+  }
+
+  /// The outer rings of \p region (disjoint simple polygons) opened by half the smallest
+  /// feature: the pieces left where it is at least that wide (none if it is nowhere so wide).
+  std::vector<Polygon2> opening(const std::vector<Polygon2>& region) const {
     const double r = 0.5 * o_.min_feature;
-    const auto pieces = [&](const std::vector<Polygon2>& region) {
-      std::size_t n = 0;
-      if (!region.empty())
-        for (const Polygon2& c : polygon_offset(polygon_offset(region, -r), r))
-          n += polygon_area(c) > 0 ? 1 : 0;
-      return n;
-    };
-    return pieces(after) > pieces(before);
+    if (region.empty() || !(r > 0)) return {};
+    std::vector<Polygon2> opened;
+    for (auto& c : polygon_offset(polygon_offset(region, -r), r))
+      if (polygon_area(c) > 0) opened.push_back(std::move(c));
+    return opened;
   }
 
   /// Thin necks (thin_necks) that joints made: the intervals whose tooth, slot or cut-back comes
