@@ -15,6 +15,7 @@
 
 #include "cli_util.h"
 #include "kerfab/io/mesh_io.h"
+#include "kerfab/pipeline/notes.h"
 #include "kerfab/pipeline/stages.h"
 #include "shapes.h"
 #include "sheet_audit.h"
@@ -708,6 +709,25 @@ TEST(Cli, JointsLeaveNoThinNeckOnSpotsFineQuadMesh) {
             report["resolve"]["small_parts_after"].get<int>())
       << first;
   EXPECT_EQ(audit.small_parts + audit.narrow_parts, 0) << first;
+}
+
+// The sizes the resolve warning names are what a user types after --size: whole millimetres,
+// never in exponent notation (horse_quad's said "would hold at --size 1.224e+04": a line keeps
+// four digits).
+TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
+  ResolveResult r;
+  r.current_size_mm = 250;
+  r.small_parts_after = 8;
+  r.small_parts_size_mm = 12239.2;
+  r.min_size_mm = 23233.4;
+  r.materials = {{"mdf2", 2.0, 15705.1}};
+  const StageNotes n = notes(r, KerfOptions{});
+  ASSERT_EQ(n.warnings.size(), 1u);
+  const std::string& w = n.warnings[0];
+  EXPECT_NE(w.find("would hold at --size 12240"), std::string::npos) << w;
+  EXPECT_NE(w.find("need no change at --size 23234"), std::string::npos) << w;
+  EXPECT_NE(w.find("(in --material mdf2 at 15706)"), std::string::npos) << w;
+  EXPECT_EQ(w.find("e+"), std::string::npos) << w;
 }
 
 // Issue 14, item 3: a part that its joints cut away is reported with the size at which it would

@@ -12,6 +12,10 @@ struct Line : std::ostringstream {
   explicit Line(int precision = 4) { this->precision(precision); }
 };
 
+/// A size to pass to --size, rounded up to whole millimetres: as an integer, so that a large one
+/// reads 12240, not 1.224e+04 (a line's precision is four digits).
+long long whole_mm(double mm) { return static_cast<long long>(std::ceil(mm)); }
+
 std::string summary_line(const std::string& what, const MeshSummary& s) {
   Line os;
   os << what << ": " << s.vertices << " vertices, " << s.faces << " faces (";
@@ -233,13 +237,13 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
       w << "; " << r.small_parts_after
         << " parts stay too small or narrow to handle (resolve.changes, \"unresolved\")";
       if (r.small_parts_size_mm > r.current_size_mm + 0.5)
-        w << ", which would hold at --size " << std::ceil(r.small_parts_size_mm);
+        w << ", which would hold at --size " << whole_mm(r.small_parts_size_mm);
     }
     if (r.min_size_mm > r.current_size_mm + 0.5) {
-      w << "; the tightest bends would need no change at --size " << std::ceil(r.min_size_mm);
+      w << "; the tightest bends would need no change at --size " << whole_mm(r.min_size_mm);
       for (const MaterialSize& m : r.materials)
         if (m.size_mm < r.min_size_mm - 0.5) {
-          w << " (in --material " << m.material << " at " << std::ceil(m.size_mm) << ")";
+          w << " (in --material " << m.material << " at " << whole_mm(m.size_mm) << ")";
           break;
         }
     }
