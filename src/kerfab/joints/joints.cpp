@@ -48,6 +48,39 @@ constexpr std::size_t kScreenFrom = 600;
 /// wide as the beam [mm].
 constexpr double kNeedleWidth = 0.01;
 
+/// The edges of \p rings that come within \p margin of \p piece's bounding box: the only
+/// ones a vertex of \p piece can be within \p margin of.
+std::vector<std::array<Vec2, 2>> edges_near(const Polygon2& piece,
+                                            const std::vector<const Polygon2*>& rings,
+                                            double margin) {
+  Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const Vec2& v : piece) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  lo -= Vec2::Constant(margin), hi += Vec2::Constant(margin);
+  std::vector<std::array<Vec2, 2>> near;
+  for (const Polygon2* ring : rings)
+    for (std::size_t i = 0, n = ring->size(); i < n; ++i) {
+      const Vec2& a = (*ring)[i];
+      const Vec2& b = (*ring)[(i + 1) % n];
+      if (std::max(a.x(), b.x()) < lo.x() || std::min(a.x(), b.x()) > hi.x() ||
+          std::max(a.y(), b.y()) < lo.y() || std::min(a.y(), b.y()) > hi.y())
+        continue;
+      near.push_back({a, b});
+    }
+  return near;
+}
+
+/// True when some vertex of \p piece lies farther than \p r from the boundary of \p region.
+bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, double r) {
+  std::vector<const Polygon2*> rings;
+  for (const Polygon2& ring : region) rings.push_back(&ring);
+  const auto near = edges_near(piece, rings, r);
+  for (const Vec2& v : piece)
+    if (std::none_of(near.begin(), near.end(),
+                     [&](const auto& e) { return distance_to_segment(v, e[0], e[1]) <= r; }))
+      return true;
+  return false;
+}
+
 class Builder {
  public:
   Builder(const Strips& s, const Flattening& f, double thickness, double kerf_width,
@@ -1269,39 +1302,6 @@ class Builder {
     part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
   }
 
-  /// The edges of \p rings that come within \p margin of \p piece's bounding box: the only
-  /// ones a vertex of \p piece can be within \p margin of.
-  static std::vector<std::array<Vec2, 2>> edges_near(const Polygon2& piece,
-                                                     const std::vector<const Polygon2*>& rings,
-                                                     double margin) {
-    Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (const Vec2& v : piece) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-    lo -= Vec2::Constant(margin), hi += Vec2::Constant(margin);
-    std::vector<std::array<Vec2, 2>> near;
-    for (const Polygon2* ring : rings)
-      for (std::size_t i = 0, n = ring->size(); i < n; ++i) {
-        const Vec2& a = (*ring)[i];
-        const Vec2& b = (*ring)[(i + 1) % n];
-        if (std::max(a.x(), b.x()) < lo.x() || std::min(a.x(), b.x()) > hi.x() ||
-            std::max(a.y(), b.y()) < lo.y() || std::min(a.y(), b.y()) > hi.y())
-          continue;
-        near.push_back({a, b});
-      }
-    return near;
-  }
-
-  /// True when some vertex of \p piece lies farther than \p r from the boundary of \p region.
-  static bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, double r) {
-    std::vector<const Polygon2*> rings;
-    for (const Polygon2& ring : region) rings.push_back(&ring);
-    const auto near = edges_near(piece, rings, r);
-    for (const Vec2& v : piece)
-      if (std::none_of(near.begin(), near.end(),
-                       [&](const auto& e) { return distance_to_segment(v, e[0], e[1]) <= r; }))
-        return true;
-    return false;
-  }
-
   /// True when \p piece, taken away by an opening whose result is \p opened, joined two of its
   /// pieces, one of them no larger than a square tooth, and holds more than a square of the
   /// minimum feature width: a neck with a small corner hanging on it. Its vertices all lie near
@@ -1357,24 +1357,11 @@ class Builder {
       return out;
     };
     std::vector<Polygon2> remove = tails(outline, opened);
-    bool widened = false;
     // Slits: what the closing would fill, widened to the minimum width instead (never into a
     // tooth: the slot it goes into is cut to its width).
-    const auto closed = polygon_offset(polygon_offset({outline}, r), -r);
-    for (const auto& gap : polygon_difference(closed, {outline})) {
-      if (!reaches_beyond(gap, closed, r)) continue;
-      // Widened by what it lacks: a slit of mean width w (area over half its perimeter) grows
-      // by r - w/2 on each side, its end by as much; wider cuts would eat into thin parts.
-      double perimeter = 0;
-      for (std::size_t i = 0; i < gap.size(); ++i)
-        perimeter += (gap[(i + 1) % gap.size()] - gap[i]).norm();
-      const double w = 2 * std::abs(polygon_area(gap)) / std::max(perimeter, 1e-9);
-      auto wide = polygon_offset({gap}, std::clamp(r - 0.5 * w, 0.1 * r, r));
-      for (auto& poly : wide) make_counter_clockwise(poly);
-      if (!teeth.empty()) wide = polygon_difference(wide, teeth);
-      remove.insert(remove.end(), wide.begin(), wide.end());
-      widened = true;
-    }
+    const std::vector<Polygon2> wide = slit_widenings(outline, teeth, o_.min_feature);
+    remove.insert(remove.end(), wide.begin(), wide.end());
+    const bool widened = !wide.empty();
     if (remove.empty()) return {outline};
     for (auto& poly : remove) make_counter_clockwise(poly);
     // Grown by a hair: a tail shares its sides with the outline, and taken away exactly it can
@@ -1420,6 +1407,42 @@ std::string BorderJoint::kind() const {
   for (const JointInterval& in : intervals)
     box |= in.kind == JointKind::kBox, tab |= in.kind == JointKind::kTab;
   return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : glue > 0 ? "glue" : "none";
+}
+
+std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<Polygon2>& teeth,
+                                     double min_feature) {
+  const double r = 0.5 * min_feature;
+  std::vector<Polygon2> out;
+  if (outline.size() < 3 || !(r > 0)) return out;
+  const auto closed = polygon_offset(polygon_offset({outline}, r), -r);
+  for (const auto& gap : polygon_difference(closed, {outline})) {
+    if (!reaches_beyond(gap, closed, r)) continue;
+    // Widened by what it lacks: a slit of mean width w (area over half its perimeter) grows
+    // by r - w/2 on each side, its end by as much; wider cuts would eat into thin parts.
+    double perimeter = 0;
+    for (std::size_t i = 0; i < gap.size(); ++i)
+      perimeter += (gap[(i + 1) % gap.size()] - gap[i]).norm();
+    const double w = 2 * std::abs(polygon_area(gap)) / std::max(perimeter, 1e-9);
+    const double grow = std::clamp(r - 0.5 * w, 0.1 * r, r);
+    auto widened_by = [&](double d) {
+      auto wide = polygon_offset({gap}, d);
+      for (auto& poly : wide) make_counter_clockwise(poly);
+      return wide;
+    };
+    auto wide = widened_by(grow);
+    if (!teeth.empty()) {
+      // A tooth on one side keeps its width: the other side then gives all the slit lacks
+      // (grown by half of it on each side, a slit beside a stub tooth stayed 0.7 mm wide).
+      auto kept = polygon_difference(wide, teeth);
+      double before = 0, after = 0;
+      for (const auto& poly : wide) before += polygon_area(poly);
+      for (const auto& poly : kept) after += polygon_area(poly);
+      if (after < before - 1e-6) kept = polygon_difference(widened_by(2 * grow), teeth);
+      wide = std::move(kept);
+    }
+    out.insert(out.end(), wide.begin(), wide.end());
+  }
+  return out;
 }
 
 Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Polygon2>& teeth,

@@ -187,6 +187,14 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
 /// growing without bound; at 170 degrees it is h/2 tan(85 deg) = 5.7 h.
 inline constexpr double kMaxJointFold = 170.0 * M_PI / 180.0;
 
+/// The regions to cut away from \p outline so that no slit is narrower than \p min_feature [mm]:
+/// what a closing by half that width fills and that reaches more than half of it from the rest,
+/// grown by what it lacks on each side, never into \p teeth (counter-clockwise regions; their
+/// slots are cut to their width). Where a tooth stops the growth on one side, the other side
+/// gives all the slit lacks.
+std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<Polygon2>& teeth,
+                                     double min_feature);
+
 /// \p outline without the small pieces that hang at one end of a short neck narrower than
 /// \p min_feature [mm]: the erosion by half that width (less 10 um) falls in two there, though an
 /// opening closes over the neck (the discs on both sides overlap across it). A piece no larger
