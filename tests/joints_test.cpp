@@ -931,6 +931,31 @@ TEST(Joints, ASlitBesideAToothWidensOnItsOtherSide) {
   EXPECT_TRUE(slit_widenings(wide, {tooth}, 1.0).empty());
 }
 
+// A sliver of a tooth narrower than the smallest feature, left where a cut-back narrowed the tooth,
+// goes (horse_quad: 0.27 mm wide, reaching 1.19 mm; the cleanup kept all tooth material); the
+// rest of the tooth and the roundings of its square corners stay. A body 10 x 10 mm; its tooth
+// region is 4 x 3 mm on top, of which the outline holds a 2 mm wide tooth and, 1.73 mm to its
+// right, a sliver 0.27 mm wide and 1.5 mm high.
+TEST(Joints, AToothsSliverGoesButItsSquareCornersStay) {
+  const Polygon2 outline = {{0, 0},     {10, 0}, {10, 10}, {7, 10}, {7, 11.5}, {6.73, 11.5},
+                            {6.73, 10}, {5, 10}, {5, 13},  {3, 13}, {3, 10},   {0, 10}};
+  const Polygon2 tooth = {{3, 10 - 1e-3}, {7, 10 - 1e-3}, {7, 13}, {3, 13}};
+  const auto opened = polygon_offset(polygon_offset({outline}, -0.5), 0.5);
+  const auto slivers = tooth_slivers(outline, opened, {tooth}, 1.0);
+  double area = 0;
+  for (const auto& s : slivers) {
+    area += polygon_area(s);
+    for (const Vec2& v : s) EXPECT_GT(v.x(), 6.7) << "only the sliver goes, not the 2 mm tooth";
+  }
+  EXPECT_NEAR(area, 0.27 * 1.5, 0.03);
+  // Not tooth material: a tail, the cleanup's other rule.
+  EXPECT_TRUE(tooth_slivers(outline, opened, {}, 1.0).empty());
+  // A tooth whose corners are all square loses nothing.
+  const Polygon2 plain = {{0, 0}, {10, 0}, {10, 10}, {5, 10}, {5, 13}, {3, 13}, {3, 10}, {0, 10}};
+  EXPECT_TRUE(tooth_slivers(plain, polygon_offset(polygon_offset({plain}, -0.5), 0.5), {tooth}, 1.0)
+                  .empty());
+}
+
 TEST(Joints, RejectsBadOptions) {
   const Case c = folded_sheet(90);
   Material thin;

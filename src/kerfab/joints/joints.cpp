@@ -1357,6 +1357,8 @@ class Builder {
       return out;
     };
     std::vector<Polygon2> remove = tails(outline, opened);
+    for (auto& sliver : tooth_slivers(outline, opened, teeth, o_.min_feature))
+      remove.push_back(std::move(sliver));
     // Slits: what the closing would fill, widened to the minimum width instead (never into a
     // tooth: the slot it goes into is cut to its width).
     const std::vector<Polygon2> wide = slit_widenings(outline, teeth, o_.min_feature);
@@ -1407,6 +1409,20 @@ std::string BorderJoint::kind() const {
   for (const JointInterval& in : intervals)
     box |= in.kind == JointKind::kBox, tab |= in.kind == JointKind::kTab;
   return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : glue > 0 ? "glue" : "none";
+}
+
+std::vector<Polygon2> tooth_slivers(const Polygon2& outline, const std::vector<Polygon2>& opened,
+                                    const std::vector<Polygon2>& teeth, double min_feature) {
+  std::vector<Polygon2> out;
+  if (teeth.empty() || outline.size() < 3) return out;
+  const double w = min_feature;
+  for (const auto& piece : polygon_difference({outline}, opened)) {
+    if (std::abs(polygon_area(piece)) <= w * w && !reaches_beyond(piece, opened, w)) continue;
+    for (const auto& tooth : teeth)
+      for (auto& c : polygon_intersection(piece, tooth))
+        if (polygon_area(c) > 0) out.push_back(std::move(c));
+  }
+  return out;
 }
 
 std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<Polygon2>& teeth,
