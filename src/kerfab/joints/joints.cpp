@@ -1333,7 +1333,8 @@ class Builder {
   /// The outline without tails or slits narrower than JointOptions::min_feature (where a tooth
   /// corner meets a cut-back wedge, or two cut-backs nearly meet): such a tail breaks off or
   /// burns away, such a slit is a cut the laser cannot make. Both go by removing material, which
-  /// can never collide with a neighbour: a tail is cut off, a slit widened. Teeth are kept.
+  /// can never collide with a neighbour: a tail is cut off, a slit widened. Teeth are kept, but
+  /// for slivers of them (tooth_slivers).
   /// A feature is what an opening (tails) or closing (slits) by half the minimum width changes
   /// and that reaches more than half that width from the rest: the rounding of a corner of 60
   /// degrees or more, or a low wide bump such as a shallow tooth, is no feature.
@@ -1345,10 +1346,11 @@ class Builder {
     const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
     if (opened.empty()) return {outline};  // narrower than a feature everywhere: reported as such
     const std::vector<Polygon2> teeth = tooth_regions(spans);
-    // Tails: what the opening takes away, except tooth material.
-    auto tails = [&](const Polygon2& shape, const std::vector<Polygon2>& opened_shape) {
+    // Tails: of what the opening takes away (\p taken), the features but for tooth material.
+    auto tails = [&](const std::vector<Polygon2>& taken,
+                     const std::vector<Polygon2>& opened_shape) {
       std::vector<Polygon2> out;
-      for (const auto& piece : polygon_difference({shape}, opened_shape)) {
+      for (const auto& piece : taken) {
         if (!reaches_beyond(piece, opened_shape, r) && !neck(piece, opened_shape)) continue;
         for (auto& rest :
              teeth.empty() ? std::vector<Polygon2>{piece} : polygon_difference({piece}, teeth))
@@ -1356,8 +1358,9 @@ class Builder {
       }
       return out;
     };
-    std::vector<Polygon2> remove = tails(outline, opened);
-    for (auto& sliver : tooth_slivers(outline, opened, teeth, o_.min_feature))
+    const std::vector<Polygon2> taken = polygon_difference({outline}, opened);
+    std::vector<Polygon2> remove = tails(taken, opened);
+    for (auto& sliver : tooth_slivers(taken, opened, teeth, o_.min_feature))
       remove.push_back(std::move(sliver));
     // Slits: what the closing would fill, widened to the minimum width instead (never into a
     // tooth: the slot it goes into is cut to its width).
@@ -1379,7 +1382,9 @@ class Builder {
     std::vector<Polygon2> final_pieces;
     for (const Polygon2& piece : left) {
       const auto opened_piece = polygon_offset(polygon_offset({piece}, -r), r);
-      auto more = opened_piece.empty() ? std::vector<Polygon2>{} : tails(piece, opened_piece);
+      auto more = opened_piece.empty()
+                      ? std::vector<Polygon2>{}
+                      : tails(polygon_difference({piece}, opened_piece), opened_piece);
       if (more.empty()) {
         final_pieces.push_back(piece);
         continue;
@@ -1411,12 +1416,13 @@ std::string BorderJoint::kind() const {
   return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : glue > 0 ? "glue" : "none";
 }
 
-std::vector<Polygon2> tooth_slivers(const Polygon2& outline, const std::vector<Polygon2>& opened,
+std::vector<Polygon2> tooth_slivers(const std::vector<Polygon2>& taken,
+                                    const std::vector<Polygon2>& opened,
                                     const std::vector<Polygon2>& teeth, double min_feature) {
   std::vector<Polygon2> out;
-  if (teeth.empty() || outline.size() < 3) return out;
+  if (teeth.empty()) return out;
   const double w = min_feature;
-  for (const auto& piece : polygon_difference({outline}, opened)) {
+  for (const auto& piece : taken) {
     if (std::abs(polygon_area(piece)) <= w * w && !reaches_beyond(piece, opened, w)) continue;
     for (const auto& tooth : teeth)
       for (auto& c : polygon_intersection(piece, tooth))

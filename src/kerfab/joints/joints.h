@@ -187,13 +187,14 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
 /// growing without bound; at 170 degrees it is h/2 tan(85 deg) = 5.7 h.
 inline constexpr double kMaxJointFold = 170.0 * M_PI / 180.0;
 
-/// The tooth material of \p outline that an opening by half \p min_feature (\p opened: that
-/// opening) takes away and that reaches farther than \p min_feature from the rest or holds more
-/// than its square [mm, mm2]: a sliver of a tooth (where a cut-back at a corner narrowed it) that
-/// the laser burns away or that breaks off. The outline cleanup keeps teeth whole otherwise (a
+/// The tooth material among \p taken, what an opening by half \p min_feature (\p opened) takes
+/// from an outline, in the pieces that reach farther than \p min_feature from the rest or hold
+/// more than its square [mm, mm2]: a sliver of a tooth (where a cut-back at a corner narrowed it)
+/// that the laser burns away or that breaks off. The outline cleanup keeps teeth whole otherwise (a
 /// tooth fills its mate's slot); without such a sliver the tooth still does, less that corner.
 /// The rounding of a tooth's corner of 40 degrees or more is no sliver.
-std::vector<Polygon2> tooth_slivers(const Polygon2& outline, const std::vector<Polygon2>& opened,
+std::vector<Polygon2> tooth_slivers(const std::vector<Polygon2>& taken,
+                                    const std::vector<Polygon2>& opened,
                                     const std::vector<Polygon2>& teeth, double min_feature);
 
 /// The regions to cut away from \p outline so that no slit is narrower than \p min_feature [mm]:
