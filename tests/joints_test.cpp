@@ -683,9 +683,10 @@ Polygon2 folded_under(const Case& c, const std::vector<PartFrame>& frames, const
 // Issue 16, papercraft: every border has glue tabs on exactly one side at each point; folded
 // under the other part, each lies inside it and off every other tab glued there; on the sheet no
 // tab overlaps its own part or its part's other tabs; a fold line runs along every tab root,
-// mountain where the surface is convex.
-void expect_sound_glue_tabs(const Case& c, double fold_deg) {
-  EXPECT_EQ(c.joints.borders_without_joint, 0);
+// mountain where the surface is convex. \p fold_deg: every fold of the shape, or < 0 (any);
+// \p bare: borders that may stay without a tab.
+void expect_sound_glue_tabs(const Case& c, double fold_deg, int bare = 0) {
+  EXPECT_EQ(c.joints.borders_without_joint, bare);
   EXPECT_EQ(c.joints.teeth, 0);
   std::vector<PartFrame> frames;
   for (std::size_t p = 0; p < c.joints.parts.size(); ++p)
@@ -715,7 +716,9 @@ void expect_sound_glue_tabs(const Case& c, double fold_deg) {
       // Folded under the mate: inside it, by the gap.
       const Polygon2 folded = folded_under(c, frames, sp, static_cast<int>(p), q);
       const Polygon2& mate = c.joints.parts[q].designed;
-      EXPECT_NEAR(overlap_area(folded, mate), polygon_area(folded), 1e-3 * polygon_area(folded))
+      // (but for the 1 um overlap across its root)
+      EXPECT_NEAR(overlap_area(folded, mate), polygon_area(folded),
+                  1e-3 * polygon_area(folded) + 1.1e-3 * sp.length)
           << "a tab of part " << p << " sticks out from under part " << q;
       // Its vertices off the root by the gap or more keep the gap from the mate's edges.
       for (std::size_t k = 0; k < folded.size(); ++k)
@@ -740,7 +743,7 @@ void expect_sound_glue_tabs(const Case& c, double fold_deg) {
       if (fold > 0.02) {
         EXPECT_EQ(root->mountain(), rise < 0) << "part " << p;
       }
-      if (fold > 1e-3) {
+      if (fold > 1e-3 && fold_deg >= 0) {
         EXPECT_NEAR(fold, fold_deg * kPi / 180, 0.01);
       }
     }
@@ -771,9 +774,11 @@ void expect_sound_glue_tabs(const Case& c, double fold_deg) {
     for (std::size_t i = 0; i < given.size(); ++i)
       for (std::size_t j = i + 1; j < given.size(); ++j)
         EXPECT_LE(std::min(given[i][1], given[j][1]) - std::max(given[i][0], given[j][0]), 1e-9);
-    EXPECT_GE(rooted[static_cast<int>(bi)], 0.85 * b.length) << "border at edge " << b.edge;
+    if (b.glue > 0 || bare == 0) {
+      EXPECT_GE(rooted[static_cast<int>(bi)], 0.85 * b.length) << "border at edge " << b.edge;
+    }
   }
-  EXPECT_GE(tabs, static_cast<int>(c.joints.borders.size()));
+  EXPECT_GE(tabs, static_cast<int>(c.joints.borders.size()) - bare);
 }
 
 TEST(Joints, PaperGetsGlueTabsOnEveryBorder) {
@@ -1135,11 +1140,16 @@ TEST(Joints, PlatesPlaceFlatPointsIn3D) {
 // Issue 16, papercraft: stubs where three parts meet used to stay bare because the tabs of the
 // long borders beside them, placed first, took the room under their mates; the bare ones go
 // first once more, and that placement is kept when it leaves fewer bare borders and nearly all
-// of the glued length. Spot in paper at 200 mm (control mesh + 1 Catmull-Clark step, strips
-// before the resolve stage): 9 bare borders before, a 3.8 mm one among them; 8 after, in
-// mirror pairs: three pairs under 3 mm, and a pair of 8.3 mm borders where both parts are
-// under 1 mm deep at the border's middle (no room under either; the tabs' gap is 1 mm).
-TEST(Joints, PaperStubsBlockedByTheirNeighboursTabsGetTheirTabsFirst) {
+// of the glued length. And a stub's tab, 0.4 of its length tall with ends leaning in by
+// 45 degrees, is too small to hold (0.5 mm^2 on a 1.3 mm stub); where stubs stay bare, the
+// placement is made again with tabs with square ends for them (kStubTaper: up to twice the
+// stub's length tall, as deep as the mate allows but for the gap), kept where it leaves fewer
+// bare. Spot in paper at 200 mm (control mesh + 1 Catmull-Clark step, strips before the resolve
+// stage): 9 bare borders at first, 8 with the bare ones first (mirror pairs: three under 3 mm,
+// and 8.3 mm borders where both parts are under 1 mm deep beyond what a leaning tab may take),
+// 6 with square ends: the 8.3 mm pair gets tabs, the stubs of 1.3-2.6 mm between corners of
+// the mate too sharp to leave a tab room 1 mm inside its edges stay bare.
+TEST(Joints, PaperStubsGetTheirTabsFirstOrWithSquareEnds) {
   const PreparedInput p = test::load({"spot_triangulated.obj", "spot_control_mesh.obj", 1, 200});
   Flattening f;
   const Strips s = flattened_real_strips(p, f);
@@ -1148,9 +1158,31 @@ TEST(Joints, PaperStubsBlockedByTheirNeighboursTabsGetTheirTabsFirst) {
   for (const BorderJoint& b : j.borders)
     if (b.glue == 0) bare.push_back(b.length);
   EXPECT_EQ(j.borders_without_joint, static_cast<int>(bare.size()));
-  EXPECT_LE(bare.size(), 8u);
-  for (double l : bare) EXPECT_TRUE(l < 3.0 || l > 8.0) << "a bare border of " << l << " mm";
+  EXPECT_LE(bare.size(), 6u);
+  for (double l : bare) EXPECT_LT(l, 3.0) << "a bare border of " << l << " mm";
   EXPECT_GT(j.glue_length, 0.85 * j.border_length) << j.glue_length << " of " << j.border_length;
+}
+
+// The same on a shape where every part is flat, so that the tabs can be checked in 3D as on the
+// other generated shapes: 36 and 40 strips side by side on a folded sheet meet their other
+// halves along stubs of 2.8 and 2.5 mm between four corners. With leaning tabs only, all 36
+// and all 40 stayed bare; with square ends at most 6 of them do, every tab inside its mate in
+// 3D and off every other tab there, off its own part on the sheet.
+TEST(Joints, PaperStubsOnAFoldedSheetGetTabsWithSquareEnds) {
+  for (int nu : {36, 40})
+    for (double deg : {30.0, 90.0, 150.0}) {
+      SCOPED_TRACE(std::to_string(nu) + " strips, " + std::to_string(deg) + " degrees");
+      const Case c = folded_sheet(deg, {}, kPaper, nu);
+      int bare = 0;
+      for (const BorderJoint& b : c.joints.borders) {
+        if (b.glue > 0) continue;
+        ++bare;
+        EXPECT_NEAR(b.length, 100.0 / nu, 1e-6);  // only stubs
+      }
+      EXPECT_LE(bare, nu / 4);
+      std::printf("%d strips, %.0f deg: %d of %d stubs bare\n", nu, deg, bare, nu);
+      expect_sound_glue_tabs(c, deg, bare);
+    }
 }
 
 }  // namespace kerfab

@@ -14,6 +14,9 @@ using border::Piece;
 using border::Ring;
 using border::Side;
 
+/// The ends of a stub's glue tab: square to the border line [rad] (glue_tabs.h, kGlueTabTaper).
+constexpr double kStubTaper = M_PI / 2;
+
 // Tabs reach this far across their root into the part, so that tab and body overlap instead of
 // merely touching after rounding [mm].
 constexpr double kOverlap = 1e-3;
@@ -120,10 +123,18 @@ struct Tab {
 class GlueBuilder {
  public:
   /// \p bp: the border pieces of \p s and \p f. \p first: borders to place before all others
-  /// (in this order).
+  /// (in this order). \p square_stubs: stretches too short to halve may get a tab with square
+  /// ends where a leaning one does not fit.
   GlueBuilder(const Strips& s, const Flattening& f, const border::Pieces& bp,
-              const Machine& machine, const JointOptions& o, std::vector<int> first = {})
-      : s_(s), f_(f), kerf_width_(machine.kerf_width), o_(o), bp_(bp), first_(std::move(first)) {}
+              const Machine& machine, const JointOptions& o, std::vector<int> first = {},
+              bool square_stubs = false)
+      : s_(s),
+        f_(f),
+        kerf_width_(machine.kerf_width),
+        o_(o),
+        bp_(bp),
+        first_(std::move(first)),
+        square_stubs_(square_stubs) {}
 
   Joints run() {
     const std::size_t parts = bp_.rings.size();
@@ -168,6 +179,7 @@ class GlueBuilder {
   const JointOptions& o_;
   const border::Pieces& bp_;
   const std::vector<int> first_;
+  const bool square_stubs_;
   std::vector<Polygon2> body_;                // per part: its flattened outline
   std::vector<std::vector<Polygon2>> inner_;  // per part: the body 2 um in (a tab's overlap)
   std::vector<std::vector<Polygon2>> room_;   // per part: the body kGlueTabGap in
@@ -218,16 +230,18 @@ class GlueBuilder {
   }
 
   /// The region beyond the border line of side \p si of piece \p i from s0 to s1, up to
-  /// \p h from it, its ends leaning in by kGlueTabTaper (the untrimmed tab): a rectangle per
-  /// edge of the side's polyline and a wedge at each bend, each clipped by the two ends.
-  std::vector<Polygon2> trapezoid(const Side& side, double s0, double s1, double h) const {
+  /// \p h from it, its ends at \p taper to the border line (the untrimmed tab; pi/2: square
+  /// ends): a rectangle per edge of the side's polyline and a wedge at each bend, each clipped
+  /// by the two ends.
+  std::vector<Polygon2> trapezoid(const Side& side, double s0, double s1, double h,
+                                  double taper = kGlueTabTaper) const {
     const std::vector<double> ss = stations(side, s0, s1);
     std::vector<Vec2> pts;
     for (double v : ss) pts.push_back(at(side, v).point);
     // The ends lean in by the taper: keep (x - end).m <= 0 at both ends.
     const SidePoint first = at(side, std::min(s0 + 1e-6, s1)),
                     last = at(side, std::max(s1 - 1e-6, s0));
-    const double ca = std::cos(kGlueTabTaper), sa = std::sin(kGlueTabTaper);
+    const double ca = std::cos(taper), sa = std::sin(taper);
     const Vec2 m0 = -sa * first.dir + ca * first.normal, m1 = sa * last.dir + ca * last.normal;
     Vec2 lo = pts[0], hi = pts[0];
     for (const Vec2& v : pts) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
@@ -256,9 +270,11 @@ class GlueBuilder {
     return polygon_union(pieces);
   }
 
-  /// The tab of height \p h on side \p si of border \p i from s0 to s1, clipped to what is free
-  /// on the sheet and under the other part; nothing if too little of it is left.
-  std::optional<Tab> candidate(int i, int si, double s0, double s1, double h) const {
+  /// The tab of height \p h on side \p si of border \p i from s0 to s1, its ends at \p taper
+  /// to the border line, clipped to what is free on the sheet and under the other part; nothing if
+  /// too little of it is left.
+  std::optional<Tab> candidate(int i, int si, double s0, double s1, double h,
+                               double taper = kGlueTabTaper) const {
     const Piece& piece = bp_.pieces[i];
     const Side &side = piece.sides[si], &mate = piece.sides[1 - si];
     const int p = side.patch, q = mate.patch;
@@ -275,23 +291,46 @@ class GlueBuilder {
     }
     const Rigid onto = fit_rigid(from, to);
     // At most half as tall as the mate is deep there, so that the border across it has room
-    // for its tabs too.
+    // for its tabs too (a stub's tab, placed after the long borders' tabs and clipped against
+    // them, may take all of the depth but the gap).
     const SidePoint centre = at(side, 0.5 * (s0 + s1));
     const double deep = depth(body_[q], onto.apply(centre.point), onto.turn(centre.normal));
-    h = std::min(h, 0.5 * (deep - kGlueTabGap));
+    h = std::min(h, (taper == kStubTaper ? 1.0 : 0.5) * (deep - kGlueTabGap));
     if (!(h > 0)) return std::nullopt;
-    std::vector<Polygon2> shape = trapezoid(side, s0, s1, h);
+    std::vector<Polygon2> shape = trapezoid(side, s0, s1, h, taper);
     const double ideal = total_area(shape);
     if (!(ideal > 0)) return std::nullopt;
     // Off its own part (but for the overlap along the root) and its other tabs on the sheet.
     std::vector<Polygon2> remove = inner_[p];
     remove.insert(remove.end(), clear_[p].begin(), clear_[p].end());
+    // The band along the root where the tab may come nearer than the gap to its own part and to
+    // the mate's edges: as tall as the gap, its ends leaning in by kGlueTabTaper. A stub's tab
+    // (square ends) may also take all that lies within the gap of its root, so that a stub
+    // between square corners of the mate still has a tab: the band holds it to the stretch of
+    // the mate the gap inside its edges. Such a tab keeps the gap from its own part elsewhere
+    // (beside a reflex corner of its own part it would join it on the sheet).
+    std::vector<Polygon2> band = trapezoid(side, s0, s1, kGlueTabGap + 0.01, kGlueTabTaper);
+    const bool stub = taper == kStubTaper;
+    if (stub) {
+      auto near = trapezoid(side, s0, s1, kGlueTabGap - 0.01, kStubTaper);
+      near.insert(near.end(), band.begin(), band.end());
+      band = polygon_union(near);
+    }
+    if (stub)
+      for (auto& c : polygon_difference(polygon_offset({body_[p]}, kGlueTabGap), band))
+        remove.push_back(std::move(c));
     Polygon2 tab = largest_polygon(polygon_difference(shape, remove));
     if (tab.size() < 3) return std::nullopt;
     // The room: the mate kept the gap inside its edges, but for the stretch along this border.
     std::vector<Polygon2> room = room_[q];
-    for (const auto& c : trapezoid(side, s0, s1, kGlueTabGap + 0.01))
-      room.push_back(onto.apply(c));
+    for (const auto& c : band) {
+      if (!stub) {
+        room.push_back(onto.apply(c));
+        continue;
+      }
+      for (auto& under : polygon_intersection(onto.apply(c), body_[q]))
+        room.push_back(std::move(under));
+    }
     room = polygon_union(room);
     std::vector<Polygon2> inside;
     for (const auto& r : room)
@@ -338,29 +377,38 @@ class GlueBuilder {
   /// other, else at half the height; a \p lone tab goes to the side where more of it is left.
   /// Where none fits, the two halves of the stretch are tried (twice at most), so that a tab is
   /// made where there is room (a corner of the other part, or a tab already glued under it, may
-  /// block only part of the stretch).
+  /// block only part of the stretch). A stretch too short to halve that has no room for a
+  /// leaning tab gets one with square ends (kStubTaper) where the corners leave it room.
   void stretch(int i, double s0, double s1, int preferred, bool lone, int depth) {
     const double len = s1 - s0;
-    const double h = std::min(o_.glue_tab, 0.4 * len * std::tan(kGlueTabTaper));
+    const bool halves = depth < 2 && len >= 8.0;
     std::optional<Tab> tab;
     int owner = -1;
-    for (double height : {h, 0.5 * h}) {
+    auto place_on_a_side = [&](double height, double taper) {
       if (lone) {
-        auto a = candidate(i, 0, s0, s1, height), c = candidate(i, 1, s0, s1, height);
+        auto a = candidate(i, 0, s0, s1, height, taper), c = candidate(i, 1, s0, s1, height, taper);
         if (a && (!c || polygon_area(a->region) >= polygon_area(c->region)))
           tab = a, owner = 0;
         else if (c)
           tab = c, owner = 1;
       } else {
         for (int side : {preferred, 1 - preferred})
-          if ((tab = candidate(i, side, s0, s1, height))) {
+          if ((tab = candidate(i, side, s0, s1, height, taper))) {
             owner = side;
             break;
           }
       }
-      if (tab) break;
-    }
-    if (!tab && depth < 2 && len >= 8.0) {
+    };
+    const double h = std::min(o_.glue_tab, 0.4 * len * std::tan(kGlueTabTaper));
+    for (double height : {h, 0.5 * h})
+      if (!tab) place_on_a_side(height, kGlueTabTaper);
+    // A stub where three parts meet: a leaning tab is 0.4 of its length tall (under 2 mm^2 on a
+    // 3 mm stub); one with square ends may be up to twice as tall as the stub is long.
+    const double square = std::min(o_.glue_tab, std::max(2.0, 2 * len));
+    if (square_stubs_ && !halves)
+      for (double height : {square, 0.5 * square})
+        if (!tab) place_on_a_side(height, kStubTaper);
+    if (!tab && halves) {
       const double mid = 0.5 * (s0 + s1);
       stretch(i, s0, mid, preferred, false, depth + 1);
       stretch(i, mid, s1, 1 - preferred, false, depth + 1);
@@ -473,19 +521,36 @@ class GlueBuilder {
 Joints make_glue_tabs(const Strips& strips, const Flattening& flat, const Machine& machine,
                       const JointOptions& options) {
   const border::Pieces pieces = border::make_pieces(strips, flat);
-  Joints out = GlueBuilder(strips, flat, pieces, machine, options).run();
+  auto bare_in = [](const Joints& j) {
+    std::vector<int> bare;
+    for (std::size_t i = 0; i < j.borders.size(); ++i)
+      if (j.borders[i].glue == 0 && j.borders[i].length > 0) bare.push_back(static_cast<int>(i));
+    return bare;
+  };
+  // A placement replaces the one kept where it leaves fewer borders without a tab and keeps
+  // nearly all of the glued length (kStubGlueLoss).
+  auto better = [](const Joints& b, const Joints& a) {
+    return b.borders_without_joint < a.borders_without_joint &&
+           b.glue_length >= (1 - kStubGlueLoss) * a.glue_length;
+  };
   // Short borders left without a tab (stubs where three parts meet: the tabs of the long
-  // borders beside them, placed first, took the room under their mates) go first once more;
-  // that placement is kept where it leaves fewer borders without a tab and keeps nearly all
-  // of the glued length (kStubGlueLoss).
-  std::vector<int> bare;
-  for (std::size_t i = 0; i < out.borders.size(); ++i)
-    if (out.borders[i].glue == 0 && out.borders[i].length > 0) bare.push_back(static_cast<int>(i));
-  if (bare.empty()) return out;
-  Joints again = GlueBuilder(strips, flat, pieces, machine, options, bare).run();
-  if (again.borders_without_joint < out.borders_without_joint &&
-      again.glue_length >= (1 - kStubGlueLoss) * out.glue_length)
-    return again;
+  // borders beside them, placed first, took the room under their mates) go first once more.
+  auto placed = [&](bool square_stubs) {
+    Joints out = GlueBuilder(strips, flat, pieces, machine, options, {}, square_stubs).run();
+    if (const std::vector<int> bare = bare_in(out); !bare.empty()) {
+      Joints again = GlueBuilder(strips, flat, pieces, machine, options, bare, square_stubs).run();
+      if (better(again, out)) out = std::move(again);
+    }
+    return out;
+  };
+  Joints out = placed(false);
+  // Stubs still bare: the same with tabs with square ends where a leaning one has no room
+  // (kept only where better: a square tab can take the room a neighbouring stub's leaning tab
+  // needed).
+  if (out.borders_without_joint > 0) {
+    Joints square = placed(true);
+    if (better(square, out)) out = std::move(square);
+  }
   return out;
 }
 
