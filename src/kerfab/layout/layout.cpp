@@ -94,6 +94,8 @@ struct Raster {
   Vec2 corner{0, 0};  ///< where the raster's cell (0, 0) starts, in the turned part's frame
   int width = 0, height = 0;
   std::vector<std::vector<std::array<int, 2>>> rows;
+  int cells = 0;            ///< covered cells in all
+  std::vector<int> widest;  ///< per row, its longest span [cells]
 };
 
 Raster rasterise(const Polygon2& grown, double angle, double cell) {
@@ -153,26 +155,50 @@ Raster rasterise(const Polygon2& grown, double angle, double cell) {
         r.rows[j].push_back(c);
     }
   }
+  r.widest.assign(r.height, 0);
+  for (int j = 0; j < r.height; ++j)
+    for (const auto& span : r.rows[j]) {
+      r.cells += span[1] - span[0];
+      r.widest[j] = std::max(r.widest[j], span[1] - span[0]);
+    }
   return r;
 }
 
 /// Occupied cells of one sheet, with per row a prefix count and the last occupied cell at or
-/// before each column, for fast tests and jumps.
+/// before each column, for fast tests and jumps; and the free cells in all and per row the
+/// longest free run, which rule out sheets and rows where a raster cannot fit at all.
 struct SheetGrid {
   int width = 0, height = 0;
   std::vector<std::vector<char>> cells;
   std::vector<std::vector<int>> prefix, last;
+  int free_cells = 0;
+  std::vector<int> longest_free;
   SheetGrid(int w, int h)
       : width(w),
         height(h),
         cells(h, std::vector<char>(w, 0)),
         prefix(h, std::vector<int>(w + 1, 0)),
-        last(h, std::vector<int>(w, -1)) {}
+        last(h, std::vector<int>(w, -1)),
+        free_cells(w * h),
+        longest_free(h, w) {}
   void refresh(int y) {
+    free_cells += prefix[y][width];
+    int run = 0, longest = 0;
     for (int x = 0; x < width; ++x) {
       prefix[y][x + 1] = prefix[y][x] + cells[y][x];
       last[y][x] = cells[y][x] ? x : (x ? last[y][x - 1] : -1);
+      run = cells[y][x] ? 0 : run + 1;
+      longest = std::max(longest, run);
     }
+    free_cells -= prefix[y][width];
+    longest_free[y] = longest;
+  }
+  /// False where some row of \p r at rows y.. is wider than the longest free run there: no x
+  /// can take it.
+  bool rows_may_hold(const Raster& r, int y) const {
+    for (int j = 0; j < r.height; ++j)
+      if (r.widest[j] > longest_free[y + j]) return false;
+    return true;
   }
   /// Smallest x' >= x where the raster at (x', y) is free; -1 if none up to x_max.
   int first_free(const Raster& r, int x, int y, int x_max) const {
@@ -252,6 +278,7 @@ Spot find_spot(const SheetGrid& grid, const Turned& turns, Rule rule, const Layo
   double best_score = std::numeric_limits<double>::infinity();
   for (std::size_t q = 0; q < rasters.size(); ++q) {
     const Raster& r = rasters[q];
+    if (r.cells > grid.free_cells) continue;
     // Raster cell (0,0) at grid cell (x, y): the part's own box then starts at
     // (x * cell + (box.x0 - corner.x)), which must be >= margin (same for the far side).
     const double dx0 = boxes[q].x0 - r.corner.x(), dx1 = boxes[q].x1 - r.corner.x();
@@ -265,6 +292,7 @@ Spot find_spot(const SheetGrid& grid, const Turned& turns, Rule rule, const Layo
     for (int y = y_min; y <= y_max; ++y) {
       // Both scores grow with y at least as fast as y: no lower row can win any more.
       if (best.raster >= 0 && y > best_score) break;
+      if (!grid.rows_may_hold(r, y)) continue;
       const int x = grid.first_free(r, x_min, y, x_max);
       if (x < 0) continue;
       const double score = rule == Rule::kBottomLeft
