@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <numeric>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -1078,10 +1080,21 @@ class Resolver {
     return poly;
   }
 
-  /// Adjacent facets join while the joined one stays flat enough (fewer, larger parts).
+  /// Adjacent facets join while the joined one stays flat enough (fewer, larger parts): the
+  /// flattest pair that may join, one pair at a time. A pair's flatness and whether it may join
+  /// are measured once and kept while neither facet changes (a pair meeting along n quad edges
+  /// was measured n times per join, each join measuring all pairs again).
   void consolidate_facets() {
     auto& groups = accepted_.guidance.facets;
     const double tolerance = r_.facet_flatness * in_.target_diagonal;
+    std::vector<int> id(groups.size());  // per group, an id that changes when the group does
+    std::iota(id.begin(), id.end(), 0);
+    int next_id = static_cast<int>(groups.size());
+    struct Pair {
+      double flatness = 0;
+      std::optional<bool> joins;  // measured where it could be the flattest so far
+    };
+    std::map<std::pair<int, int>, Pair> pairs;
     for (;;) {
       std::map<int, int> group_of;
       for (std::size_t g = 0; g < groups.size(); ++g)
@@ -1093,17 +1106,34 @@ class Resolver {
           for (auto f : m_.ff_range(m_.face_handle(q))) {
             const auto it = group_of.find(f.idx());
             if (it == group_of.end() || it->second <= static_cast<int>(a)) continue;
-            std::set<int> merged(groups[a].begin(), groups[a].end());
-            merged.insert(groups[it->second].begin(), groups[it->second].end());
-            const double e = flatness(merged);
+            const int b = it->second;
+            std::set<int> merged;
+            auto join = [&]() -> const std::set<int>& {
+              if (merged.empty()) {
+                merged.insert(groups[a].begin(), groups[a].end());
+                merged.insert(groups[b].begin(), groups[b].end());
+              }
+              return merged;
+            };
+            const auto key = std::pair{id[a], id[b]};
+            auto known = pairs.find(key);
+            if (known == pairs.end()) known = pairs.emplace(key, Pair{flatness(join()), {}}).first;
+            Pair& pair = known->second;
+            const double e = pair.flatness;
+            if (e > best) continue;
             // A facet that flattened bent joins only a flatter one.
-            if (e <= best && (e <= 0.5 * tolerance || !any_bent(merged)) && plate(merged) &&
-                compact(merged))
-              best = e, ba = static_cast<int>(a), bb = it->second;
+            if (!pair.joins) {
+              join();
+              pair.joins =
+                  (e <= 0.5 * tolerance || !any_bent(merged)) && plate(merged) && compact(merged);
+            }
+            if (*pair.joins) best = e, ba = static_cast<int>(a), bb = b;
           }
       if (ba == kNone) break;
       groups[ba].insert(groups[ba].end(), groups[bb].begin(), groups[bb].end());
       groups.erase(groups.begin() + bb);
+      id[ba] = next_id++;
+      id.erase(id.begin() + bb);
     }
   }
 
