@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -877,6 +878,15 @@ class Resolver {
     // does not change.
     bool tight = false;
     for (const Group& g : groups) tight = tight || any_bent(g.quads);
+    // A pair of groups, measured once while neither changes (every quad of one beside the
+    // other gives the same union): its flatness, and whether it is a compact plate (measured
+    // where it could be the flattest so far).
+    std::vector<int> version(groups.size(), 0);
+    struct Pair {
+      double flatness = 0;
+      std::optional<bool> plate;
+    };
+    std::map<std::array<int, 4>, Pair> pairs;
     for (;;) {  // the flattest merge of two groups of the region, within the tolerance
       double best = tight ? 0.5 * tolerance : tolerance;
       int ba = kNone, bq = kNone;
@@ -885,13 +895,27 @@ class Resolver {
         for (int q : neighbours(groups[a], false)) {
           const auto it = group_of.find(q);
           if (it == group_of.end() || it->second == static_cast<int>(a)) continue;
-          const auto merged = with(static_cast<int>(a), q);
-          const double e = flatness(merged);
-          if (e <= best && plate(merged) && compact(merged))
-            best = e, ba = static_cast<int>(a), bq = q;
+          const int lo = std::min(static_cast<int>(a), it->second),
+                    hi = std::max(static_cast<int>(a), it->second);
+          const std::array<int, 4> key = {lo, version[lo], hi, version[hi]};
+          std::set<int> merged;
+          auto known = pairs.find(key);
+          if (known == pairs.end()) {
+            merged = with(static_cast<int>(a), q);
+            known = pairs.emplace(key, Pair{flatness(merged), {}}).first;
+          }
+          Pair& pair = known->second;
+          if (pair.flatness > best) continue;
+          if (!pair.plate) {
+            if (merged.empty()) merged = with(static_cast<int>(a), q);
+            pair.plate = plate(merged) && compact(merged);
+          }
+          if (*pair.plate) best = pair.flatness, ba = static_cast<int>(a), bq = q;
         }
       }
       if (ba == kNone) break;
+      ++version[group_of.at(bq)];
+      ++version[ba];
       take(ba, bq);
     }
     for (std::size_t a = 0; a < groups.size(); ++a)
@@ -906,8 +930,10 @@ class Resolver {
         // fidelity given up there is reported as the region's local distance. Steeper quads
         // only where nothing else is left.
         for (double tilt : {0.4 * M_PI, 0.49 * M_PI}) {
+          std::set<std::set<int>> seen;  // every quad of a neighbouring facet gives its union
           for (int q : neighbours(groups[a], true)) {
             const auto merged = with(static_cast<int>(a), q);
+            if (!seen.insert(merged).second) continue;
             if (!plate(merged, tilt)) continue;
             const double e = flatness(merged);
             const bool c = compact(merged);
