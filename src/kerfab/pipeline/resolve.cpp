@@ -295,12 +295,22 @@ class Resolver {
         }
         pending = current_regions(small_now());
       }
-      // 2. Facets where nothing cheaper applies or it did not help.
+      // 2. Facets where nothing cheaper applies or it did not help: none once the time is up
+      // (the build is that of the changes kept so far; a region's facets, and the rebuild after
+      // them, take seconds each on a large mesh, and a round of them was once 117 s).
+      if (!pending.empty() && elapsed() >= r_.time_limit) {
+        out_.time_limited = true;
+        break;
+      }
       const Added before = accepted_;
       const std::size_t recorded = out_.changes.size();
       std::set<int> tried;
       int made = 0;
       for (const Region& region : pending) {
+        if (elapsed() >= r_.time_limit) {
+          out_.time_limited = true;
+          break;
+        }
         bool failed = false;
         for (int q : region.quads) failed = failed || cheap_failed.count(q);
         Added scratch = accepted_, ignore;
