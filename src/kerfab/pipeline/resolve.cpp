@@ -295,20 +295,18 @@ class Resolver {
         }
         pending = current_regions(small_now());
       }
-      // 2. Facets where nothing cheaper applies or it did not help: none once the time is up
-      // (the build is that of the changes kept so far; a region's facets, and the rebuild after
-      // them, take seconds each on a large mesh, and a round of them was once 117 s).
-      if (!pending.empty() && elapsed() >= r_.time_limit) {
-        out_.time_limited = true;
-        break;
-      }
+      // 2. Facets where nothing cheaper applies or it did not help: no region's once the time
+      // is up (a region's facets, and the rebuild after them, take seconds each on a large mesh,
+      // and a round of them was once 117 s). The regions left are then left to the next round's
+      // start, which ends the loop, or, where this round changed nothing, to this one's end.
       const Added before = accepted_;
       const std::size_t recorded = out_.changes.size();
       std::set<int> tried;
       int made = 0;
+      bool out_of_time = false;
       for (const Region& region : pending) {
         if (elapsed() >= r_.time_limit) {
-          out_.time_limited = true;
+          out_of_time = true;
           break;
         }
         bool failed = false;
@@ -326,7 +324,10 @@ class Resolver {
         record(region, remedy_name(Remedy::kFacets));
         ++made;
       }
-      if (made == 0 && applied.empty()) break;
+      if (made == 0 && applied.empty()) {
+        out_.time_limited = out_of_time;
+        break;
+      }
       if (made > 0) {
         consolidate_facets();
         try {
@@ -729,6 +730,35 @@ class Resolver {
     return worst;
   }
 
+  /// A union of two groups of quads, a candidate facet: its flatness, and whether it may be one
+  /// facet (measured only where it could be the flattest so far).
+  struct PairMeasure {
+    double flatness = 0;
+    std::optional<bool> joins;
+  };
+
+  /// The flatness of the union \p merged() of a pair of groups where it is at most \p best and
+  /// \p may_join(flatness, union) holds; each measured once per \p key in \p memo (a pair
+  /// meeting along n quad edges is met n times, and again after every join that leaves both
+  /// groups as they are).
+  template <class Key, class Union, class MayJoin>
+  std::optional<double> flat_enough(std::map<Key, PairMeasure>& memo, const Key& key, double best,
+                                    Union merged, MayJoin may_join) const {
+    std::set<int> quads;
+    auto it = memo.find(key);
+    if (it == memo.end()) {
+      quads = merged();
+      it = memo.emplace(key, PairMeasure{flatness(quads), {}}).first;
+    }
+    PairMeasure& m = it->second;
+    if (m.flatness > best) return std::nullopt;
+    if (!m.joins) {
+      if (quads.empty()) quads = merged();
+      m.joins = may_join(m.flatness, quads);
+    }
+    return *m.joins ? std::optional<double>(m.flatness) : std::nullopt;
+  }
+
   /// True when the quads can be one flat plate: a disk whose quads all face the same way as
   /// the best-fit plane (within \p max_tilt [rad]; a group flat within the tolerance can still
   /// fold back on itself in small quads), with a simple outline on that plane.
@@ -888,15 +918,9 @@ class Resolver {
     // does not change.
     bool tight = false;
     for (const Group& g : groups) tight = tight || any_bent(g.quads);
-    // A pair of groups, measured once while neither changes (every quad of one beside the
-    // other gives the same union): its flatness, and whether it is a compact plate (measured
-    // where it could be the flattest so far).
+    // A pair of groups is measured once while neither changes (a merge bumps both versions).
     std::vector<int> version(groups.size(), 0);
-    struct Pair {
-      double flatness = 0;
-      std::optional<bool> plate;
-    };
-    std::map<std::array<int, 4>, Pair> pairs;
+    std::map<std::array<int, 4>, PairMeasure> pairs;
     for (;;) {  // the flattest merge of two groups of the region, within the tolerance
       double best = tight ? 0.5 * tolerance : tolerance;
       int ba = kNone, bq = kNone;
@@ -908,19 +932,12 @@ class Resolver {
           const int lo = std::min(static_cast<int>(a), it->second),
                     hi = std::max(static_cast<int>(a), it->second);
           const std::array<int, 4> key = {lo, version[lo], hi, version[hi]};
-          std::set<int> merged;
-          auto known = pairs.find(key);
-          if (known == pairs.end()) {
-            merged = with(static_cast<int>(a), q);
-            known = pairs.emplace(key, Pair{flatness(merged), {}}).first;
-          }
-          Pair& pair = known->second;
-          if (pair.flatness > best) continue;
-          if (!pair.plate) {
-            if (merged.empty()) merged = with(static_cast<int>(a), q);
-            pair.plate = plate(merged) && compact(merged);
-          }
-          if (*pair.plate) best = pair.flatness, ba = static_cast<int>(a), bq = q;
+          const auto e = flat_enough(
+              pairs, key, best, [&] { return with(static_cast<int>(a), q); },
+              [&](double, const std::set<int>& merged) {
+                return plate(merged) && compact(merged);
+              });
+          if (e) best = *e, ba = static_cast<int>(a), bq = q;
         }
       }
       if (ba == kNone) break;
@@ -1126,11 +1143,7 @@ class Resolver {
     std::vector<int> id(groups.size());  // per group, an id that changes when the group does
     std::iota(id.begin(), id.end(), 0);
     int next_id = static_cast<int>(groups.size());
-    struct Pair {
-      double flatness = 0;
-      std::optional<bool> joins;  // measured where it could be the flattest so far
-    };
-    std::map<std::pair<int, int>, Pair> pairs;
+    std::map<std::pair<int, int>, PairMeasure> pairs;
     for (;;) {
       std::map<int, int> group_of;
       for (std::size_t g = 0; g < groups.size(); ++g)
@@ -1143,27 +1156,17 @@ class Resolver {
             const auto it = group_of.find(f.idx());
             if (it == group_of.end() || it->second <= static_cast<int>(a)) continue;
             const int b = it->second;
-            std::set<int> merged;
-            auto join = [&]() -> const std::set<int>& {
-              if (merged.empty()) {
-                merged.insert(groups[a].begin(), groups[a].end());
-                merged.insert(groups[b].begin(), groups[b].end());
-              }
-              return merged;
+            auto merged = [&] {
+              std::set<int> quads(groups[a].begin(), groups[a].end());
+              quads.insert(groups[b].begin(), groups[b].end());
+              return quads;
             };
-            const auto key = std::pair{id[a], id[b]};
-            auto known = pairs.find(key);
-            if (known == pairs.end()) known = pairs.emplace(key, Pair{flatness(join()), {}}).first;
-            Pair& pair = known->second;
-            const double e = pair.flatness;
-            if (e > best) continue;
             // A facet that flattened bent joins only a flatter one.
-            if (!pair.joins) {
-              join();
-              pair.joins =
-                  (e <= 0.5 * tolerance || !any_bent(merged)) && plate(merged) && compact(merged);
-            }
-            if (*pair.joins) best = e, ba = static_cast<int>(a), bb = b;
+            auto may_join = [&](double e, const std::set<int>& quads) {
+              return (e <= 0.5 * tolerance || !any_bent(quads)) && plate(quads) && compact(quads);
+            };
+            const auto e = flat_enough(pairs, std::pair{id[a], id[b]}, best, merged, may_join);
+            if (e) best = *e, ba = static_cast<int>(a), bb = b;
           }
       if (ba == kNone) break;
       groups[ba].insert(groups[ba].end(), groups[bb].begin(), groups[bb].end());
