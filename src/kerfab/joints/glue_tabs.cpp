@@ -293,9 +293,10 @@ class GlueBuilder {
     // At most half as tall as the mate is deep there, so that the border across it has room
     // for its tabs too (a stub's tab, placed after the long borders' tabs and clipped against
     // them, may take all of the depth but the gap).
+    const bool stub = taper == kStubTaper;
     const SidePoint centre = at(side, 0.5 * (s0 + s1));
     const double deep = depth(body_[q], onto.apply(centre.point), onto.turn(centre.normal));
-    h = std::min(h, (taper == kStubTaper ? 1.0 : 0.5) * (deep - kGlueTabGap));
+    h = std::min(h, (stub ? 1.0 : 0.5) * (deep - kGlueTabGap));
     if (!(h > 0)) return std::nullopt;
     std::vector<Polygon2> shape = trapezoid(side, s0, s1, h, taper);
     const double ideal = total_area(shape);
@@ -310,26 +311,23 @@ class GlueBuilder {
     // the mate the gap inside its edges. Such a tab keeps the gap from its own part elsewhere
     // (beside a reflex corner of its own part it would join it on the sheet).
     std::vector<Polygon2> band = trapezoid(side, s0, s1, kGlueTabGap + 0.01, kGlueTabTaper);
-    const bool stub = taper == kStubTaper;
     if (stub) {
       auto near = trapezoid(side, s0, s1, kGlueTabGap - 0.01, kStubTaper);
       near.insert(near.end(), band.begin(), band.end());
       band = polygon_union(near);
-    }
-    if (stub)
       for (auto& c : polygon_difference(polygon_offset({body_[p]}, kGlueTabGap), band))
         remove.push_back(std::move(c));
+    }
     Polygon2 tab = largest_polygon(polygon_difference(shape, remove));
     if (tab.size() < 3) return std::nullopt;
     // The room: the mate kept the gap inside its edges, but for the stretch along this border.
     std::vector<Polygon2> room = room_[q];
     for (const auto& c : band) {
-      if (!stub) {
+      if (stub)
+        for (auto& under : polygon_intersection(onto.apply(c), body_[q]))
+          room.push_back(std::move(under));
+      else
         room.push_back(onto.apply(c));
-        continue;
-      }
-      for (auto& under : polygon_intersection(onto.apply(c), body_[q]))
-        room.push_back(std::move(under));
     }
     room = polygon_union(room);
     std::vector<Polygon2> inside;
