@@ -26,7 +26,8 @@ namespace kerfab {
 namespace {
 namespace fs = std::filesystem;
 
-/// A closed cylinder run end to end and written to a fresh directory.
+/// A closed cylinder run end to end and written to a fresh directory of the running test's own
+/// (ctest runs the tests that share it as parallel processes).
 struct Written {
   RunResult run;
   fs::path dir;
@@ -35,8 +36,7 @@ struct Written {
 const Written& written() {
   static const Written w = [] {
     const test::Shape shape = test::closed_cylinder(40, 80, 3);
-    const fs::path dir = fs::path(::testing::TempDir()) / "kerfab_tests" / "guide_run";
-    fs::remove_all(dir);
+    const fs::path dir = test::fresh_dir(".guide_run");
     PipelineOptions o;
     o.layout.sheet_width = 300;
     o.layout.sheet_height = 200;
