@@ -20,6 +20,9 @@ namespace {
 /// rest, a few MPa in MDF, far below its bending strength [rad].
 constexpr double kMaxTurn = 15 * M_PI / 180;
 
+/// A strip narrower than this across is a point: it holds no beam [mm].
+constexpr double kNoWidth = 1e-6;
+
 /// Parameters in [0, 1] where segment a-b crosses the polygons' boundaries.
 std::vector<double> crossings(const Vec2& a, const Vec2& b, const std::vector<Polygon2>& polys) {
   std::vector<double> t;
@@ -92,14 +95,19 @@ class TwistProfile {
 
   double length() const { return length_; }
 
-  /// Smallest 2 l / kappa over the stretches: the tightest bend (0: none bends) [mm^2].
+  /// Smallest 2 l / kappa over the stretches with a width: the tightest bend (0: none bends)
+  /// [mm^2].
   double tightest() const {
     double best = 0;
     for (std::size_t k = 1; k < knot_s_.size(); ++k) {
       const double a = knot_s_[k - 1], b = knot_s_[k];
       const double kappa = b > a ? (knot_phi_[k] - knot_phi_[k - 1]) / (b - a) : 0.0;
       if (!(kappa > 0)) continue;
-      const double c = 2 * width(a, b) / kappa;
+      // Where the strip ends in a point there is no beam across it to break (a bust's strip
+      // tip once asked for a model 55 000 km tall).
+      const double w = width(a, b);
+      if (!(w > kNoWidth)) continue;
+      const double c = 2 * w / kappa;
       if (best == 0 || c < best) best = c;
     }
     return best;

@@ -16,6 +16,10 @@ struct Line : std::ostringstream {
 /// reads 12240, not 1.224e+04 (a line's precision is four digits).
 long long whole_mm(double mm) { return static_cast<long long>(std::ceil(mm)); }
 
+/// Sizes past this are no answer to a maker: the regions that would need them (creases, faces
+/// folded back thinner than the sheets) need another remedy than size [mm].
+constexpr double kLargestSize = 10000;
+
 std::string summary_line(const std::string& what, const MeshSummary& s) {
   Line os;
   os << what << ": " << s.vertices << " vertices, " << s.faces << " faces (";
@@ -236,17 +240,24 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
     if (r.small_parts_after > 0) {
       w << "; " << r.small_parts_after
         << " parts stay too small or narrow to handle (resolve.changes, \"unresolved\")";
-      if (r.small_parts_size_mm > r.current_size_mm + 0.5)
+      if (r.small_parts_size_mm > kLargestSize)
+        w << ", which no --size up to " << kLargestSize / 1000 << " m would hold";
+      else if (r.small_parts_size_mm > r.current_size_mm + 0.5)
         w << ", which would hold at --size " << whole_mm(r.small_parts_size_mm);
     }
-    if (r.min_size_mm > r.current_size_mm + 0.5) {
+    if (r.min_size_mm > kLargestSize) {
+      w << "; the tightest bends need a change at every --size up to " << kLargestSize / 1000
+        << " m";
+    } else if (r.min_size_mm > r.current_size_mm + 0.5) {
       w << "; the tightest bends would need no change at --size " << whole_mm(r.min_size_mm);
+    }
+    if (r.min_size_mm > r.current_size_mm + 0.5)
       for (const MaterialSize& m : r.materials)
         if (m.size_mm < r.min_size_mm - 0.5) {
-          w << " (in --material " << m.material << " at " << whole_mm(m.size_mm) << ")";
+          if (m.size_mm <= kLargestSize)
+            w << " (in --material " << m.material << " at " << whole_mm(m.size_mm) << ")";
           break;
         }
-    }
     n.warnings.push_back(w.str());
   }
   return n;

@@ -5,11 +5,13 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <numeric>
 #include <optional>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "kerfab/adapters/polygon_ops.h"
 #include "kerfab/core/errors.h"
@@ -222,9 +224,25 @@ class Resolver {
     auto elapsed = [&] {
       return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     };
+    // What decides a round: the changes taken and the quads given up on. Where a round starts
+    // from one seen before, the rounds after it repeat (a bust once went 4, 17, 4, 17 ...
+    // critical regions to its last round): the loop ends there.
+    using State = std::tuple<std::set<int>, std::set<int>, std::set<int>, std::set<int>,
+                             std::set<std::vector<int>>, std::set<int>, std::set<int>>;
+    std::set<State> seen;
+    auto state = [&] {
+      std::set<std::vector<int>> facets;
+      for (std::vector<int> f : accepted_.guidance.facets) {
+        std::sort(f.begin(), f.end());
+        facets.insert(std::move(f));
+      }
+      return State{accepted_.stiff, accepted_.merge, accepted_.split, accepted_.facet_quads,
+                   facets,          cheap_failed,    stuck_};
+    };
     for (int round = 0; r_.enabled && round < r_.max_rounds; ++round) {
       const std::vector<int> small = small_now();
       keep_if_best(small);
+      if (!seen.insert(state()).second) break;
       std::vector<Region> pending = current_regions(small);
       if (!pending.empty() && elapsed() >= r_.time_limit) {
         out_.time_limited = true;
@@ -1178,6 +1196,19 @@ class Resolver {
 
   /// Local distances, sizes per material, counts after.
   void finish() {
+    // A region made into facets again in a later round (a neighbour's change undid them) is one
+    // change: its last record stays (a bust once listed one quad's facets five times).
+    {
+      std::set<std::tuple<std::string, std::vector<int>, std::string>> later;
+      std::vector<RegionChange> kept;
+      for (auto c = out_.changes.rbegin(); c != out_.changes.rend(); ++c) {
+        std::vector<int> quads = c->quads;
+        std::sort(quads.begin(), quads.end());
+        if (later.insert({c->action, quads, c->reason}).second) kept.push_back(std::move(*c));
+      }
+      out_.changes.assign(std::make_move_iterator(kept.rbegin()),
+                          std::make_move_iterator(kept.rend()));
+    }
     out_.added = accepted_.guidance;
     out_.critical_after = static_cast<int>(build_.kerf.critical.size());
     out_.parts_after = static_cast<int>(build_.flat.strips.patches.size());
