@@ -713,6 +713,28 @@ TEST(Cli, JointsLeaveNoThinNeckOnSpotsFineQuadMesh) {
   EXPECT_EQ(audit.small_parts + audit.narrow_parts, 0) << first;
 }
 
+// A triangle mesh alone, the input most users have: the prepare stage says the quads stage
+// will mesh it, not "quads: 0 vertices, 0 faces ()" and distances of quads that do not exist.
+TEST(Cli, ATriangleMeshAloneIsNotSummarisedAsAnEmptyQuadMesh) {
+  const auto shape = test::sphere(50, 2);
+  PolyMesh triangles;
+  for (const auto& p : shape.target.vertices) triangles.add_vertex(to_openmesh(p));
+  for (const auto& t : shape.target.triangles)
+    triangles.add_face({triangles.vertex_handle(t[0]), triangles.vertex_handle(t[1]),
+                        triangles.vertex_handle(t[2])});
+  const PreparedInput in = prepare_input(triangles, std::nullopt, {});
+  ASSERT_EQ(in.quad_summary.faces, 0);
+  const StageNotes n = notes(in);
+  std::string all;
+  for (const auto& line : n.lines) all += line + "\n";
+  EXPECT_NE(all.find("quads: none given; the quads stage makes them from the target"),
+            std::string::npos)
+      << all;
+  EXPECT_EQ(all.find("0 faces"), std::string::npos) << all;
+  EXPECT_EQ(all.find("quad vertices to target"), std::string::npos) << all;
+  EXPECT_NE(all.find("target: "), std::string::npos) << all;
+}
+
 // Demosthenes' bust from its triangles alone (a model no test was written for; 845 quads of
 // 15.8 mm at 250 mm, creases in its hair and faces folded back thinner than the sheets). Its
 // resolve loop once went 4, 17, 4, 17 ... critical regions to its last round, listed a quad's

@@ -37,11 +37,16 @@ std::string summary_line(const std::string& what, const MeshSummary& s) {
 StageNotes notes(const PreparedInput& in) {
   StageNotes n;
   n.lines.push_back(summary_line("target", in.target_summary));
-  n.lines.push_back(
-      summary_line(in.quads_from_target ? "quads (from target)" : "quads", in.quad_summary));
   Line os;
-  os << "scale " << in.scale << ", quad vertices to target: max " << in.quad_max_distance
-     << " mm, mean " << in.quad_mean_distance << " mm";
+  if (in.quad_summary.faces == 0) {  // a triangle mesh alone: the quads stage meshes it
+    n.lines.push_back("quads: none given; the quads stage makes them from the target");
+    os << "scale " << in.scale;
+  } else {
+    n.lines.push_back(
+        summary_line(in.quads_from_target ? "quads (from target)" : "quads", in.quad_summary));
+    os << "scale " << in.scale << ", quad vertices to target: max " << in.quad_max_distance
+       << " mm, mean " << in.quad_mean_distance << " mm";
+  }
   n.lines.push_back(os.str());
   n.warnings = in.warnings;
   return n;
