@@ -824,7 +824,9 @@ TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
 // 4 degrees from an edge 0.6 mm wide to a back 1.6 mm wide, 14 mm deep, as its own quad mesh:
 // at 60 mm its narrow faces are cut back from both sides by more than they are wide. The size
 // the run names (stderr and resolve.small_parts_min_size_mm), 2 % larger, leaves no part too
-// small or narrow on the sheets, read back by the independent auditor, and none missing.
+// small or narrow on the sheets, read back by the independent auditor, and none missing. Its
+// narrow faces are 0.6-1.6 mm across: with the default --min-part-width (3 mm) they are slivers
+// the run leaves out (below); here a maker who handles 1 mm parts keeps them.
 TEST(Cli, APartCutAwayByItsJointsNamesTheSizeAtWhichItHolds) {
   const fs::path scratch = test::fresh_dir();
   const fs::path wedge = scratch / "wedge.obj";
@@ -847,8 +849,34 @@ TEST(Cli, APartCutAwayByItsJointsNamesTheSizeAtWhichItHolds) {
     f << "f " << at(0, 0) << " " << at(0, 1) << " " << at(0, 2) << " " << at(0, 3) << "\n";
     f << "f " << at(n, 3) << " " << at(n, 2) << " " << at(n, 1) << " " << at(n, 0) << "\n";
   }
+  // The default: the slivers are left out, the sheets are clean and nothing is missing.
+  const CliRun left = run_cli(
+      "run --target " + wedge.string() + " --size 60 --out " + (scratch / "d").string(), scratch);
+  ASSERT_EQ(left.exit_code, 0) << left.err;
+  EXPECT_NE(left.err.find("parts were left out"), std::string::npos) << left.err;
+  {
+    const auto report = read_report(scratch / "d");
+    int omitted = 0;
+    for (const auto& c : report["resolve"]["changes"]) {
+      EXPECT_NE(c["action"], "unresolved") << c;
+      if (c["action"] != "omit") continue;
+      ++omitted;
+      EXPECT_NE(c["reason"].get<std::string>().find("a sliver"), std::string::npos) << c;
+      EXPECT_LE(c["local_distance_mm"].get<double>(), 3.0) << c;  // within a sheet's thickness
+    }
+    EXPECT_GE(omitted, 2);
+    EXPECT_EQ(report["resolve"]["small_parts_after"], 0);
+    EXPECT_EQ(report["joints"]["repaired_parts"], 0);
+    EXPECT_TRUE(report["layout"]["empty"].empty()) << report["layout"]["empty"];
+    EXPECT_TRUE(report["layout"]["unplaced"].empty()) << report["layout"]["unplaced"];
+    const auto audit = test::audit_sheets(scratch / "d" / "cut");
+    EXPECT_EQ(audit.small_parts + audit.narrow_parts + audit.thin_features, 0);
+    EXPECT_EQ(audit.parts, report["resolve"]["parts_after"].get<int>());
+  }
+  const std::string width = " --min-part-width 1";
   const CliRun small = run_cli(
-      "run --target " + wedge.string() + " --size 60 --out " + (scratch / "a").string(), scratch);
+      "run --target " + wedge.string() + width + " --size 60 --out " + (scratch / "a").string(),
+      scratch);
   ASSERT_EQ(small.exit_code, 0) << small.err;
   const auto report = read_report(scratch / "a");
   const double size = report["resolve"]["small_parts_min_size_mm"].get<double>();
@@ -869,14 +897,16 @@ TEST(Cli, APartCutAwayByItsJointsNamesTheSizeAtWhichItHolds) {
   }
   EXPECT_GT(cut_away, 0);
   const int at = static_cast<int>(std::ceil(1.02 * size));
-  const CliRun large = run_cli("run --target " + wedge.string() + " --size " + std::to_string(at) +
-                                   " --out " + (scratch / "b").string(),
+  const CliRun large = run_cli("run --target " + wedge.string() + width + " --size " +
+                                   std::to_string(at) + " --out " + (scratch / "b").string(),
                                scratch);
   ASSERT_EQ(large.exit_code, 0) << large.err;
   const auto there = read_report(scratch / "b");
   EXPECT_EQ(there["resolve"]["small_parts_after"], 0);
   EXPECT_TRUE(there["layout"]["unplaced"].empty()) << there["layout"]["unplaced"];
-  const auto audit = test::audit_sheets(scratch / "b" / "cut");
+  test::AuditLimits limits;
+  limits.min_part_width = 1;  // what this maker handles
+  const auto audit = test::audit_sheets(scratch / "b" / "cut", limits);
   EXPECT_EQ(audit.small_parts, 0);
   EXPECT_EQ(audit.narrow_parts, 0);
   EXPECT_EQ(audit.parts, there["resolve"]["parts_after"].get<int>());

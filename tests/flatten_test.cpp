@@ -9,6 +9,7 @@
 #include "kerfab/eval/surface_distance.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
+#include "kerfab/pipeline/cuttable_patches.h"
 #include "shapes.h"
 #include "test_util.h"
 
@@ -99,6 +100,59 @@ TEST(Flatten, CylinderRingsUnrollIsometrically) {
                              patch_triangles(b.strips, f, true), {.sample_spacing = 2})
                 .hausdorff,
             1e-6);
+}
+
+// Leaving a part out (the resolve stage's `omit`): of three stacked rings, the middle one. Its
+// sub-quads go, the others are renumbered and keep their flattening, and the two borders it had
+// with the outer rings are free edges: only the rings' own loop borders are left. A set that
+// holds only some of a patch's quads leaves nothing out.
+TEST(Flatten, LeavingAPartOutFreesItsNeighboursBorders) {
+  const auto shape = test::open_cylinder(40, 45, 16, 3, 1);
+  const Built b = strips_on_own_mesh(shape.quads, 3);
+  ASSERT_EQ(b.strips.patches.size(), 3u);
+  CuttablePatches c{b.strips, flatten_patches(b.strips, {})};
+  ASSERT_EQ(c.flattening.borders.size(), 5u);  // two between rings, three loop cuts
+  int middle = -1;                             // the ring with two neighbours
+  for (int p = 0; p < 3; ++p) {
+    int others = 0;
+    for (const SharedBorder& sb : c.flattening.borders)
+      others += sb.patches[0] != sb.patches[1] && (sb.patches[0] == p || sb.patches[1] == p);
+    if (others == 2) middle = p;
+  }
+  ASSERT_NE(middle, -1);
+  const auto quads = c.strips.patches[middle].all_quads();
+  CuttablePatches some = c;
+  EXPECT_TRUE(omit_patches(some, {quads.begin(), quads.end() - 1}).empty());
+  EXPECT_EQ(some.strips.patches.size(), 3u);
+  const std::size_t faces = c.strips.faces.size();
+  std::vector<double> areas;
+  for (int p = 0; p < 3; ++p)
+    if (p != middle) areas.push_back(c.flattening.patches[p].area_2d);
+  EXPECT_EQ(omit_patches(c, {quads.begin(), quads.end()}), std::vector<int>{middle});
+  ASSERT_EQ(c.strips.patches.size(), 2u);
+  ASSERT_EQ(c.flattening.patches.size(), 2u);
+  EXPECT_EQ(c.strips.faces.size(), faces * 2 / 3);
+  EXPECT_EQ(c.strips.face_quad.size(), c.strips.faces.size());
+  for (int p : c.strips.face_patch) EXPECT_TRUE(p == 0 || p == 1) << p;
+  for (int q : quads) EXPECT_EQ(c.strips.quad_patch[q], -1);
+  for (int p = 0; p < 2; ++p) {
+    EXPECT_EQ(c.flattening.patches[p].area_2d, areas[p]);
+    for (int f : c.strips.patches[p].all_faces()) EXPECT_EQ(c.strips.face_patch[f], p);
+  }
+  ASSERT_EQ(c.flattening.borders.size(), 2u);
+  for (const SharedBorder& sb : c.flattening.borders) {
+    EXPECT_EQ(sb.patches[0], sb.patches[1]);
+    EXPECT_NEAR(sb.length_3d, 15.0, 1e-9);
+  }
+  // The surface left is the two outer rings: two thirds of the cylinder's.
+  double area = 0;
+  const TriangleMesh t = triangulate(c.strips);
+  for (const auto& tri : t.triangles)
+    area += 0.5 * (t.vertices[tri[1]] - t.vertices[tri[0]])
+                      .cross(t.vertices[tri[2]] - t.vertices[tri[0]])
+                      .norm();
+  const double perimeter = 16 * 2 * 40 * std::sin(kPi / 16);
+  EXPECT_NEAR(area, perimeter * 30, 1e-6 * perimeter * 30);
 }
 
 TEST(Flatten, ConeStripsUnrollIsometrically) {

@@ -351,6 +351,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "the best build it saw and lists the regions left [s, > 0]")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd.add_option("--min-part-width", f.options.resolve.min_part_width,
+                 "The narrowest part a maker can handle: the resolve step changes parts nowhere "
+                 "this wide, and leaves out slivers narrower than this across [mm, 0.1 to 1000]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 1000.0));
   cmd.add_flag(
       "--no-coarsen", [&f](std::int64_t) { f.options.coarsen.enabled = false; },
       "Use a given quad mesh as it is, instead of collapsing rows of quads where the strips "

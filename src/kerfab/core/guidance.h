@@ -19,6 +19,9 @@ struct Guidance {
   std::vector<std::array<int, 2>> merge;  ///< strips to merge sideways across (strips)
   std::vector<std::vector<int>> facets;   ///< quad groups (face indices) cut as flat facets;
                                           ///< set by the resolve step, not read from files
+  std::vector<int> omit;  ///< quads (face indices) whose parts are left out (faces folded back
+                          ///< thinner than the sheets); set by the resolve step, not read
+                          ///< from files
 };
 
 }  // namespace kerfab

@@ -552,6 +552,13 @@ Flattening flatten_patches(const Strips& strips, const FlattenOptions& options) 
   for_each_index(np, options.threads > 0 ? options.threads : hardware_threads(), [&](int p) {
     flat.patches[p] = flatten_one(strips, strips.patches[p], options);
   });
+  summarise_flattening(strips, flat);
+  return flat;
+}
+
+void summarise_flattening(const Strips& strips, Flattening& flat) {
+  flat.max_angle_error = flat.max_border_length_error_rel = 0;
+  flat.inverted_quads = flat.non_simple_outlines = flat.unconverged = 0;
   for (const auto& p : flat.patches) {
     flat.max_angle_error = std::max(flat.max_angle_error, p.max_angle_error);
     flat.max_border_length_error_rel =
@@ -560,8 +567,10 @@ Flattening flatten_patches(const Strips& strips, const FlattenOptions& options) 
     flat.non_simple_outlines += p.outline_simple ? 0 : 1;
     flat.unconverged += p.converged ? 0 : 1;
   }
+  flat.pieces.clear();
+  flat.borders.clear();
+  flat.max_mating_mismatch_rel = flat.max_shared_border_mismatch_rel = 0;
   measure_borders(strips, flat);
-  return flat;
 }
 
 TriangleMesh patch_triangles(const Strips& strips, const Flattening& flat, bool deformed) {

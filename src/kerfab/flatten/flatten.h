@@ -99,6 +99,11 @@ bool is_simple_polygon(const std::vector<Vec2>& points, const std::vector<int>& 
 /// Flattens every patch of \p strips. \throw InvalidInput options out of range.
 Flattening flatten_patches(const Strips& strips, const FlattenOptions& options);
 
+/// Sets \p flat's totals and its border pieces and shared borders from its patches' flattenings
+/// (one per patch of \p strips); what flatten_patches ends with, and what a caller that left
+/// patches out does again.
+void summarise_flattening(const Strips& strips, Flattening& flat);
+
 /// The patches' 3D meshes as one triangle mesh (each patch with its own vertices), either as
 /// built or, with \p deformed, as deformed to the flat metric (PatchFlattening::deformed_3d,
 /// or computed here where the flattening ran without mimic_3d).

@@ -1,5 +1,7 @@
 #include "kerfab/pipeline/cuttable_patches.h"
 
+#include <algorithm>
+
 namespace kerfab {
 
 CuttablePatches flatten_cuttable(const Strips& strips, const FlattenOptions& options,
@@ -33,6 +35,59 @@ CuttablePatches flatten_cuttable(const Strips& strips, const FlattenOptions& opt
     out.flattening = flatten_patches(out.strips, options);
   }
   return out;
+}
+
+std::vector<int> omit_patches(CuttablePatches& patches, const std::set<int>& quads) {
+  constexpr int kNone = -1;
+  Strips& s = patches.strips;
+  std::vector<int> left_out;
+  for (std::size_t p = 0; p < s.patches.size(); ++p) {
+    const auto all = s.patches[p].all_quads();
+    if (!all.empty() &&
+        std::all_of(all.begin(), all.end(), [&](int q) { return quads.count(q) > 0; }))
+      left_out.push_back(static_cast<int>(p));
+  }
+  if (left_out.empty()) return left_out;
+  std::vector<int> renumber(s.patches.size(), kNone);
+  std::vector<Patch> kept;
+  std::vector<PatchFlattening> kept_flat;
+  for (std::size_t p = 0, k = 0; p < s.patches.size(); ++p) {
+    if (k < left_out.size() && left_out[k] == static_cast<int>(p)) {
+      ++k;
+      continue;
+    }
+    renumber[p] = static_cast<int>(kept.size());
+    kept.push_back(std::move(s.patches[p]));
+    kept_flat.push_back(std::move(patches.flattening.patches[p]));
+  }
+  s.patches = std::move(kept);
+  patches.flattening.patches = std::move(kept_flat);
+  for (int& p : s.quad_patch)
+    if (p != kNone) p = renumber[p];
+  // Their sub-quads go: every consumer of the strips sees only the patches' own.
+  std::vector<int> face_id(s.faces.size(), kNone);
+  std::vector<std::array<int, 4>> faces;
+  std::vector<int> face_quad, face_patch;
+  for (std::size_t f = 0; f < s.faces.size(); ++f) {
+    const int p = s.face_patch[f] == kNone ? kNone : renumber[s.face_patch[f]];
+    if (p == kNone) continue;
+    face_id[f] = static_cast<int>(faces.size());
+    faces.push_back(s.faces[f]);
+    face_quad.push_back(s.face_quad[f]);
+    face_patch.push_back(p);
+  }
+  s.faces = std::move(faces);
+  s.face_quad = std::move(face_quad);
+  s.face_patch = std::move(face_patch);
+  for (Patch& patch : s.patches) {
+    for (int& f : patch.faces) f = face_id[f];
+    for (PatchRow& row : patch.more_rows)
+      for (int& f : row.faces) f = face_id[f];
+    for (OutlineEdge& e : patch.flat_outline)
+      if (e.sub_quad != kNone) e.sub_quad = face_id[e.sub_quad];
+  }
+  summarise_flattening(s, patches.flattening);
+  return left_out;
 }
 
 SurfaceDistance flat_metric_deformation(const CuttablePatches& patches, double spacing) {

@@ -2,6 +2,7 @@
 /// \file The flattening step of the pipeline: flatten every patch, and split a patch whose flat
 /// outline crosses itself or whose part would not fit the sheet, until every part can be cut.
 #include <optional>
+#include <set>
 
 #include "kerfab/eval/surface_distance.h"
 #include "kerfab/flatten/flatten.h"
@@ -28,6 +29,12 @@ struct CuttablePatches {
 /// out of range.
 CuttablePatches flatten_cuttable(const Strips& strips, const FlattenOptions& options,
                                  const LayoutOptions& usable);
+
+/// Leaves out every patch of \p patches whose quads all lie in \p quads (coarse quad ids): its
+/// sub-quads are removed and its quads belong to no patch (-1), the other patches and sub-quads
+/// are renumbered in order, and the borders are measured again (a neighbour's side where it was is
+/// a free edge). Returns the old ids of the patches left out.
+std::vector<int> omit_patches(CuttablePatches& patches, const std::set<int>& quads);
 
 /// How far the 3D strips move when deformed to the flat metric (the evaluation behind
 /// CuttablePatches::deformation), sampled \p spacing apart [mm]. Measured once per run, on the

@@ -235,6 +235,17 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
       << "unresolved (resolve.changes)";
     n.warnings.push_back(w.str());
   }
+  if (actions["omit"] > 0) {
+    double farthest = 0;
+    for (const RegionChange& c : r.changes)
+      if (c.action == "omit") farthest = std::max(farthest, c.local_distance);
+    Line w(3);
+    w << actions["omit"] << " parts were left out (resolve.changes, \"omit\"): faces folded back "
+      << "thinner than the sheets, or slivers narrower than --min-part-width; the surface there "
+      << "lies within " << farthest << " mm of the parts kept, whose borders with them are free "
+      << "edges";
+    n.warnings.push_back(w.str());
+  }
   if (r.critical_after > 0 || changed > 0 || r.small_parts_after > 0) {
     Line w(4);
     if (changed > 0) w << changed << " regions were changed to be buildable (resolve.changes)";

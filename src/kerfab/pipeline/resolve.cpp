@@ -373,6 +373,10 @@ class Resolver {
         small = small_now();
       }
     }
+    // Leaving parts out frees their neighbours' borders: a neighbour cut back by them may then
+    // hold, or be left out in turn (a few times at most).
+    for (int k = 0; r_.enabled && k < 3 && omit_thin_parts(small); ++k) {
+    }
     for (const CriticalRegion& c : build_.kerf.critical) {
       const Region r = region_of(build_.flat.strips, build_.flat.flattening, c);
       record(r, "unresolved");
@@ -470,6 +474,99 @@ class Resolver {
       }
     }
     return out;
+  }
+
+  /// Parts still too small to handle that no size or plate cures are left out where their
+  /// neighbours hold the surface: one folded back onto a neighbour by more than 150 deg (the
+  /// shape is thinner there than the sheets: the neighbour's sheet stands where it was, a bust's
+  /// ears and a horse's once had nothing left once cut and their neighbours kept joints to
+  /// nothing), or one narrower across than --min-part-width (a sliver: the slit it leaves is
+  /// narrower than the part was). Their neighbours' borders with them become free edges. Kept
+  /// only where the build has fewer defects (critical regions and parts too small) after it:
+  /// returns whether it was. \p small: small_now(), updated.
+  bool omit_thin_parts(std::vector<int>& small) {
+    struct Omitted {
+      int part;
+      std::string reason;
+      double distance = 0;  // of its surface from the parts kept [mm]
+    };
+    std::vector<Omitted> omitted;
+    for (int p : small) {
+      if (bent_facet(build_, p, o_.flatten.max_angle_error)) continue;
+      const CutBack cut = deepest_cut_back(p);
+      const double across = 2 * inscribed_radius(flat_outline(strips(), build_.flat.flattening, p));
+      std::ostringstream why;
+      why << "part " << p << " left out: ";
+      if (cut.fold > 5 * M_PI / 6)
+        why << "folded back " << std::lround(cut.fold * 180 / M_PI) << " deg onto part "
+            << cut.other << ", the shape is thinner there than the sheets";
+      else if (across < r_.min_part_width)
+        why << "a sliver " << across << " mm across, narrower than --min-part-width";
+      else
+        continue;
+      why << "; its neighbours' borders with it are free edges";
+      omitted.push_back({p, why.str()});
+    }
+    if (omitted.empty()) return false;
+    // How far the surface that was there lies from the parts kept, sampled on a 4 x 4 grid in
+    // each of its sub-quads: left out only where the sheets a maker builds stand within a
+    // sheet's thickness of it (leaving one out can only bring the others' distances down when it
+    // is kept instead).
+    std::vector<char> out(strips().patches.size(), 0);
+    for (const Omitted& o : omitted) out[o.part] = 1;
+    TriangleMesh kept;
+    kept.vertices = strips().vertices;
+    for (std::size_t f = 0; f < strips().faces.size(); ++f) {
+      if (out[strips().face_patch[f]]) continue;
+      const auto& q = strips().faces[f];
+      kept.triangles.push_back({q[0], q[1], q[2]});
+      kept.triangles.push_back({q[0], q[2], q[3]});
+    }
+    if (kept.triangles.empty()) return false;
+    const TargetSurface surface(kept);
+    Added trial = accepted_;
+    std::vector<Omitted> left;
+    for (Omitted& o : omitted) {
+      const Patch& patch = strips().patches[o.part];
+      const auto& x = strips().vertices;
+      for (int f : patch.all_faces()) {
+        const auto& q = strips().faces[f];
+        for (double u : {0.125, 0.375, 0.625, 0.875})
+          for (double v : {0.125, 0.375, 0.625, 0.875})
+            o.distance = std::max(o.distance,
+                                  surface
+                                      .closest((1 - u) * (1 - v) * x[q[0]] + u * (1 - v) * x[q[1]] +
+                                               u * v * x[q[2]] + (1 - u) * v * x[q[3]])
+                                      .distance);
+      }
+      if (o.distance > o_.material.thickness) continue;
+      for (int q : patch.all_quads()) trial.guidance.omit.push_back(q);
+      left.push_back(std::move(o));
+    }
+    if (left.empty()) return false;
+    std::vector<Region> regions;
+    for (const Omitted& o : left) regions.push_back(part_region(strips(), o.part));
+    PartsBuild tried;
+    try {
+      tried = rebuild(trial);
+    } catch (const InvalidInput&) {
+      return false;
+    }
+    const auto defects = [&](const PartsBuild& b) {
+      return b.kerf.critical.size() +
+             small_parts(b, r_.min_part_area, r_.min_part_width, o_.flatten.max_angle_error).size();
+    };
+    if (defects(tried) >= defects(build_)) return false;
+    ++out_.rounds;
+    build_ = std::move(tried);
+    accepted_ = std::move(trial);
+    small = small_now();
+    for (std::size_t k = 0; k < left.size(); ++k) {
+      record(regions[k], "omit");
+      out_.changes.back().local_distance = left[k].distance;
+      out_.changes.back().reason = left[k].reason;
+    }
+    return true;
   }
 
   /// The radius of the largest circle inside \p outline, to 1 % [mm].
@@ -1254,6 +1351,7 @@ PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const 
   FlattenOptions flatten = o.flatten;
   flatten.mimic_3d = false;  // an evaluation: measured once, on the final build
   b.flat = flatten_cuttable(b.strips, flatten, o.usable);
+  if (!g.omit.empty()) omit_patches(b.flat, std::set<int>(g.omit.begin(), g.omit.end()));
   b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints,
                          memo ? &memo->outlines : nullptr);
   b.kerf = place_kerf_cuts(b.flat.strips, b.flat.flattening, b.joints, o.material, o.machine,
@@ -1266,6 +1364,8 @@ ResolveResult resolve_critical_regions(PartsBuild& build, const PreparedInput& i
                                        const ResolveProgress& progress, PartsMemo* memo) {
   if (resolve.max_rounds < 1) throw InvalidInput("resolve: max_rounds must be >= 1");
   if (!(resolve.time_limit > 0)) throw InvalidInput("--resolve-time-limit must be > 0 s");
+  if (!(resolve.min_part_width > 0 && std::isfinite(resolve.min_part_width)))
+    throw InvalidInput("--min-part-width must be > 0 mm");
   return Resolver(build, input, options, resolve, progress, memo).run();
 }
 

@@ -45,7 +45,9 @@ struct ResolveOptions {
   double min_part_area = 50;           ///< parts smaller than this once cut are changed (a facet
                                        ///< takes in its flattest neighbours until it is not)
                                        ///< [mm^2]
-  double min_part_width = 3;           ///< parts nowhere this wide are changed too [mm]
+  double min_part_width = 3;           ///< parts nowhere this wide are changed too, and slivers
+                                       ///< narrower than this across left out (--min-part-width)
+                                       ///< [mm]
 };
 
 /// Everything the loop rebuilds, as one consistent set.

@@ -147,7 +147,7 @@ struct Strips {
   std::vector<QuadBending> quads;               ///< per coarse quad: classification as used, rigid
                                                 ///< quads given the axis that continues a strip
   std::vector<int> quad_segments;               ///< per coarse quad: sub-quads along the strip
-  std::vector<int> quad_patch;                  ///< per coarse quad: its patch
+  std::vector<int> quad_patch;                  ///< per coarse quad: its patch (-1: left out)
   std::vector<std::vector<int>> edge_vertices;  ///< per coarse edge: vertex ids along it from
                                                 ///< the start of its halfedge 0 to its end
   std::vector<char> vertex_on_straight_edge;    ///< vertex kept on a straight coarse edge
