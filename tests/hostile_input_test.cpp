@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 
 #include "cli_util.h"
 #include "kerfab/io/mesh_io.h"
@@ -146,6 +148,29 @@ TEST(HostileInput, ASheetNothingFitsIsAnInputErrorAndManySheetsAreStillWritten) 
   auto r = test::run_cli(
       "run --quiet --target " + target.string() + " --sheet 40x40 --out " + out.string(), scratch);
   expect_one_line_failure(r, 1, "no part fits a 40 x 40 mm sheet", out, "40x40");
+  // Parts with nothing left once cut are not parts too big for the sheet: an open triangular
+  // prism 60 mm long and 5 mm across, whose three faces' mitres (folds of 120 deg) meet in the
+  // middle of each, once said "no part fits a 600 x 450 mm sheet".
+  {
+    const fs::path prism = scratch / "prism.obj";
+    std::ofstream f(prism);
+    const double radius = 5 / std::sqrt(3.0);
+    for (int i = 0; i <= 4; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const double a = M_PI / 2 + 2 * M_PI * k / 3;
+        f << "v " << 15 * i << " " << radius * std::sin(a) << " " << radius * std::cos(a) << "\n";
+      }
+    for (int i = 0; i < 4; ++i)
+      for (int k = 0; k < 3; ++k)
+        f << "f " << 3 * i + k + 1 << " " << 3 * (i + 1) + k + 1 << " "
+          << 3 * (i + 1) + (k + 1) % 3 + 1 << " " << 3 * i + (k + 1) % 3 + 1 << "\n";
+    f.close();
+    const fs::path thin = scratch / "thin";
+    r = test::run_cli(
+        "run --quiet --target " + prism.string() + " --size 60 --out " + thin.string(), scratch);
+    expect_one_line_failure(r, 1, "every part has nothing left once its slots and mitres are cut",
+                            thin, "prism");
+  }
   // Tiny sheets: every sheet written, one preview each, a contact sheet of all of them.
   const fs::path sphere = scratch / "sphere.obj";
   write_mesh(test::sphere(40, 4).quads, sphere);

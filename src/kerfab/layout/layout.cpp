@@ -503,6 +503,11 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   for (int i : result.unplaced)
     if (outlines[i].size() < 3 || !(parts[i].area > 0)) result.empty.push_back(i);
   result.sheets = best.sheets();
+  if (result.sheets == 0 && n > 0 && static_cast<int>(result.empty.size()) == n)
+    throw InvalidInput(
+        "every part has nothing left once its slots and mitres are cut (the shape is thinner "
+        "than the sheets, or too small for them); use a larger --size or "
+        "a thinner --material");
   if (result.sheets == 0 && n > 0) {
     // Nothing fits: the sheet is the problem, not the parts. Say what would fit the smallest.
     double need = 1e300;
