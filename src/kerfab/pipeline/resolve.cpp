@@ -251,8 +251,8 @@ class Resolver {
       if (progress_) {
         std::ostringstream line;
         line << "round " << round + 1 << ": " << build_.kerf.critical.size()
-             << " critical regions, " << pending.size() - build_.kerf.critical.size()
-             << " parts too small to handle, " << build_.flat.strips.patches.size() << " parts";
+             << " critical regions, " << small.size() << " parts too small to handle, "
+             << build_.flat.strips.patches.size() << " parts";
         progress_(line.str());
       }
       if (pending.empty()) break;
