@@ -142,6 +142,23 @@ void expect_sound_joints(const Strips& s, const Flattening& f, const Joints& j,
   EXPECT_EQ(compared, j.teeth);
   EXPECT_EQ(repaired, j.repaired_parts);
   EXPECT_LE(repaired, max_repaired);
+  // What the parts that fell apart lost is counted, and no more than their bodies and teeth
+  // had.
+  if (repaired == 0) {
+    EXPECT_EQ(j.lost_area, 0.0);
+  }
+  EXPECT_LE(j.largest_lost_piece, j.lost_area);
+  double had = 0;
+  for (std::size_t p = 0; p < j.parts.size(); ++p) {
+    if (!j.parts[p].repaired) continue;
+    had += std::abs(polygon_area(flat_outline(s, f, static_cast<int>(p))));
+    for (const JointSpan& sp : j.parts[p].spans)
+      if (sp.tooth && sp.region.size() >= 3) had += std::abs(polygon_area(sp.region));
+  }
+  EXPECT_LE(j.lost_area, had + 1e-6);
+  if (repaired > 0) {
+    EXPECT_GT(j.largest_lost_piece, 0.0);
+  }
 }
 
 // Length of segment a-b inside (or, with \p outside, outside) polygon \p poly.

@@ -179,7 +179,15 @@ class Builder {
                                                  o_.min_feature, o_.tooth_width * o_.tooth_width);
       if (trimmed != part.designed) set_outline(part, std::move(trimmed));
     });
-    for (const auto& part : out_.parts) out_.repaired_parts += part.repaired ? 1 : 0;
+    for (std::size_t p = 0; p < out_.parts.size(); ++p) {
+      if (!out_.parts[p].repaired) continue;
+      ++out_.repaired_parts;
+      for (const Polygon2& piece : lost_[p]) {
+        const double area = std::abs(polygon_area(piece));
+        out_.lost_area += area;
+        out_.largest_lost_piece = std::max(out_.largest_lost_piece, area);
+      }
+    }
     for (std::size_t b = 0; b < out_.borders.size(); ++b) {
       std::vector<TabFlare> flares;
       for (int j = 0; j + 1 < static_cast<int>(out_.borders[b].intervals.size()); ++j)

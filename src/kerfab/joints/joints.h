@@ -152,6 +152,8 @@ struct Joints {
   double glue_length = 0;     ///< of which by glue tabs (their roots) [mm]
   int borders_without_joint = 0;  ///< border pieces with no tooth or tab at all
   int repaired_parts = 0;
+  double lost_area = 0;           ///< of the pieces the parts that fell apart lost [mm^2]
+  double largest_lost_piece = 0;  ///< the largest such piece [mm^2]
 };
 
 /// What drawing an outline gave, apart from its spans (which name that call's borders).

@@ -197,10 +197,15 @@ StageNotes notes(const Joints& j, const JointOptions& options) {
      << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
      << " in collision regions";
   n.lines.push_back(os.str());
-  if (j.repaired_parts > 0)
-    n.warnings.push_back(std::to_string(j.repaired_parts) +
-                         " parts fell apart into pieces when their joints were cut; only "
-                         "the largest piece of each is kept");
+  if (j.repaired_parts > 0) {
+    Line w(3);
+    w << j.repaired_parts
+      << " parts fell apart into pieces when their joints were cut; only the largest piece of "
+         "each is kept ("
+      << j.lost_area << " mm^2 lost in all, the largest lost piece " << j.largest_lost_piece
+      << " mm^2; joints.lost_area_mm2)";
+    n.warnings.push_back(w.str());
+  }
   return n;
 }
 
