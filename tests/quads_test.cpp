@@ -354,6 +354,10 @@ TEST(Quads, TriangleTargetAloneRunsAndWritesItsQuadMesh) {
                 static_cast<int>(q.n_faces()),
             2);
   EXPECT_TRUE(std::filesystem::exists(out / "report.json"));
+  // The report names no quad file for quads kerfab made (it named the target's).
+  const auto made = test::read_report(out);
+  EXPECT_TRUE(made["input"]["quad"].is_null()) << made["input"]["quad"];
+  EXPECT_FALSE(made["input"]["quads_from_target"].get<bool>());
   const auto again = dir / "again";
   const std::string back = std::string(KERFAB_CLI) + " run --quiet --target " +
                            test::real_mesh("spot_triangulated.obj").string() + " --quad " +
@@ -363,6 +367,7 @@ TEST(Quads, TriangleTargetAloneRunsAndWritesItsQuadMesh) {
   ASSERT_EQ(std::system(back.c_str()), 0) << test::slurp(dir / "err");
   const auto report = test::read_report(again);
   EXPECT_EQ(report["input"]["quads"].get<int>(), static_cast<int>(q.n_faces()));
+  EXPECT_EQ(report["input"]["quad"], (out / "model" / "quads.obj").string());
   // The same quads as made: as far from the target as the quads stage said.
   EXPECT_NEAR(report["input"]["quad_max_distance_mm"].get<double>(),
               test::read_report(out)["quads"]["max_distance_mm"].get<double>(), 1e-3);

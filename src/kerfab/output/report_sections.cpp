@@ -30,6 +30,8 @@ json input_section(const RunInputs& inputs, const std::optional<PreparedInput>& 
   json j;
   j["target"] = inputs.target.string();
   j["quad"] = inputs.quad ? inputs.quad->string() : inputs.target.string();
+  // A triangle mesh alone: kerfab meshed it (the quads section; OUT/model/quads.obj).
+  if (!inputs.quad && input && !input->quads_from_target) j["quad"] = nullptr;
   if (input) {
     const PreparedInput& in = *input;
     j["quads"] = in.quad_summary.faces;
