@@ -374,8 +374,11 @@ class Resolver {
       }
     }
     // Leaving parts out frees their neighbours' borders: a neighbour cut back by them may then
-    // hold, or be left out in turn (a few times at most).
-    for (int k = 0; r_.enabled && k < 3 && omit_thin_parts(small); ++k) {
+    // hold, or be left out in turn (a few times at most). Once even past the time limit (one
+    // rebuild: a part left with nothing once cut is worse than a late run), again only within.
+    for (int k = 0;
+         r_.enabled && k < 3 && (k == 0 || elapsed() < r_.time_limit) && omit_thin_parts(small);
+         ++k) {
     }
     for (const CriticalRegion& c : build_.kerf.critical) {
       const Region r = region_of(build_.flat.strips, build_.flat.flattening, c);
@@ -517,7 +520,8 @@ class Resolver {
     TriangleMesh kept;
     kept.vertices = strips().vertices;
     for (std::size_t f = 0; f < strips().faces.size(); ++f) {
-      if (out[strips().face_patch[f]]) continue;
+      const int p = strips().face_patch[f];
+      if (p < 0 || out[p]) continue;
       const auto& q = strips().faces[f];
       kept.triangles.push_back({q[0], q[1], q[2]});
       kept.triangles.push_back({q[0], q[2], q[3]});
