@@ -550,9 +550,11 @@ class Resolver {
     if (left.empty()) return false;
     std::vector<Region> regions;
     for (const Omitted& o : left) regions.push_back(part_region(strips(), o.part));
-    PartsBuild tried;
+    // Leaving parts out changes neither the strips nor their flattening: only the parts are
+    // cut again.
+    PartsBuild tried{build_.bending, build_.strips, build_.flat, {}, {}};
     try {
-      tried = rebuild(trial);
+      cut_parts(tried, trial.guidance, o_, &memo_);
     } catch (const InvalidInput&) {
       return false;
     }
@@ -1337,6 +1339,14 @@ class Resolver {
 
 }  // namespace
 
+void cut_parts(PartsBuild& b, const Guidance& g, const PartsOptions& o, PartsMemo* memo) {
+  if (!g.omit.empty()) omit_patches(b.flat, std::set<int>(g.omit.begin(), g.omit.end()));
+  b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints,
+                         memo ? &memo->outlines : nullptr);
+  b.kerf = place_kerf_cuts(b.flat.strips, b.flat.flattening, b.joints, o.material, o.machine,
+                           o.kerf, memo ? &memo->kerf : nullptr);
+}
+
 PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const Guidance& g,
                        const BendingResult* reuse, PartsMemo* memo) {
   PartsBuild b;
@@ -1355,11 +1365,7 @@ PartsBuild build_parts(const PreparedInput& input, const PartsOptions& o, const 
   FlattenOptions flatten = o.flatten;
   flatten.mimic_3d = false;  // an evaluation: measured once, on the final build
   b.flat = flatten_cuttable(b.strips, flatten, o.usable);
-  if (!g.omit.empty()) omit_patches(b.flat, std::set<int>(g.omit.begin(), g.omit.end()));
-  b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints,
-                         memo ? &memo->outlines : nullptr);
-  b.kerf = place_kerf_cuts(b.flat.strips, b.flat.flattening, b.joints, o.material, o.machine,
-                           o.kerf, memo ? &memo->kerf : nullptr);
+  cut_parts(b, g, o, memo);
   return b;
 }
 

@@ -63,13 +63,16 @@ struct PartsBuild {
 struct RegionChange {
   Vec3 centre;                ///< where on the model [mm]
   std::vector<int> quads;     ///< quad-mesh faces of the region
-  std::string action;         ///< "split", "merge", "restiffen", "facets", or "unresolved"
+  std::string action;         ///< "split", "merge", "restiffen", "facets", "omit" (the part left
+                              ///< out), or "unresolved"
   double spacing = 0;         ///< the beam spacing the bend needed there before [mm]
   double stress_ratio = 0;    ///< its largest beam stress over the allowed stress, before [-]
   double size_factor = 1;     ///< the model scale at which the region would need no change [-]
   double local_distance = 0;  ///< after the change: largest distance of the region's strip
-                              ///< vertices to the target [mm]
-  std::string reason;         ///< why an "unresolved" region stays: the bend or the part size
+                              ///< vertices to the target; for "omit", of its surface to the
+                              ///< parts kept [mm]
+  std::string reason;         ///< why an "unresolved" region stays (the bend or the part size),
+                              ///< or why an "omit" part was left out
 };
 
 /// A material preset and the smallest model size at which none of the regions would need a
@@ -118,9 +121,14 @@ struct PartsMemo {
   KerfMemo kerf;
 };
 
+/// The parts cut from \p build's flattening: the patches \p guidance omits left out (omit_patches),
+/// then joints and kerf cuts. \p memo as in build_parts.
+void cut_parts(PartsBuild& build, const Guidance& guidance, const PartsOptions& options,
+               PartsMemo* memo);
+
 /// Bending (forced edges of \p guidance added), strips (its splits and merges added),
-/// flattening until cuttable, joints and kerf cuts. \p reuse: a bending result to keep when
-/// \p guidance forces no edge beyond the options'. \p memo: outlines and cuts of earlier
+/// flattening until cuttable, and the parts cut from it (cut_parts). \p reuse: a bending result to
+/// keep when \p guidance forces no edge beyond the options'. \p memo: outlines and cuts of earlier
 /// builds to reuse where they are the same.
 PartsBuild build_parts(const PreparedInput& input, const PartsOptions& options,
                        const Guidance& guidance, const BendingResult* reuse = nullptr,
