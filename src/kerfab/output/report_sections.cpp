@@ -29,9 +29,12 @@ json summary_json(const MeshSummary& s) {
 json input_section(const RunInputs& inputs, const std::optional<PreparedInput>& input) {
   json j;
   j["target"] = inputs.target.string();
-  j["quad"] = inputs.quad ? inputs.quad->string() : inputs.target.string();
-  // A triangle mesh alone: kerfab meshed it (the quads section; OUT/model/quads.obj).
-  if (!inputs.quad && input && !input->quads_from_target) j["quad"] = nullptr;
+  if (inputs.quad)
+    j["quad"] = inputs.quad->string();
+  else if (input && !input->quads_from_target)
+    j["quad"] = nullptr;  // a triangle mesh alone: kerfab meshed it (quads; model/quads.obj)
+  else
+    j["quad"] = inputs.target.string();
   if (input) {
     const PreparedInput& in = *input;
     j["quads"] = in.quad_summary.faces;

@@ -266,19 +266,19 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
       else if (r.small_parts_size_mm > r.current_size_mm + 0.5)
         w << ", which would hold at --size " << whole_mm(r.small_parts_size_mm);
     }
-    if (r.min_size_mm > kLargestSize) {
-      w << "; the tightest bends need a change at every --size up to " << kLargestSize / 1000
-        << " m";
-    } else if (r.min_size_mm > r.current_size_mm + 0.5) {
-      w << "; the tightest bends would need no change at --size " << whole_mm(r.min_size_mm);
-    }
-    if (r.min_size_mm > r.current_size_mm + 0.5)
+    if (r.min_size_mm > r.current_size_mm + 0.5) {
+      if (r.min_size_mm > kLargestSize)
+        w << "; the tightest bends need a change at every --size up to " << kLargestSize / 1000
+          << " m";
+      else
+        w << "; the tightest bends would need no change at --size " << whole_mm(r.min_size_mm);
       for (const MaterialSize& m : r.materials)
         if (m.size_mm < r.min_size_mm - 0.5) {
           if (m.size_mm <= kLargestSize)
             w << " (in --material " << m.material << " at " << whole_mm(m.size_mm) << ")";
           break;
         }
+    }
     n.warnings.push_back(w.str());
   }
   return n;
