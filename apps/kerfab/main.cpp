@@ -74,9 +74,9 @@ double default_memory_budget_mb() {
 // The budget becomes the process's data limit (heap and private mappings; RLIMIT_DATA), never
 // raising one set outside; returns the limit now in force [MB].
 double limit_memory(double budget_mb) {
-#if defined(__SANITIZE_ADDRESS__)
-  // AddressSanitizer maps terabytes of shadow memory: a data limit would stop the sanitized
-  // test build itself. The budget's early estimates still apply.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  // AddressSanitizer and ThreadSanitizer map terabytes of shadow memory: a data limit would stop
+  // the sanitized test build itself. The budget's early estimates still apply.
   return budget_mb;
 #endif
   struct rlimit limit {};

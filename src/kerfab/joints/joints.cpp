@@ -209,10 +209,10 @@ class Builder {
   const std::vector<Piece>& pieces_;
   const border::Plates plates_;
   std::vector<std::vector<Polygon2>> lost_;  // per part: the pieces it lost when last drawn
-  int drawings_ = 0;                         // candidate stub teeth drawn so far
-  int failed_last_ = -1;  // the part that failed the last stub tooth tried on a border
   Joints out_;
-
+  // While stub teeth are tried in parallel: the outlines of the parts the wave's borders
+  // change, as they were when it began (give_stubs_a_tooth()).
+  std::map<int, Polygon2> wave_outlines_;
 
   /// Box teeth where they are deep enough, else tabs if they are, else nothing (shallow).
   JointKind kind_for(double fold) const {
@@ -391,81 +391,110 @@ class Builder {
   /// the tooth out of third parts, as for every tooth); widest first, then with a margin of
   /// half the smallest feature, then none; the tooth is as wide as the tooth width allows and at
   /// least 1.2 times the smallest feature (1.2 mm).
+  /// The borders are tried in waves of borders that share no part, each wave in parallel:
+  /// trying one border changes only it and its two parts, so a border waits for the earlier
+  /// ones that share a part with it. It also reads the outlines of third parts near it in 3D
+  /// (reach_into_others): those of a part another border of the wave changes are read as they
+  /// were when the wave began (wave_outlines_), so the outcome does not depend on timing.
   void give_stubs_a_tooth(const std::vector<std::vector<std::array<double, 2>>>& forbidden,
                           const std::set<int>* only = nullptr) {
+    std::vector<int> pending;
+    for (std::size_t i = 0; i < out_.borders.size(); ++i)
+      if (out_.borders[i].teeth == 0 && (!only || only->contains(static_cast<int>(i))))
+        pending.push_back(static_cast<int>(i));
+    while (!pending.empty()) {
+      std::vector<int> wave, later;
+      std::set<int> busy;  // parts of the borders before, in this wave or waiting
+      for (int i : pending) {
+        const auto& parts = out_.borders[i].patches;
+        (busy.count(parts[0]) || busy.count(parts[1]) ? later : wave).push_back(i);
+        busy.insert(parts.begin(), parts.end());
+      }
+      wave_outlines_.clear();
+      for (int i : wave)
+        for (int q : out_.borders[i].patches) wave_outlines_[q] = out_.parts[q].designed;
+      std::vector<StubTrial> trials(wave.size());
+      for_each_index(static_cast<int>(wave.size()), hardware_threads(),
+                     [&](int k) { give_stub_a_tooth(wave[k], forbidden, trials[k]); });
+      for (const StubTrial& t : trials) {
+        out_.teeth += t.teeth, out_.tabs += t.tabs;
+        out_.toothed_length += t.toothed_length, out_.tab_length += t.tab_length;
+      }
+      pending = std::move(later);
+    }
+    wave_outlines_.clear();
+  }
+
+  /// One border's try at a stub tooth: candidates drawn, the part that failed the last one
+  /// (drawn first next), and what it added to the totals.
+  struct StubTrial {
+    int drawings = 0;
+    int failed_last = -1;
+    int teeth = 0, tabs = 0;
+    double toothed_length = 0, tab_length = 0;  // [mm]
+  };
+
+  /// give_stubs_a_tooth() for border \p i.
+  void give_stub_a_tooth(int i, const std::vector<std::vector<std::array<double, 2>>>& forbidden,
+                         StubTrial& t) {
     // A tooth only as wide as the smallest feature is what the outline rules call a tail (an
     // opening by half that width takes all of it): a fifth wider, and at least 1 mm.
     const double narrowest = std::max(1.0, 1.2 * o_.min_feature);
-    for (std::size_t i = 0; i < out_.borders.size(); ++i) {
-      BorderJoint& b = out_.borders[i];
-      if (b.teeth > 0 || (only && !only->contains(static_cast<int>(i)))) continue;
-      const Piece& piece = pieces_[i];
-      failed_last_ = -1;
-      std::vector<std::array<double, 2>> room;  // free stretches, widest first
-      double at = 0;
-      for (const auto& f : blocked(piece.length, forbidden[2 * i], forbidden[2 * i + 1])) {
-        if (f[0] > at) room.push_back({at, f[0]});
-        at = f[1];
+    BorderJoint& b = out_.borders[i];
+    const Piece& piece = pieces_[i];
+    std::vector<std::array<double, 2>> room;  // free stretches, widest first
+    double at = 0;
+    for (const auto& f : blocked(piece.length, forbidden[2 * i], forbidden[2 * i + 1])) {
+      if (f[0] > at) room.push_back({at, f[0]});
+      at = f[1];
+    }
+    if (piece.length > at) room.push_back({at, piece.length});
+    std::sort(room.begin(), room.end(),
+              [](const auto& x, const auto& y) { return x[1] - x[0] > y[1] - y[0]; });
+    b.free_room = room.empty() ? 0.0 : room.front()[1] - room.front()[0];
+    if (out_.parts[b.patches[0]].repaired || out_.parts[b.patches[1]].repaired) return;
+    for (const auto& r : room)
+      for (double margin : {o_.min_feature, 0.5 * o_.min_feature, 0.0}) {
+        // Ends of the border are corners of both parts, not bands: no margin there.
+        const double lo = r[0] > 1e-9 ? r[0] + margin : r[0];
+        const double hi = r[1] < piece.length - 1e-9 ? r[1] - margin : r[1];
+        const double width = std::min(o_.tooth_width, hi - lo);
+        if (width < narrowest - 1e-6) continue;
+        const double mid = 0.5 * (lo + hi);
+        if (try_tooth(i, mid - 0.5 * width, mid + 0.5 * width, t)) return;
       }
-      if (piece.length > at) room.push_back({at, piece.length});
-      std::sort(room.begin(), room.end(), [](const auto& x, const auto& y) {
-        return x[1] - x[0] > y[1] - y[0];
-      });
-      b.free_room = room.empty() ? 0.0 : room.front()[1] - room.front()[0];
-      if (out_.parts[b.patches[0]].repaired || out_.parts[b.patches[1]].repaired) continue;
-      bool done = false;
-      for (const auto& r : room) {
-        for (double margin : {o_.min_feature, 0.5 * o_.min_feature, 0.0}) {
-          // Ends of the border are corners of both parts, not bands: no margin there.
-          const double lo = r[0] > 1e-9 ? r[0] + margin : r[0];
-          const double hi = r[1] < piece.length - 1e-9 ? r[1] - margin : r[1];
-          const double width = std::min(o_.tooth_width, hi - lo);
-          if (width < narrowest - 1e-6) continue;
-          const double mid = 0.5 * (lo + hi);
-          if (try_tooth(static_cast<int>(i), mid - 0.5 * width, mid + 0.5 * width)) {
-            done = true;
-            break;
-          }
-        }
-        if (done) break;
+    // No room between the bands: the bands are the conservative rule (every tooth they let
+    // through is clear of third parts in 3D); here the tooth is checked in 3D directly against
+    // the plates of the parts around it, as drawn, and may reach into the bands.
+    // Widest first, centred first, but where a part is long (kScreenFrom) and a drawing
+    // failed, those that look sound near the border (looks_sound) before the others; only the
+    // candidates clear of third parts are drawn, and at most kStubDrawings of them (drawing is
+    // what costs).
+    std::vector<std::array<double, 2>> candidates;
+    for (double width = std::min(o_.tooth_width, piece.length); width >= narrowest - 1e-9;
+         width -= 0.5) {
+      const double slack = piece.length - width;
+      for (double place : {0.5, 0.25, 0.75, 0.0, 1.0}) {
+        candidates.push_back({place * slack, place * slack + width});
+        if (slack < 1e-9) break;  // one place only
       }
-      // No room between the bands: the bands are the conservative rule (every tooth they let
-      // through is clear of third parts in 3D); here the tooth is checked in 3D directly against
-      // the plates of the parts around it, as drawn, and may reach into the bands.
-      // Widest first, centred first, but where a part is long (kScreenFrom) and a drawing
-      // failed, those that look sound near the border (looks_sound) before the others; only the
-      // candidates clear of third parts are drawn, and at most kStubDrawings of them (drawing is
-      // what costs).
-      if (done) continue;
-      std::vector<std::array<double, 2>> candidates;
-      for (double width = std::min(o_.tooth_width, piece.length); width >= narrowest - 1e-9;
-           width -= 0.5) {
-        const double slack = piece.length - width;
-        for (double place : {0.5, 0.25, 0.75, 0.0, 1.0}) {
-          candidates.push_back({place * slack, place * slack + width});
-          if (slack < 1e-9) break;  // one place only
-        }
-      }
-      const int drawn_before = drawings_;
-      const bool screen = std::max(out_.parts[b.patches[0]].designed.size(),
-                                   out_.parts[b.patches[1]].designed.size()) >= kScreenFrom;
-      std::vector<std::pair<std::array<double, 2>, std::array<bool, 2>>> later;
-      for (const auto& c : candidates) {
-        if (drawings_ - drawn_before >= kStubDrawings) break;
-        // Until a drawing fails, every candidate looks sound: most first candidates are.
-        const std::array<bool, 2> looks = !screen || drawings_ == drawn_before
-                                              ? std::array{true, true}
-                                              : looks_sound(static_cast<int>(i), c[0], c[1]);
-        if (!looks[0] || !looks[1]) later.push_back({c, {!looks[0], !looks[1]}});
-        if ((looks[0] || looks[1]) && try_tooth(static_cast<int>(i), c[0], c[1], true, looks)) {
-          done = true;
-          break;
-        }
-      }
-      for (const auto& [c, owners] : later) {
-        if (done || drawings_ - drawn_before >= kStubDrawings) break;
-        done = try_tooth(static_cast<int>(i), c[0], c[1], true, owners);
-      }
+    }
+    const int drawn_before = t.drawings;
+    const bool screen = std::max(out_.parts[b.patches[0]].designed.size(),
+                                 out_.parts[b.patches[1]].designed.size()) >= kScreenFrom;
+    std::vector<std::pair<std::array<double, 2>, std::array<bool, 2>>> later;
+    for (const auto& c : candidates) {
+      if (t.drawings - drawn_before >= kStubDrawings) break;
+      // Until a drawing fails, every candidate looks sound: most first candidates are.
+      const std::array<bool, 2> looks = !screen || t.drawings == drawn_before
+                                            ? std::array{true, true}
+                                            : looks_sound(i, c[0], c[1]);
+      if (!looks[0] || !looks[1]) later.push_back({c, {!looks[0], !looks[1]}});
+      if ((looks[0] || looks[1]) && try_tooth(i, c[0], c[1], t, true, looks)) return;
+    }
+    for (const auto& [c, owners] : later) {
+      if (t.drawings - drawn_before >= kStubDrawings) break;
+      if (try_tooth(i, c[0], c[1], t, true, owners)) return;
     }
   }
 
@@ -519,7 +548,7 @@ class Builder {
   /// Border \p i (all plain) with a tooth on [s0, s1] instead, kept if one of its sides (of those
   /// \p owners allows) can own it with both parts whole, no tooth of theirs bitten and no new
   /// thin neck (adds_thin_neck); otherwise everything as before.
-  bool try_tooth(int i, double s0, double s1, bool in_bands = false,
+  bool try_tooth(int i, double s0, double s1, StubTrial& t, bool in_bands = false,
                  std::array<bool, 2> owners = {true, true}) {
     BorderJoint& b = out_.borders[i];
     JointKind kind;
@@ -556,12 +585,12 @@ class Builder {
       b.intervals = with;
       for (JointInterval& x : b.intervals)
         if (x.s0 == s0 && x.s1 == s1) x.owner = owner, x.kind = kind;
-      ++drawings_;
+      ++t.drawings;
       // The part that failed the last trial on this border first, else the part with fewer
       // borders: drawing is what costs, and the second part is not drawn if the first fails.
       std::array<int, 2> order = b.patches;
-      if (failed_last_ == order[1] ||
-          (failed_last_ != order[0] &&
+      if (t.failed_last == order[1] ||
+          (t.failed_last != order[0] &&
            rings_[order[1]].edges.size() < rings_[order[0]].edges.size()))
         std::swap(order[0], order[1]);
       // Whole, no tooth bitten, and no new thin neck: a tooth hanging on one breaks off. A
@@ -570,7 +599,7 @@ class Builder {
       // find one bitten.
       bool sound = true;
       for (int k = 0; k < 2 && sound; ++k)
-        if (!bitten_teeth(order[k]).empty()) sound = false, failed_last_ = order[k];
+        if (!bitten_teeth(order[k]).empty()) sound = false, t.failed_last = order[k];
       for (int k = 0; k < 2 && sound; ++k) {
         const int p = order[k];
         out_.parts[p] = outline(p);
@@ -578,7 +607,7 @@ class Builder {
         if (sound)
           sound =
               !adds_thin_neck(out_.parts[p].designed, drawn[p == b.patches[0] ? 0 : 1].designed);
-        if (!sound) failed_last_ = p;
+        if (!sound) t.failed_last = p;
       }
       // Into its mate, as both are now drawn (the slot cut).
       if (sound && in_bands)
@@ -586,9 +615,9 @@ class Builder {
                                   false)[1] <= kMateReach;
       if (sound) {
         b.free_room = -1;
-        ++b.teeth, ++out_.teeth;
-        out_.toothed_length += s1 - s0;
-        if (kind == JointKind::kTab) ++b.tabs, ++out_.tabs, out_.tab_length += s1 - s0;
+        ++b.teeth, ++t.teeth;
+        t.toothed_length += s1 - s0;
+        if (kind == JointKind::kTab) ++b.tabs, ++t.tabs, t.tab_length += s1 - s0;
         return true;
       }
     }
@@ -657,8 +686,12 @@ class Builder {
       const int k = o == b.patches[0] || o == b.patches[1] ? 1 : 0;
       if (o == p || (third_only && k == 1)) continue;
       const border::Plates::Window w = plates_.window(o, bmin, bmax);
-      if (!w.frames.empty())
-        deepest[k] = std::max(deepest[k], plates_.deepest_in(w, points, out_.parts[o].designed));
+      if (w.frames.empty()) continue;
+      const auto frozen = k == 0 ? wave_outlines_.find(o) : wave_outlines_.end();
+      deepest[k] = std::max(
+          deepest[k],
+          plates_.deepest_in(
+              w, points, frozen != wave_outlines_.end() ? frozen->second : out_.parts[o].designed));
     }
     return deepest;
   }
