@@ -312,23 +312,20 @@ void write_run(const RunResult& run, const OutputOptions& output, const fs::path
   if (output.dump && run.joints) write_json(parts_dump_json(run), dir / "stages" / "parts.json");
   // The assembly guide (the demo's largest output: 1.3 of 2.7 s writing) is written beside the
   // sheets and pictures, on a thread of its own: the writers share nothing but the run, which
-  // they only read, and each draws on cairo surfaces of its own. Its errors surface here.
+  // they only read, and each draws on cairo surfaces of its own. Its errors surface here; where
+  // another writer throws first, the future's destructor still waits for the guide (a future
+  // from std::async does), so it never outlives the run it reads.
   std::future<void> guide;
   if (run.layout && run.assembly)
     guide = std::async(std::launch::async, [&] { write_assembly_guide(run, dir / "assembly"); });
-  try {
-    if (run.layout) {
-      if (output.formats.svg) write_svg_sheets(run, output.style, dir / "cut");
-      if (output.formats.dxf) write_dxf_sheets(run, dir / "cut");
-      if (output.formats.pdf) write_pdf_sheets(run, output.style, dir / "cut");
-      write_sheet_previews(run, output.style, dir / "cut");
-      write_assembly_page(run, dir / "cut");
-    }
-    write_pictures(run, {}, dir / "pictures");
-  } catch (...) {
-    if (guide.valid()) guide.wait();  // it reads the run the caller is about to unwind
-    throw;
+  if (run.layout) {
+    if (output.formats.svg) write_svg_sheets(run, output.style, dir / "cut");
+    if (output.formats.dxf) write_dxf_sheets(run, dir / "cut");
+    if (output.formats.pdf) write_pdf_sheets(run, output.style, dir / "cut");
+    write_sheet_previews(run, output.style, dir / "cut");
+    write_assembly_page(run, dir / "cut");
   }
+  write_pictures(run, {}, dir / "pictures");
   if (guide.valid()) guide.get();
   write_json(report_json(run, output), dir / "report.json");
 }
