@@ -101,8 +101,11 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   RunResult r{.inputs = inputs, .options = o};
   StageRunner stage(r, progress);
   auto diag = [&] { return r.input->target_diagonal; };
-  LayoutOptions usable = o.layout;  // room for a plate thickness of teeth along the margins
-  usable.margin += o.material.thickness;
+  // A part must fit the sheet with what its joints add beyond its flat outline: room for a
+  // plate thickness of teeth along the margins, or in paper (no thickness) a glue tab's height
+  // (a 23-quad strip of the bunny fitted A4 until its tabs were added, and was left off).
+  LayoutOptions usable = o.layout;
+  usable.margin += o.material.thickness > 0 ? o.material.thickness : o.joints.glue_tab;
   // The flattening's 3D check: how finely it samples the strips' move [mm].
   auto deformation_spacing = [&] {
     return kDeformationSpacing * o.quality_sample_spacing * diag();
