@@ -215,6 +215,28 @@ TEST(Cli, PaperPartsAreAllPlacedWithOutlinesACutterCanFollow) {
   }
 }
 
+// The bunny in paper at 200 mm, from its triangle mesh: no part flattens distorted. A strip
+// of one quad (which the flattening cannot split further) whose rail collapses folded its
+// sub-quads up to 160 deg against each other and flattened 216 deg off with an inverted
+// sub-quad; the resolve stage now takes such a part as one a maker cannot handle and makes a
+// flat plate of it and its neighbours.
+TEST(Cli, NoPaperPartOfTheBunnyFlattensDistorted) {
+  KERFAB_SKIP_WITHOUT_SHARED_MESHES();
+  const fs::path scratch = test::fresh_dir(), out = scratch / "out";
+  const CliRun r = run_cli("run --quiet --target " +
+                               (test::shared_meshes() / "bunny_closed_odedstein.obj").string() +
+                               " --size 200 --material paper --out " + out.string(),
+                           scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  EXPECT_EQ(report["flatten"]["inverted_quads"].get<int>(), 0);
+  EXPECT_LT(report["flatten"]["max_angle_error_deg"].get<double>(), 20.0);
+  for (const auto& p : report["flatten"]["patches"])
+    EXPECT_TRUE(p["outline_simple"].get<bool>()) << p["patch"];
+  EXPECT_EQ(report["resolve"]["small_parts_after"].get<int>(), 0);
+  EXPECT_TRUE(report["layout"]["unplaced"].empty());
+}
+
 // Even-odd point in polygon (the sheet reader's outlines).
 bool inside_outline(const Vec2& p, const Polygon2& poly) {
   bool in = false;

@@ -38,24 +38,28 @@ struct Region {
 /// itself, or with a corner angle off by the flattening's limit or more (its corners, shared
 /// with facets at other angles, bent it: a plate that does not have the angles of its
 /// neighbours' borders does not fit them).
-bool bent_facet(const PartsBuild& b, int p, double max_angle_error) {
+bool distorted(const PartsBuild& b, int p, double max_angle_error) {
   const PatchFlattening& flat = b.flat.flattening.patches[p];
-  return b.flat.strips.patches[p].flat &&
-         (flat.inverted_quads > 0 || !flat.outline_simple ||
-          flat.max_angle_error >= max_angle_error);
+  return flat.inverted_quads > 0 || !flat.outline_simple || flat.max_angle_error >= max_angle_error;
+}
+bool bent_facet(const PartsBuild& b, int p, double max_angle_error) {
+  return b.flat.strips.patches[p].flat && distorted(b, p, max_angle_error);
 }
 
 /// Parts a maker cannot handle: less than \p min_area as cut, nowhere as wide as \p
-/// min_width (the outline shrunk by half of it is empty), fallen apart when cut, or a facet
-/// that flattens inverted or crossing itself (its corners shared with other facets moved it
-/// off its plane) [mm^2, mm].
+/// min_width (the outline shrunk by half of it is empty), fallen apart when cut, or one that
+/// flattens inverted, crossing itself or with a corner off by the flattening's limit or more: a
+/// facet whose corners shared with other facets moved it off its plane, or a strip of one quad
+/// (which the flattening cannot split further) twisted or folded more than a sheet bends flat
+/// (in paper, the bunny's collapsed strip ends flattened 216 deg off, with an inverted
+/// sub-quad) [mm^2, mm].
 std::vector<int> small_parts(const PartsBuild& b, double min_area, double min_width,
                              double max_angle_error) {
   std::vector<int> out;
   for (std::size_t p = 0; p < b.joints.parts.size(); ++p) {
     const Polygon2& outline = b.joints.parts[p].designed;
-    if (bent_facet(b, static_cast<int>(p), max_angle_error) || b.joints.parts[p].repaired || outline.size() < 3 ||
-        std::abs(polygon_area(outline)) < min_area ||
+    if (distorted(b, static_cast<int>(p), max_angle_error) || b.joints.parts[p].repaired ||
+        outline.size() < 3 || std::abs(polygon_area(outline)) < min_area ||
         polygon_offset({outline}, -0.5 * min_width).empty())
       out.push_back(static_cast<int>(p));
   }
@@ -397,15 +401,16 @@ class Resolver {
       std::ostringstream why;
       const PatchFlattening& flat = build_.flat.flattening.patches[p];
       double size_factor = area > 0 ? std::max(1.0, std::sqrt(r_.min_part_area / area)) : 0.0;
-      if (bent_facet(build_, p, max_angle)) {
-        why << "facet " << p << " flattens "
-            << (flat.inverted_quads > 0    ? "with an inverted quad"
-                : !flat.outline_simple     ? "crossing itself"
-                                           : "with a corner " +
-                                                 std::to_string(static_cast<int>(
-                                                     flat.max_angle_error * 180 / M_PI)) +
-                                                 " deg off its 3D angle")
-            << " (its corners are shared with facets at other angles)";
+      if (distorted(build_, p, max_angle)) {
+        why << (strips().patches[p].flat ? "facet " : "part ") << p << " flattens "
+            << (flat.inverted_quads > 0 ? "with an inverted quad"
+                : !flat.outline_simple
+                    ? "crossing itself"
+                    : "with a corner " +
+                          std::to_string(static_cast<int>(flat.max_angle_error * 180 / M_PI)) +
+                          " deg off its 3D angle")
+            << (strips().patches[p].flat ? " (its corners are shared with facets at other angles)"
+                                         : " (it twists or folds more than a sheet bends flat)");
       } else {
         why << "part " << p << " is too small to handle (" << area << " mm^2 as cut";
         if (build_.joints.parts[p].repaired) why << ", falls apart at its slots";
