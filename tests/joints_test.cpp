@@ -324,10 +324,12 @@ TEST(Joints, PartsTooSmallToHandleOwnTheirBordersTeeth) {
   const PreparedInput p = test::load(test::spot());
   Flattening f;
   const Strips s = flattened_real_strips(p, f);
-  JointOptions off;
+  JointOptions off, by_area;
   off.min_part_area = 0;
+  off.min_part_width = 0;
+  by_area.min_part_width = 0;  // narrow parts: the next test
   const Joints before = make_joints(s, f, kMdf, kLaser, off);
-  const Joints after = make_joints(s, f, kMdf, kLaser, {});
+  const Joints after = make_joints(s, f, kMdf, kLaser, by_area);
   auto area = [](const Joints& j, std::size_t q) {
     return std::abs(polygon_area(j.parts[q].designed));
   };

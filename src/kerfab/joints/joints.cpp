@@ -377,9 +377,24 @@ class Builder {
     bool lone = false;      // the only tooth stretch of its free run
   };
 
-  /// True when \p part, drawn whole, is smaller than a maker can handle.
+  /// True when \p part, drawn whole, is smaller than a maker can handle: less than
+  /// JointOptions::min_part_area, or nowhere JointOptions::min_part_width wide. A part whose
+  /// every point lies within r of its outline has A <= r P (it lies in the band of width r
+  /// inside its outline), so one with 2 A / P at least that width is not narrow and needs no
+  /// offset.
   bool too_small(const PartOutline& part) const {
-    return part.designed.size() >= 3 && std::abs(polygon_area(part.designed)) < o_.min_part_area;
+    if (part.designed.size() < 3) return false;
+    return std::abs(polygon_area(part.designed)) < o_.min_part_area || narrow(part);
+  }
+  /// Nowhere JointOptions::min_part_width wide (see too_small).
+  bool narrow(const PartOutline& part) const {
+    if (part.designed.size() < 3 || !(o_.min_part_width > 0)) return false;
+    const double area = std::abs(polygon_area(part.designed));
+    double perimeter = 0;
+    for (std::size_t i = 0; i < part.designed.size(); ++i)
+      perimeter += (part.designed[(i + 1) % part.designed.size()] - part.designed[i]).norm();
+    return 2 * area < o_.min_part_width * perimeter &&
+           polygon_offset({part.designed}, -0.5 * o_.min_part_width).empty();
   }
 
   /// A border that has no tooth, tab or glue line yet (a short stretch between two corners,
@@ -606,9 +621,14 @@ class Builder {
           out_.parts[p] = outline(p);
           sound = !out_.parts[p].repaired;
         }
-        if (sound)
-          sound =
-              !adds_thin_neck(out_.parts[p].designed, drawn[p == b.patches[0] ? 0 : 1].designed);
+        // Nor a part left too narrow to handle that was not (a slot of a stub tooth from each
+        // side narrowed a 77 mm^2 strip end of Spot's triangle mesh to under 3 mm; the tooth
+        // the other way round, or none, leaves it as it was). Refusing teeth that leave a part
+        // under the smallest area too gave spot_quadrangulated's one such part a tooth the
+        // other way round, beside a notch the laser path passes within 0.5 mm of itself.
+        const PartOutline& old = drawn[p == b.patches[0] ? 0 : 1];
+        if (sound) sound = !adds_thin_neck(out_.parts[p].designed, old.designed);
+        if (sound) sound = !narrow(out_.parts[p]) || narrow(old);
         if (!sound) t.failed_last = p;
       }
       // Into its mate, as both are now drawn (the slot cut).
@@ -1587,6 +1607,7 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
   if (!(machine.kerf_width >= 0)) throw InvalidInput("--kerf-width must be >= 0 mm");
   if (!(options.max_tip > 0)) throw InvalidInput("joints: max_tip must be > 0 mm");
   if (!(options.min_part_area >= 0)) throw InvalidInput("joints: min_part_area must be >= 0 mm^2");
+  if (!(options.min_part_width >= 0)) throw InvalidInput("joints: min_part_width must be >= 0 mm");
   if (!(options.tab_misfit >= 0) || !std::isfinite(options.tab_misfit))
     throw InvalidInput("--tab-misfit must be >= 0 mm");
   if (!(options.glue_tab >= 0) || !std::isfinite(options.glue_tab))

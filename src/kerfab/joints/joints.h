@@ -39,6 +39,9 @@ struct JointOptions {
   double min_part_area = 50;     ///< a part smaller than this as drawn takes the teeth of its
                                  ///< borders instead of their slots where it can (the size a
                                  ///< maker can handle; ResolveOptions::min_part_area) [mm^2], >= 0
+  double min_part_width = 3;     ///< so does a part nowhere this wide as drawn (its outline shrunk
+                                 ///< by half of it is empty; ResolveOptions::min_part_width) [mm],
+                                 ///< >= 0
   // Paper (thickness 0): glue tabs instead of teeth (joints/glue_tabs.h).
   double glue_tab = 6.0;         ///< height of a glue tab, root to edge [mm], >= 0; 0: no glue
                                  ///< tabs (plain borders, the paper's emulation)

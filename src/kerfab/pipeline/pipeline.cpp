@@ -106,14 +106,18 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   // (a 23-quad strip of the bunny fitted A4 until its tabs were added, and was left off).
   LayoutOptions usable = o.layout;
   usable.margin += o.material.thickness > 0 ? o.material.thickness : o.joints.glue_tab;
+  // The joints give a part too small or too narrow to handle the teeth instead of the slots,
+  // by the resolve step's measures of what a maker can handle.
+  JointOptions joints = o.joints;
+  joints.min_part_area = o.resolve.min_part_area;
+  joints.min_part_width = o.resolve.min_part_width;
   // The flattening's 3D check: how finely it samples the strips' move [mm].
   auto deformation_spacing = [&] {
     return kDeformationSpacing * o.quality_sample_spacing * diag();
   };
   // The options the stages from bending to kerf run with, the guidance file's edges included.
   auto parts_options = [&] {
-    PartsOptions p{o.bending,  o.strips,  o.flatten, usable,
-                   o.material, o.machine, o.joints,  o.kerf};
+    PartsOptions p{o.bending, o.strips, o.flatten, usable, o.material, o.machine, joints, o.kerf};
     const Guidance& g = r.loaded->guidance;
     p.bending.guidance.insert(p.bending.guidance.end(), g.edges.begin(), g.edges.end());
     p.strips.split_edges.insert(p.strips.split_edges.end(), g.split.begin(), g.split.end());
@@ -186,7 +190,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kJoints,
        [&] {
-         r.joints = make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, o.joints,
+         r.joints = make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, joints,
                                 &memo.outlines);
          return notes(*r.joints, o.joints);
        }},
