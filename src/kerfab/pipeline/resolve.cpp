@@ -34,14 +34,16 @@ struct Region {
   bool small_part = false;  // a whole part too small or too narrow to handle, not a bend
 };
 
-/// True when patch \p p of \p b is a facet that flattens with an inverted quad, crossing
-/// itself, or with a corner angle off by the flattening's limit or more (its corners, shared
-/// with facets at other angles, bent it: a plate that does not have the angles of its
-/// neighbours' borders does not fit them).
+/// True when patch \p p of \p b flattens with an inverted quad, crossing itself, or with a
+/// corner angle off by the flattening's limit or more: a part that does not have the angles of
+/// its neighbours' borders does not fit them.
 bool distorted(const PartsBuild& b, int p, double max_angle_error) {
   const PatchFlattening& flat = b.flat.flattening.patches[p];
   return flat.inverted_quads > 0 || !flat.outline_simple || flat.max_angle_error >= max_angle_error;
 }
+
+/// True when patch \p p of \p b is a facet that flattens distorted: its corners, shared with
+/// facets at other angles, bent it.
 bool bent_facet(const PartsBuild& b, int p, double max_angle_error) {
   return b.flat.strips.patches[p].flat && distorted(b, p, max_angle_error);
 }
