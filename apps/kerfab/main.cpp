@@ -351,9 +351,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "the best build it saw and lists the regions left [s, > 0]")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd.add_option("--min-part-width", f.options.resolve.min_part_width,
-                 "The narrowest part a maker can handle: the resolve step changes parts nowhere "
-                 "this wide, and leaves out slivers narrower than this across [mm, 0.1 to 1000]")
+  cmd.add_option(
+         "--min-part-width", f.options.resolve.min_part_width,
+         "The narrowest part a maker can handle: parts nowhere this wide take their borders' "
+         "teeth instead of their slots and are changed by the resolve step, and slivers "
+         "narrower than this across are left out [mm, 0.1 to 1000]")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 1000.0));
   cmd.add_flag(
