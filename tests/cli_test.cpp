@@ -196,14 +196,12 @@ TEST(Cli, PaperPartsAreAllPlacedWithOutlinesACutterCanFollow) {
   for (const Case& c : {Case{"sphere-120", sphere, " --size 120"},
                         Case{"sphere-175", sphere, " --size 175"}, Case{"ring", ring, ""}}) {
     const fs::path out = scratch / c.name;
-    const fs::path& target = c.target;
-    const char* size = c.size;
-    const CliRun r = run_cli("run --quiet --target " + target.string() + size +
+    const CliRun r = run_cli("run --quiet --target " + c.target.string() + c.size +
                                  " --material paper --out " + out.string(),
                              scratch);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const auto report = read_report(out);
-    const std::string name = c.name;
+    const std::string name = c.name;  // for the messages below
     EXPECT_TRUE(report["layout"]["unplaced"].empty()) << name << report["layout"]["unplaced"];
     const auto audit = test::audit_sheets(out / "cut");
     EXPECT_GE(audit.parts, 3) << name;

@@ -327,7 +327,8 @@ TEST(Joints, PartsTooSmallToHandleOwnTheirBordersTeeth) {
   JointOptions off, by_area;
   off.min_part_area = 0;
   off.min_part_width = 0;
-  by_area.min_part_width = 0;  // narrow parts: the next test
+  by_area.min_part_width =
+      0;  // area alone (narrow parts: Cli.TheFirstExampleFromATriangleMeshCutsClean)
   const Joints before = make_joints(s, f, kMdf, kLaser, off);
   const Joints after = make_joints(s, f, kMdf, kLaser, by_area);
   auto area = [](const Joints& j, std::size_t q) {

@@ -192,7 +192,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        [&] {
          r.joints = make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, joints,
                                 &memo.outlines);
-         return notes(*r.joints, o.joints);
+         return notes(*r.joints, joints);
        }},
       {Stage::kKerf,
        [&] {
