@@ -352,5 +352,73 @@ TEST(Flatten, AWarpedOneQuadFacetFlattensConvexWithItsSideLengths) {
                    .has_value());
 }
 
+// A facet over a plateau: a 3 x 3 grid of 10 mm quads on the plane z = 0 whose middle quad is
+// lifted by 25 mm. Its outline is the flat 30 x 30 square (every outline corner's angle, summed
+// over its quads, is 90 or 180 deg), but its quads cannot lie flat together: a corner quad's 3D
+// angles sum to 300.5 deg. Cut along its outline, the facet is that square exactly, with its
+// inner vertices inside and no quad turned over. A patch that is not there gives nothing.
+TEST(Flatten, AFacetWhoseQuadsCannotLieFlatIsCutAlongItsOutline) {
+  constexpr double h = 25;
+  Strips s;
+  auto id = [](int i, int j) { return 4 * j + i; };
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i)
+      s.vertices.emplace_back(10.0 * i, 10.0 * j, (i == 1 || i == 2) && (j == 1 || j == 2) ? h : 0);
+  Patch facet;
+  facet.flat = true;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const int f = static_cast<int>(s.faces.size());
+      s.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+      s.face_quad.push_back(f);
+      s.face_patch.push_back(0);
+      facet.quads.push_back(f);
+      facet.faces.push_back(f);
+      facet.flat_quads.push_back(s.faces.back());
+    }
+  for (int v = 0; v < 16; ++v) facet.flat_vertices.push_back(v);
+  std::vector<int> ring;  // counter-clockwise around the square
+  for (int i = 0; i < 3; ++i) ring.push_back(id(i, 0));
+  for (int j = 0; j < 3; ++j) ring.push_back(id(3, j));
+  for (int i = 3; i > 0; --i) ring.push_back(id(i, 3));
+  for (int j = 3; j > 0; --j) ring.push_back(id(0, j));
+  for (std::size_t k = 0; k < ring.size(); ++k) {
+    OutlineEdge e;
+    e.v = {ring[k], ring[(k + 1) % ring.size()]};
+    e.coarse_edge = static_cast<int>(k);
+    e.side = 0;
+    facet.flat_outline.push_back(e);
+  }
+  s.patches.push_back(facet);
+  // With its quads' angles, the facet flattens more than 20 deg off.
+  EXPECT_GT(flatten_patches(s, {}).patches[0].max_angle_error, 20 * kPi / 180);
+  const auto cut = flatten_facet_by_outline(s, 0, {});
+  ASSERT_TRUE(cut.has_value());
+  const PatchFlattening& p = *cut;
+  EXPECT_EQ(p.inverted_quads, 0);
+  EXPECT_TRUE(p.outline_simple);
+  EXPECT_LT(p.max_angle_error, 1e-6);
+  EXPECT_LT(p.max_border_length_error_rel, 1e-9);
+  // The square: corners 30 mm apart along the sides, 30 sqrt(2) across.
+  const auto& x = p.points;
+  for (int k = 0; k < 4; ++k) {
+    const Vec2 a = x[ring[3 * k]], b = x[ring[(3 * k + 3) % 12]], c = x[ring[(3 * k + 6) % 12]];
+    EXPECT_NEAR((b - a).norm(), 30, 1e-6);
+    EXPECT_NEAR((c - a).norm(), 30 * std::sqrt(2.0), 1e-6);
+  }
+  EXPECT_NEAR(p.area_2d, 900, 1e-6);
+  EXPECT_FALSE(flatten_facet_by_outline(s, 1, {}).has_value());
+  // Inner vertices strictly inside the square.
+  const Vec2 o = x[ring[0]], u = (x[ring[3]] - o) / 30, w = (x[ring[9]] - o) / 30;
+  for (int j = 1; j < 3; ++j)
+    for (int i = 1; i < 3; ++i) {
+      const Vec2 d = x[id(i, j)] - o;
+      EXPECT_GT(d.dot(u), 1);
+      EXPECT_LT(d.dot(u), 29);
+      EXPECT_GT(d.dot(w), 1);
+      EXPECT_LT(d.dot(w), 29);
+    }
+}
+
 }  // namespace
 }  // namespace kerfab

@@ -102,14 +102,33 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
   return out;
 }
 
-/// Eq. 2 as residuals r (energy = |r|^2) with their Jacobian.
+/// A corner whose 2D angle is held to a target: at vertex \p at, counter-clockwise from the
+/// direction to \p next to the direction to \p prev [rad].
+struct Corner {
+  int at = 0, next = 0, prev = 0;
+  double target = 0;
+};
+
+/// Every quad's four corners, with their 3D angles as targets.
+std::vector<Corner> quad_corners(const LocalPatch& lp) {
+  std::vector<Corner> out;
+  for (const auto& q : lp.quads)
+    for (int c = 0; c < 4; ++c)
+      out.push_back({q[c], q[(c + 1) % 4], q[(c + 3) % 4],
+                     corner_angle_3d(lp.p3[q[c]], lp.p3[q[(c + 1) % 4]], lp.p3[q[(c + 3) % 4]])});
+  return out;
+}
+
+/// Eq. 2 as residuals r (energy = |r|^2) with their Jacobian: border edges held to their 3D
+/// lengths, corners to their target angles. With \p wrapped an angle error is taken in
+/// (-pi, pi] (an outline's corner may be reflex: its angle runs to 2 pi).
 class AngleLengthEnergy {
  public:
-  AngleLengthEnergy(const LocalPatch& lp, double lambda) : lp_(lp) {
-    for (const auto& q : lp.quads)
-      for (int c = 0; c < 4; ++c)
-        target_angle_.push_back(
-            corner_angle_3d(lp.p3[q[c]], lp.p3[q[(c + 1) % 4]], lp.p3[q[(c + 3) % 4]]));
+  AngleLengthEnergy(const LocalPatch& lp, double lambda)
+      : AngleLengthEnergy(lp, lambda, quad_corners(lp), false) {}
+  AngleLengthEnergy(const LocalPatch& lp, double lambda, std::vector<Corner> corners, bool wrapped)
+      : lp_(lp), corners_(std::move(corners)), wrapped_(wrapped) {
+    for (const Corner& c : corners_) target_angle_.push_back(c.target);
     double sum = 0;
     for (const auto& e : lp.border) {
       target_length_.push_back((lp.p3[e[1]] - lp.p3[e[0]]).norm());
@@ -125,16 +144,20 @@ class AngleLengthEnergy {
   const std::vector<double>& target_angles() const { return target_angle_; }
   const std::vector<double>& target_lengths() const { return target_length_; }
 
+  /// Corner \p c's angle error at \p x [rad].
+  double angle_error(const std::vector<Vec2>& x, std::size_t c) const {
+    const Corner& k = corners_[c];
+    double e = corner_angle(x[k.at], x[k.next], x[k.prev]) - k.target;
+    if (wrapped_) e = std::remainder(e, 2 * M_PI);
+    return e;
+  }
+
   Eigen::VectorXd residuals(const std::vector<Vec2>& x) const {
     Eigen::VectorXd r(residual_count());
     int k = 0;
     for (std::size_t e = 0; e < lp_.border.size(); ++e)
       r[k++] = w_length_ * ((x[lp_.border[e][1]] - x[lp_.border[e][0]]).norm() - target_length_[e]);
-    int c = 0;
-    for (const auto& q : lp_.quads)
-      for (int j = 0; j < 4; ++j, ++c)
-        r[k++] = w_angle_ *
-                 (corner_angle(x[q[j]], x[q[(j + 1) % 4]], x[q[(j + 3) % 4]]) - target_angle_[c]);
+    for (std::size_t c = 0; c < corners_.size(); ++c) r[k++] = w_angle_ * angle_error(x, c);
     return r;
   }
 
@@ -152,19 +175,19 @@ class AngleLengthEnergy {
       }
       ++k;
     }
-    for (const auto& q : lp_.quads)
-      for (int j = 0; j < 4; ++j, ++k) {
-        const int i = q[j], nx = q[(j + 1) % 4], pv = q[(j + 3) % 4];
-        const Vec2 u = x[nx] - x[i], v = x[pv] - x[i];
-        const double uu = std::max(u.squaredNorm(), 1e-300), vv = std::max(v.squaredNorm(), 1e-300);
-        const Vec2 gn = w_angle_ * Vec2(u.y(), -u.x()) / uu;
-        const Vec2 gp = w_angle_ * Vec2(-v.y(), v.x()) / vv;
-        for (int a = 0; a < 2; ++a) {
-          t.emplace_back(k, 2 * nx + a, gn[a]);
-          t.emplace_back(k, 2 * pv + a, gp[a]);
-          t.emplace_back(k, 2 * i + a, -gn[a] - gp[a]);
-        }
+    for (const Corner& c : corners_) {
+      const int i = c.at, nx = c.next, pv = c.prev;
+      const Vec2 u = x[nx] - x[i], v = x[pv] - x[i];
+      const double uu = std::max(u.squaredNorm(), 1e-300), vv = std::max(v.squaredNorm(), 1e-300);
+      const Vec2 gn = w_angle_ * Vec2(u.y(), -u.x()) / uu;
+      const Vec2 gp = w_angle_ * Vec2(-v.y(), v.x()) / vv;
+      for (int a = 0; a < 2; ++a) {
+        t.emplace_back(k, 2 * nx + a, gn[a]);
+        t.emplace_back(k, 2 * pv + a, gp[a]);
+        t.emplace_back(k, 2 * i + a, -gn[a] - gp[a]);
       }
+      ++k;
+    }
     SparseMatrix j(residual_count(), 2 * static_cast<int>(x.size()));
     j.setFromTriplets(t.begin(), t.end());
     return j;
@@ -172,6 +195,8 @@ class AngleLengthEnergy {
 
  private:
   const LocalPatch& lp_;
+  std::vector<Corner> corners_;
+  bool wrapped_ = false;
   std::vector<double> target_angle_, target_length_;
   double mean_length_ = 1, w_length_ = 0, w_angle_ = 0;
 };
@@ -270,18 +295,24 @@ bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) 
   return on(a, b, c, o1) || on(a, b, d, o2) || on(c, d, a, o3) || on(c, d, b, o4);
 }
 
+/// The quads' edges, each once, as (smaller, larger) local vertex.
+std::vector<std::array<int, 2>> quad_edges(const LocalPatch& lp) {
+  std::vector<std::array<int, 2>> out;
+  for (const auto& q : lp.quads)
+    for (int a = 0; a < 4; ++a)
+      out.push_back({std::min(q[a], q[(a + 1) % 4]), std::max(q[a], q[(a + 1) % 4])});
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 /// Moves the 3D vertices so every quad edge (rail segment and ruling) takes its flat length:
 /// Levenberg-Marquardt steps whose damping penalises each step's length, so the strip does not
 /// drift along its free motions while the length error is driven to zero. Diagonals are left
 /// free on purpose: a kerfed strip twists between rulings (paper Sec. 3.4), so its quads need
 /// not stay planar; requiring the flat diagonals too would flatten every twisted quad.
 std::vector<Vec3> deform_to_flat_metric(const LocalPatch& lp, const std::vector<Vec2>& x) {
-  std::vector<std::array<int, 2>> pairs;
-  for (const auto& q : lp.quads)
-    for (int a = 0; a < 4; ++a)
-      pairs.push_back({std::min(q[a], q[(a + 1) % 4]), std::max(q[a], q[(a + 1) % 4])});
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const std::vector<std::array<int, 2>> pairs = quad_edges(lp);
   const int n = static_cast<int>(lp.p3.size()), m = static_cast<int>(pairs.size());
   std::vector<double> target(m);
   double scale = 0;
@@ -340,6 +371,93 @@ std::vector<Vec2> plane_coordinates(const std::vector<Vec3>& p3) {
   const Vec3 u = eig.eigenvectors().col(2), w = eig.eigenvectors().col(1);
   std::vector<Vec2> out;
   for (const Vec3& p : p3) out.emplace_back((p - mean).dot(u), (p - mean).dot(w));
+  return out;
+}
+
+/// flatten_facet_by_outline() on the patch \p lp, from \p start (the facet on its plane,
+/// counter-clockwise). Empty where the outline is not one loop through distinct vertices.
+std::optional<PatchFlattening> outline_flattening(const LocalPatch& lp,
+                                                  const std::vector<Vec2>& start,
+                                                  const FlattenOptions& opt) {
+  const int n = static_cast<int>(lp.p3.size()), m = static_cast<int>(lp.border.size());
+  if (m < 3) return std::nullopt;
+  std::vector<int> ring_of(n, -1);
+  for (int k = 0; k < m; ++k) {
+    if (lp.border[k][1] != lp.border[(k + 1) % m][0] || ring_of[lp.border[k][0]] >= 0)
+      return std::nullopt;
+    ring_of[lp.border[k][0]] = k;
+  }
+  std::vector<double> intrinsic(m, 0.0);  // the facet's angle at each outline corner [rad]
+  for (const Corner& c : quad_corners(lp))
+    if (ring_of[c.at] >= 0) intrinsic[ring_of[c.at]] += c.target;
+  LocalPatch ring;
+  std::vector<Corner> corners;
+  std::vector<Vec2> x;
+  for (int k = 0; k < m; ++k) {
+    ring.p3.push_back(lp.p3[lp.border[k][0]]);
+    ring.border.push_back({k, (k + 1) % m});
+    corners.push_back({k, (k + 1) % m, (k + m - 1) % m, intrinsic[k]});
+    x.push_back(start[lp.border[k][0]]);
+  }
+  const AngleLengthEnergy energy(ring, std::max(opt.lambda, 0.9999), corners, true);
+  FlattenOptions own = opt;
+  own.max_iterations *= 10;
+  PatchFlattening out;
+  out.initial_energy = energy.residuals(x).squaredNorm();
+  const Solve s = minimise(energy, x, own);
+  out.iterations = s.iterations;
+  out.energy = s.energy;
+  out.converged = s.converged;
+  for (int k = 0; k < m; ++k)
+    out.max_angle_error = std::max(out.max_angle_error, std::abs(energy.angle_error(x, k)));
+  for (int k = 0; k < m; ++k) {
+    const double l3 = energy.target_lengths()[k];
+    if (l3 > 0)
+      out.max_border_length_error_rel = std::max(
+          out.max_border_length_error_rel, std::abs((x[(k + 1) % m] - x[k]).norm() - l3) / l3);
+  }
+  // Inner vertices: each the mean of its quad-edge neighbours, the outline held.
+  out.points.assign(n, Vec2::Zero());
+  std::vector<int> inner(n, -1);
+  int ni = 0;
+  for (int v = 0; v < n; ++v) {
+    if (ring_of[v] >= 0)
+      out.points[v] = x[ring_of[v]];
+    else
+      inner[v] = ni++;
+  }
+  if (ni > 0) {
+    const std::vector<std::array<int, 2>> edges = quad_edges(lp);
+    std::vector<Triplet> t;
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(ni, 2);
+    for (const auto& e : edges)
+      for (int side = 0; side < 2; ++side) {
+        const int a = e[side], b = e[1 - side];
+        if (inner[a] < 0) continue;
+        t.emplace_back(inner[a], inner[a], 1.0);
+        if (inner[b] >= 0)
+          t.emplace_back(inner[a], inner[b], -1.0);
+        else
+          rhs.row(inner[a]) += out.points[b].transpose();
+      }
+    SparseMatrix l(ni, ni);
+    l.setFromTriplets(t.begin(), t.end());
+    Eigen::SimplicialLDLT<SparseMatrix> solver(l);
+    if (solver.info() != Eigen::Success) return std::nullopt;
+    const Eigen::MatrixXd z = solver.solve(rhs);
+    for (int v = 0; v < n; ++v)
+      if (inner[v] >= 0) out.points[v] = Vec2(z(inner[v], 0), z(inner[v], 1));
+  }
+  out.inverted_quads = count_inverted_quads(out.points, lp.quads);
+  std::vector<int> outline;
+  for (const auto& e : lp.border) outline.push_back(e[0]);
+  out.outline_simple = is_simple_polygon(out.points, outline);
+  for (const auto& q : lp.quads) {
+    const Vec3 &a = lp.p3[q[0]], &b = lp.p3[q[1]], &c = lp.p3[q[2]], &d = lp.p3[q[3]];
+    out.area_3d += 0.5 * ((b - a).cross(c - a).norm() + (c - a).cross(d - a).norm());
+    for (int j = 0; j < 4; ++j)
+      out.area_2d += 0.5 * cross2(out.points[q[j]], out.points[q[(j + 1) % 4]]);
+  }
   return out;
 }
 
@@ -459,6 +577,22 @@ void measure_borders(const Strips& strips, Flattening& flat) {
 }
 
 }  // namespace
+
+std::optional<PatchFlattening> flatten_facet_by_outline(const Strips& strips, int patch,
+                                                        const FlattenOptions& opt) {
+  if (patch < 0 || patch >= static_cast<int>(strips.patches.size()) || !strips.patches[patch].flat)
+    return std::nullopt;
+  const LocalPatch lp = local_patch(strips, strips.patches[patch]);
+  std::vector<Vec2> start = plane_coordinates(lp.p3);
+  double signed_area = 0;
+  for (const auto& q : lp.quads)
+    for (int c = 0; c < 4; ++c) signed_area += cross2(start[q[c]], start[q[(c + 1) % 4]]);
+  if (signed_area < 0)
+    for (auto& p : start) p.y() = -p.y();
+  auto out = outline_flattening(lp, start, opt);
+  if (out && opt.mimic_3d) out->deformed_3d = deform_to_flat_metric(lp, out->points);
+  return out;
+}
 
 std::optional<std::array<Vec2, 4>> convex_quad(const std::array<Vec3, 4>& p) {
   std::array<double, 4> side{}, angle3{};

@@ -4,7 +4,9 @@
 /// quads: lambda * sum over border edges of the squared length error plus (1 - lambda) * sum
 /// over quad corners of the squared angle error, solved by Gauss-Newton (the energy is a sum of
 /// squares, so J^T J is the positive semi-definite projected Hessian) with a sparse Cholesky
-/// factorisation, a backtracking line search and the Newton decrement as stopping test.
+/// factorisation, a backtracking line search and the Newton decrement as stopping test. A
+/// facet (a flat plate) whose quads cannot lie flat together may be cut along its outline alone
+/// (flatten_facet_by_outline).
 #include <Eigen/Core>
 #include <array>
 #include <cmath>
@@ -39,7 +41,8 @@ struct PatchFlattening {
   double initial_energy = 0;               ///< Eq. 2 after the conformal initialisation [-]
   double energy = 0;                       ///< Eq. 2 at the end [-]
   bool converged = false;                  ///< Newton decrement test met within max_iterations
-  double max_angle_error = 0;              ///< largest |alpha - alpha*| over quad corners [rad]
+  double max_angle_error = 0;  ///< largest |alpha - alpha*| over quad corners [rad]; over the
+                               ///< outline's corners for a facet cut along its outline alone
   double max_border_length_error_rel = 0;  ///< largest |l - l*| / l* over border edges [-]
   int inverted_quads = 0;                  ///< quads with a corner angle outside (0, pi) in 2D
   bool outline_simple = true;              ///< the outline does not cross itself
@@ -98,6 +101,19 @@ bool is_simple_polygon(const std::vector<Vec2>& points, const std::vector<int>& 
 
 /// Flattens every patch of \p strips. \throw InvalidInput options out of range.
 Flattening flatten_patches(const Strips& strips, const FlattenOptions& options);
+
+/// A facet (Patch::flat) is cut along its outline only: its inner quads are a frame the strips
+/// stage built, not a shape to keep. Where they cannot lie flat together (a cap of quads tilted
+/// up to 85 deg from the facet's plane over a horse's ear: the quads' own 3D angles fold it),
+/// this flattens the outline alone: its edges take their 3D lengths and each corner the facet's
+/// own angle there (the sum of its quads' corner angles at that vertex, the angle a neighbour's
+/// border meets it at), in least squares (Eq. 2 on the outline, from the facet's best-fit
+/// plane). Its inner vertices follow as the mean of their neighbours (Tutte). max_angle_error
+/// is then over the outline's corners, the only angles cut; inverted_quads still counts every
+/// quad. Empty for a patch that is no facet, or whose outline is not one loop through distinct
+/// vertices.
+std::optional<PatchFlattening> flatten_facet_by_outline(const Strips& strips, int patch,
+                                                        const FlattenOptions& options);
 
 /// Sets \p flat's totals and its border pieces and shared borders from its patches' flattenings
 /// (one per patch of \p strips); what flatten_patches ends with, and what a caller that left

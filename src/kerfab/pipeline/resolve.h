@@ -63,8 +63,9 @@ struct PartsBuild {
 struct RegionChange {
   Vec3 centre;                ///< where on the model [mm]
   std::vector<int> quads;     ///< quad-mesh faces of the region
-  std::string action;         ///< "split", "merge", "restiffen", "facets", "omit" (the part left
-                              ///< out), or "unresolved"
+  std::string action;         ///< "split", "merge", "restiffen", "facets", "outline" (a facet
+                              ///< cut along its outline alone, flatten_facet_by_outline), "omit"
+                              ///< (the part left out), or "unresolved"
   double spacing = 0;         ///< the beam spacing the bend needed there before [mm]
   double stress_ratio = 0;    ///< its largest beam stress over the allowed stress, before [-]
   double size_factor = 1;     ///< the model scale at which the region would need no change [-]
@@ -72,7 +73,7 @@ struct RegionChange {
                               ///< vertices to the target; for "omit", of its surface to the
                               ///< parts kept [mm]
   std::string reason;         ///< why an "unresolved" region stays (the bend or the part size),
-                              ///< or why an "omit" part was left out
+                              ///< why an "omit" part was left out, or an "outline" facet cut so
 };
 
 /// A material preset and the smallest model size at which none of the regions would need a
