@@ -233,6 +233,17 @@ nlohmann::json run_quietly(const std::string& args, fs::path out = {}) {
 // of one quad (which the flattening cannot split further) whose rail collapses folded its
 // sub-quads up to 160 deg against each other and flattened 216 deg off with an inverted
 // sub-quad; the resolve stage now takes such a part as one a maker cannot handle and makes a
+
+// Every part placed, none fallen apart at its slots, and the sheets in \p out, read back by
+// the independent auditor, hold them all and are clean. \p name: for the messages.
+void expect_all_placed_and_clean(const nlohmann::json& report, const fs::path& out,
+                                 const std::string& name = "") {
+  EXPECT_EQ(report["joints"]["repaired_parts"].get<int>(), 0) << name;
+  EXPECT_TRUE(report["layout"]["unplaced"].empty()) << name;
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_EQ(audit.parts, report["resolve"]["parts_after"].get<int>()) << name;
+  EXPECT_TRUE(audit.clean()) << name << ": " << (audit.findings.empty() ? "" : audit.findings[0]);
+}
 // flat plate of it and its neighbours.
 TEST(Cli, NoPaperPartOfTheBunnyFlattensDistorted) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
@@ -266,11 +277,7 @@ TEST(Cli, TheHorsesEarsFlattenWithinTheLimitAndCutClean) {
   for (const auto& c : report["resolve"]["changes"]) outlines += c["action"] == "outline";
   EXPECT_GE(outlines, 1);
   EXPECT_EQ(report["resolve"]["small_parts_after"].get<int>(), 0);
-  EXPECT_EQ(report["joints"]["repaired_parts"].get<int>(), 0);
-  EXPECT_TRUE(report["layout"]["unplaced"].empty());
-  const auto audit = test::audit_sheets(out / "cut");
-  EXPECT_EQ(audit.parts, report["resolve"]["parts_after"].get<int>());
-  EXPECT_TRUE(audit.clean()) << (audit.findings.empty() ? "" : audit.findings[0]);
+  expect_all_placed_and_clean(report, out);
 }
 
 // The README's first example, Spot's bundled triangle mesh alone at 250 mm: the sheets, read
@@ -287,11 +294,7 @@ TEST(Cli, TheFirstExampleFromATriangleMeshCutsClean) {
   EXPECT_EQ(report["resolve"]["critical_after"].get<int>(), 0);
   EXPECT_EQ(report["resolve"]["small_parts_after"].get<int>(), 0);
   EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
-  EXPECT_EQ(report["joints"]["repaired_parts"].get<int>(), 0);
-  EXPECT_TRUE(report["layout"]["unplaced"].empty());
-  const auto audit = test::audit_sheets(out / "cut");
-  EXPECT_EQ(audit.parts, report["resolve"]["parts_after"].get<int>());
-  EXPECT_TRUE(audit.clean()) << (audit.findings.empty() ? "" : audit.findings[0]);
+  expect_all_placed_and_clean(report, out);
 }
 
 // Even-odd point in polygon (the sheet reader's outlines).
@@ -716,12 +719,7 @@ TEST(Cli, TooTightShapesAreResolvedIntoCleanSheets) {
     EXPECT_GT(res["min_size_mm"].get<double>(), c.size) << c.name;
     EXPECT_EQ(report["flatten"]["inverted_quads"].get<int>(), 0) << c.name;
     EXPECT_LT(report["flatten"]["max_angle_error_deg"].get<double>(), 20.0) << c.name;
-    EXPECT_EQ(report["joints"]["repaired_parts"].get<int>(), 0) << c.name;
-    EXPECT_TRUE(report["layout"]["unplaced"].empty()) << c.name;
-    const auto audit = test::audit_sheets(out / "cut");
-    EXPECT_EQ(audit.parts, report["resolve"]["parts_after"].get<int>()) << c.name;
-    EXPECT_TRUE(audit.clean()) << c.name << ": "
-                               << (audit.findings.empty() ? "" : audit.findings[0]);
+    expect_all_placed_and_clean(report, out, c.name);
 
     const CliRun paper = run_cli(args + before.string() + " --no-resolve", scratch);
     ASSERT_EQ(paper.exit_code, 0) << c.name << paper.err;

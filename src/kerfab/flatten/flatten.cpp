@@ -374,6 +374,38 @@ std::vector<Vec2> plane_coordinates(const std::vector<Vec3>& p3) {
   return out;
 }
 
+/// Mirrors \p points where the quads of \p lp come out clockwise in total (a conformal map
+/// reflected, or a facet's plane seen from behind): a wrong sign must never reach the cutter.
+void make_quads_counter_clockwise(const LocalPatch& lp, std::vector<Vec2>& points) {
+  double signed_area = 0;
+  for (const auto& q : lp.quads)
+    for (int c = 0; c < 4; ++c) signed_area += 0.5 * cross2(points[q[c]], points[q[(c + 1) % 4]]);
+  if (signed_area < 0)
+    for (auto& p : points) p.y() = -p.y();
+}
+
+/// Sets \p out's border length error (against \p lengths_3d, per outline edge of \p lp), its
+/// areas and whether its outline is simple, from out.points.
+void measure_shape(const LocalPatch& lp, const std::vector<double>& lengths_3d,
+                   PatchFlattening& out) {
+  for (std::size_t e = 0; e < lp.border.size(); ++e) {
+    const double l = (out.points[lp.border[e][1]] - out.points[lp.border[e][0]]).norm();
+    const double l3 = lengths_3d[e];
+    if (l3 > 0)
+      out.max_border_length_error_rel =
+          std::max(out.max_border_length_error_rel, std::abs(l - l3) / l3);
+  }
+  for (const auto& q : lp.quads) {
+    const Vec3 &a = lp.p3[q[0]], &b = lp.p3[q[1]], &c = lp.p3[q[2]], &d = lp.p3[q[3]];
+    out.area_3d += 0.5 * ((b - a).cross(c - a).norm() + (c - a).cross(d - a).norm());
+    for (int j = 0; j < 4; ++j)
+      out.area_2d += 0.5 * cross2(out.points[q[j]], out.points[q[(j + 1) % 4]]);
+  }
+  std::vector<int> outline;
+  for (const auto& e : lp.border) outline.push_back(e[0]);
+  out.outline_simple = is_simple_polygon(out.points, outline);
+}
+
 /// flatten_facet_by_outline() on the patch \p lp, from \p start (the facet on its plane,
 /// counter-clockwise). Empty where the outline is not one loop through distinct vertices.
 std::optional<PatchFlattening> outline_flattening(const LocalPatch& lp,
@@ -410,12 +442,6 @@ std::optional<PatchFlattening> outline_flattening(const LocalPatch& lp,
   out.converged = s.converged;
   for (int k = 0; k < m; ++k)
     out.max_angle_error = std::max(out.max_angle_error, std::abs(energy.angle_error(x, k)));
-  for (int k = 0; k < m; ++k) {
-    const double l3 = energy.target_lengths()[k];
-    if (l3 > 0)
-      out.max_border_length_error_rel = std::max(
-          out.max_border_length_error_rel, std::abs((x[(k + 1) % m] - x[k]).norm() - l3) / l3);
-  }
   // Inner vertices: each the mean of its quad-edge neighbours, the outline held.
   out.points.assign(n, Vec2::Zero());
   std::vector<int> inner(n, -1);
@@ -449,15 +475,7 @@ std::optional<PatchFlattening> outline_flattening(const LocalPatch& lp,
       if (inner[v] >= 0) out.points[v] = Vec2(z(inner[v], 0), z(inner[v], 1));
   }
   out.inverted_quads = count_inverted_quads(out.points, lp.quads);
-  std::vector<int> outline;
-  for (const auto& e : lp.border) outline.push_back(e[0]);
-  out.outline_simple = is_simple_polygon(out.points, outline);
-  for (const auto& q : lp.quads) {
-    const Vec3 &a = lp.p3[q[0]], &b = lp.p3[q[1]], &c = lp.p3[q[2]], &d = lp.p3[q[3]];
-    out.area_3d += 0.5 * ((b - a).cross(c - a).norm() + (c - a).cross(d - a).norm());
-    for (int j = 0; j < 4; ++j)
-      out.area_2d += 0.5 * cross2(out.points[q[j]], out.points[q[(j + 1) % 4]]);
-  }
+  measure_shape(lp, energy.target_lengths(), out);
   return out;
 }
 
@@ -465,14 +483,8 @@ PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const Flat
   const LocalPatch lp = local_patch(strips, patch);
   PatchFlattening out;
   out.points = patch.flat ? plane_coordinates(lp.p3) : conformal_map(lp);
-  // Counter-clockwise quads: mirror if the conformal map came out reflected (it does not for
-  // consistently oriented input, but a wrong sign must never reach the cutter).
-  double signed_area = 0;
-  for (const auto& q : lp.quads)
-    for (int c = 0; c < 4; ++c)
-      signed_area += 0.5 * cross2(out.points[q[c]], out.points[q[(c + 1) % 4]]);
-  if (signed_area < 0)
-    for (auto& p : out.points) p.y() = -p.y();
+  // The conformal map does not come out reflected for consistently oriented input.
+  make_quads_counter_clockwise(lp, out.points);
   // A facet's corners may sit off its plane where it meets another facet: its border lengths
   // (which its neighbours keep) come first, its inner angles only hold it in shape.
   const AngleLengthEnergy energy(lp, patch.flat ? std::max(opt.lambda, 0.9999) : opt.lambda);
@@ -495,27 +507,13 @@ PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const Flat
     }
   }
   int c = 0;
-  for (const auto& q : lp.quads) {
+  for (const auto& q : lp.quads)
     for (int j = 0; j < 4; ++j, ++c) {
       const double a =
           corner_angle(out.points[q[j]], out.points[q[(j + 1) % 4]], out.points[q[(j + 3) % 4]]);
       out.max_angle_error = std::max(out.max_angle_error, std::abs(a - energy.target_angles()[c]));
     }
-    const Vec3 &a = lp.p3[q[0]], &b = lp.p3[q[1]], &cc = lp.p3[q[2]], &d = lp.p3[q[3]];
-    out.area_3d += 0.5 * ((b - a).cross(cc - a).norm() + (cc - a).cross(d - a).norm());
-    for (int j = 0; j < 4; ++j)
-      out.area_2d += 0.5 * cross2(out.points[q[j]], out.points[q[(j + 1) % 4]]);
-  }
-  for (std::size_t e = 0; e < lp.border.size(); ++e) {
-    const double l = (out.points[lp.border[e][1]] - out.points[lp.border[e][0]]).norm();
-    const double l3 = energy.target_lengths()[e];
-    if (l3 > 0)
-      out.max_border_length_error_rel =
-          std::max(out.max_border_length_error_rel, std::abs(l - l3) / l3);
-  }
-  std::vector<int> outline;
-  for (const auto& e : lp.border) outline.push_back(e[0]);
-  out.outline_simple = is_simple_polygon(out.points, outline);
+  measure_shape(lp, energy.target_lengths(), out);
   if (opt.mimic_3d) out.deformed_3d = deform_to_flat_metric(lp, out.points);
   return out;
 }
@@ -584,11 +582,7 @@ std::optional<PatchFlattening> flatten_facet_by_outline(const Strips& strips, in
     return std::nullopt;
   const LocalPatch lp = local_patch(strips, strips.patches[patch]);
   std::vector<Vec2> start = plane_coordinates(lp.p3);
-  double signed_area = 0;
-  for (const auto& q : lp.quads)
-    for (int c = 0; c < 4; ++c) signed_area += cross2(start[q[c]], start[q[(c + 1) % 4]]);
-  if (signed_area < 0)
-    for (auto& p : start) p.y() = -p.y();
+  make_quads_counter_clockwise(lp, start);
   auto out = outline_flattening(lp, start, opt);
   if (out && opt.mimic_3d) out->deformed_3d = deform_to_flat_metric(lp, out->points);
   return out;

@@ -34,12 +34,14 @@ struct Region {
   bool small_part = false;  // a whole part too small or too narrow to handle, not a bend
 };
 
-/// True when patch \p p of \p b flattens with an inverted quad, crossing itself, or with a
-/// corner angle off by the flattening's limit or more: a part that does not have the angles of
-/// its neighbours' borders does not fit them.
-bool distorted(const PartsBuild& b, int p, double max_angle_error) {
-  const PatchFlattening& flat = b.flat.flattening.patches[p];
+/// True when the flattening \p flat (of patch \p p of \p b) has an inverted quad, crosses
+/// itself, or has a corner angle off by the flattening's limit or more: a part that does not
+/// have the angles of its neighbours' borders does not fit them.
+bool distorted(const PatchFlattening& flat, double max_angle_error) {
   return flat.inverted_quads > 0 || !flat.outline_simple || flat.max_angle_error >= max_angle_error;
+}
+bool distorted(const PartsBuild& b, int p, double max_angle_error) {
+  return distorted(b.flat.flattening.patches[p], max_angle_error);
 }
 
 /// True when patch \p p of \p b is a facet that flattens distorted: its corners, shared with
@@ -593,9 +595,7 @@ class Resolver {
       FlattenOptions options = o_.flatten;
       options.mimic_3d = false;  // as in every build: measured once, on the final one
       auto cut = flatten_facet_by_outline(flat.strips, p, options);
-      if (!cut || cut->inverted_quads > 0 || !cut->outline_simple ||
-          cut->max_angle_error >= o_.flatten.max_angle_error)
-        continue;
+      if (!cut || distorted(*cut, o_.flatten.max_angle_error)) continue;
       flat.flattening.patches[p] = std::move(*cut);
       changed.push_back(p);
     }
