@@ -4,8 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <map>
-#include <set>
+#include <span>
 
 namespace kerfab::quads {
 namespace {
@@ -75,12 +74,13 @@ class Cleaner {
     for (int round = 0; round < kWanderRounds; ++round) {
       index();
       std::vector<char> touched(faces_.size(), 0);
-      for (const auto& [edge, fs] : std::map<Key, std::vector<int>>(edge_faces_)) {
+      for (const EdgeFaces& e : edges_) {
         random ^= random << 13;
         random ^= random >> 7;
         random ^= random << 17;
+        const auto fs = faces_of(e);
         if (fs.size() == 2 && !touched[fs[0]] && !touched[fs[1]] && (random & 1) &&
-            try_rotate(edge, fs[0], fs[1], touched, -1e-9, true) != 0)
+            try_rotate(e.edge, fs[0], fs[1], touched, -1e-9, true) != 0)
           ++r.rotations;
       }
       greedy(r);
@@ -133,9 +133,10 @@ class Cleaner {
         index();
         std::fill(touched.begin(), touched.end(), 0);
         touched.resize(faces_.size(), 0);
-        for (const auto& [edge, fs] : std::map<Key, std::vector<int>>(edge_faces_))
-          if (fs.size() == 2 && !touched[fs[0]] && !touched[fs[1]] &&
-              try_rotate(edge, fs[0], fs[1], touched, 1e-9, true) > 0) {
+        for (const EdgeFaces& e : edges_)
+          if (const auto fs = faces_of(e);
+              fs.size() == 2 && !touched[fs[0]] && !touched[fs[1]] &&
+              try_rotate(e.edge, fs[0], fs[1], touched, 1e-9, true) > 0) {
             ++r.rotations;
             changed = true;
           }
@@ -157,10 +158,10 @@ class Cleaner {
         if (alive_[f])
           if (const double g = try_collapse(f, touched, false); g > 0)
             candidates.push_back({g, f, {}, -1, -1});
-      for (const auto& [edge, fs] : edge_faces_)
-        if (fs.size() == 2)
-          if (const double g = try_rotate(edge, fs[0], fs[1], touched, 1e-9, false); g > 0)
-            candidates.push_back({g, -1, edge, fs[0], fs[1]});
+      for (const EdgeFaces& e : edges_)
+        if (const auto fs = faces_of(e); fs.size() == 2)
+          if (const double g = try_rotate(e.edge, fs[0], fs[1], touched, 1e-9, false); g > 0)
+            candidates.push_back({g, -1, e.edge, fs[0], fs[1]});
       std::stable_sort(candidates.begin(), candidates.end(),
                        [](const Candidate& x, const Candidate& y) { return x.gain > y.gain; });
       for (const Candidate& c : candidates) {
@@ -179,21 +180,61 @@ class Cleaner {
     }
   }
 
+  /// Edges with their faces (sorted by edge, faces ascending) and every vertex's neighbours
+  /// (sorted), from the live faces. Called once per pass: flat sorted arrays, reused from pass
+  /// to pass, instead of a tree of nodes (a 10,000-quad mesh is indexed thousands of times).
   void index() {
-    edge_faces_.clear();
-    neighbours_.assign(points_.size(), {});
+    scratch_.clear();
     for (int f = 0; f < static_cast<int>(faces_.size()); ++f) {
       if (!alive_[f]) continue;
-      for (int i = 0; i < 4; ++i) {
-        const int a = faces_[f][i], b = faces_[f][(i + 1) % 4];
-        edge_faces_[key(a, b)].push_back(f);
-        neighbours_[a].insert(b);
-        neighbours_[b].insert(a);
-      }
+      for (int i = 0; i < 4; ++i)
+        scratch_.push_back({key(faces_[f][i], faces_[f][(i + 1) % 4]), f});
     }
+    std::sort(scratch_.begin(), scratch_.end());
+    edges_.clear();
+    edge_face_list_.clear();
+    neighbours_.resize(points_.size());
+    for (auto& ring : neighbours_) ring.clear();
     border_.assign(points_.size(), 0);
-    for (const auto& [e, fs] : edge_faces_)
-      if (fs.size() == 1) border_[e.first] = border_[e.second] = 1;
+    for (std::size_t i = 0; i < scratch_.size();) {
+      const Key e = scratch_[i].first;
+      const int begin = static_cast<int>(edge_face_list_.size());
+      for (; i < scratch_.size() && scratch_[i].first == e; ++i)
+        edge_face_list_.push_back(scratch_[i].second);
+      const int end = static_cast<int>(edge_face_list_.size());
+      edges_.push_back({e, begin, end});
+      neighbours_[e.first].push_back(e.second);
+      if (e.second != e.first) neighbours_[e.second].push_back(e.first);
+      if (end - begin == 1) border_[e.first] = border_[e.second] = 1;
+    }
+    for (auto& ring : neighbours_) std::sort(ring.begin(), ring.end());
+  }
+
+  struct EdgeFaces {
+    Key edge;
+    int begin, end;  // its faces: edge_face_list_[begin, end)
+  };
+  std::span<const int> faces_of(const EdgeFaces& e) const {
+    return {edge_face_list_.data() + e.begin, static_cast<std::size_t>(e.end - e.begin)};
+  }
+  const EdgeFaces* find_edge(int a, int b) const {
+    const Key k = key(a, b);
+    const auto it = std::lower_bound(edges_.begin(), edges_.end(), k,
+                                     [](const EdgeFaces& e, const Key& x) { return e.edge < x; });
+    return it != edges_.end() && it->edge == k ? &*it : nullptr;
+  }
+
+  /// Sorted neighbour lists, as sets.
+  static bool ring_has(const std::vector<int>& ring, int v) {
+    return std::binary_search(ring.begin(), ring.end(), v);
+  }
+  static void ring_insert(std::vector<int>& ring, int v) {
+    const auto it = std::lower_bound(ring.begin(), ring.end(), v);
+    if (it == ring.end() || *it != v) ring.insert(it, v);
+  }
+  static void ring_erase(std::vector<int>& ring, int v) {
+    const auto it = std::lower_bound(ring.begin(), ring.end(), v);
+    if (it != ring.end() && *it == v) ring.erase(it);
   }
 
   int valence(int v) const { return static_cast<int>(neighbours_[v].size()); }
@@ -204,7 +245,7 @@ class Cleaner {
     const int d = val - ideal(v);
     return (d != 0 ? 1.0 : 0.0) + 0.25 * d * d;
   }
-  bool has_edge(int a, int b) const { return edge_faces_.count(key(a, b)) > 0; }
+  bool has_edge(int a, int b) const { return find_edge(a, b) != nullptr; }
 
   /// The quad \p q is convex, faces the surface's way and has no corner under \p min_corner.
   bool sound(const std::array<int, 4>& q, double min_corner) const {
@@ -276,10 +317,10 @@ class Cleaner {
     faces_[f2] = options[best].n2;
     touched[f1] = touched[f2] = 1;
     // Neighbourhoods for later candidates of this pass (those touching f1, f2 are skipped).
-    neighbours_[a].erase(b);
-    neighbours_[b].erase(a);
-    neighbours_[options[best].x].insert(options[best].y);
-    neighbours_[options[best].y].insert(options[best].x);
+    ring_erase(neighbours_[a], b);
+    ring_erase(neighbours_[b], a);
+    ring_insert(neighbours_[options[best].x], options[best].y);
+    ring_insert(neighbours_[options[best].y], options[best].x);
     for (int v : hex)
       for (int g : faces_around(v)) touched[g] = 1;
     return std::max(best_gain, 1e-12);
@@ -287,11 +328,9 @@ class Cleaner {
 
   std::vector<int> faces_around(int v) const {
     std::vector<int> out;
-    for (int w : neighbours_[v]) {
-      const auto it = edge_faces_.find(key(v, w));
-      if (it != edge_faces_.end())
-        for (int g : it->second) out.push_back(g);
-    }
+    for (int w : neighbours_[v])
+      if (const EdgeFaces* e = find_edge(v, w))
+        for (int g : faces_of(*e)) out.push_back(g);
     return out;
   }
 
@@ -316,7 +355,7 @@ class Cleaner {
     faces_[around[0]] = merged;
     alive_[around[1]] = 0;
     touched[around[0]] = touched[around[1]] = 1;
-    for (int w : {a, b}) neighbours_[w].erase(v);
+    for (int w : {a, b}) ring_erase(neighbours_[w], v);
     neighbours_[v].clear();
     return true;
   }
@@ -331,7 +370,7 @@ class Cleaner {
       if (has_edge(a, c) || has_edge(b, d)) continue;
       // Link: a and c share exactly b and d as neighbours.
       int shared = 0;
-      for (int w : neighbours_[a]) shared += neighbours_[c].count(w) ? 1 : 0;
+      for (int w : neighbours_[a]) shared += ring_has(neighbours_[c], w) ? 1 : 0;
       if (shared != 2) continue;
       const int merged = valence(a) + valence(c) - 2;
       if (merged > kMaxValence) continue;
@@ -378,10 +417,10 @@ class Cleaner {
       touched[f] = 1;
       // Neighbourhoods: c's neighbours move to a; b and d lose one.
       for (int w : neighbours_[c]) {
-        neighbours_[w].erase(c);
+        ring_erase(neighbours_[w], c);
         if (w != a) {
-          neighbours_[w].insert(a);
-          neighbours_[a].insert(w);
+          ring_insert(neighbours_[w], a);
+          ring_insert(neighbours_[a], w);
         }
       }
       neighbours_[c].clear();
@@ -397,8 +436,10 @@ class Cleaner {
   std::vector<char> pinned_;
   const std::function<bool(int, int)>& is_feature_;
   const std::function<Vec3(const Vec3&)>& normal_at_;
-  std::map<Key, std::vector<int>> edge_faces_;
-  std::vector<std::set<int>> neighbours_;
+  std::vector<std::pair<Key, int>> scratch_;  // (edge, face) per side, for index()
+  std::vector<EdgeFaces> edges_;
+  std::vector<int> edge_face_list_;
+  std::vector<std::vector<int>> neighbours_;
   std::vector<char> border_;
 };
 
