@@ -71,6 +71,7 @@ std::map<int, int> valences(const std::vector<std::vector<int>>& faces) {
   return out;
 }
 
+constexpr double kOneDegree = 3.14159265358979323846 / 180;
 const auto no_feature = [](int, int) { return false; };
 const auto up = [](const Vec3&) { return Vec3(0, 0, 1); };
 
@@ -196,6 +197,63 @@ TEST(QuadCleanup, ADiagonalOfTwoValenceThreeCornersIsCollapsed) {
     const Vec3& p = r.points[w];
     if (p.x() > 0.5 && p.x() < 3.5 && p.y() > 0.5 && p.y() < 3.5) {
       EXPECT_EQ(k, 4) << w;
+    }
+  }
+}
+
+/// \p g as a mesh, and whether a face of it is a convex quad turning counter-clockwise seen
+/// from +z with no corner under a degree (measured here, not by the mesher).
+PolyMesh poly_of(const Grid& g) {
+  PolyMesh m;
+  for (const Vec3& p : g.points) m.add_vertex(to_openmesh(p));
+  for (const auto& f : g.faces) {
+    std::vector<OpenMesh::VertexHandle> vs;
+    for (int v : f) vs.push_back(OpenMesh::VertexHandle(v));
+    m.add_face(vs);
+  }
+  return m;
+}
+bool convex_up(const PolyMesh& m, OpenMesh::FaceHandle f) {
+  std::vector<Vec3> p;
+  for (auto v : m.fv_range(f)) p.push_back(to_eigen(m.point(v)));
+  for (std::size_t c = 0; c < p.size(); ++c) {
+    const Vec3 u = p[(c + 1) % p.size()] - p[c], w = p[(c + p.size() - 1) % p.size()] - p[c];
+    if (!(u.cross(w).z() > std::sin(kOneDegree) * u.norm() * w.norm())) return false;
+  }
+  return true;
+}
+const auto onto_plane = [](const Vec3& p) { return Vec3(p.x(), p.y(), 0); };
+
+// Sound quads are left exactly where they are; an inner corner pushed across its neighbours'
+// diagonal (three quads round it reflex, one folded over) or onto the straight line of two
+// neighbours (a corner of 180 degrees, as on the bunny's straight feature line) is moved back
+// until all four quads round it are convex; the border does not move.
+TEST(QuadUntangle, ACornerPushedAcrossItsNeighboursIsMovedBack) {
+  Grid g = grid(4, 4);
+  PolyMesh clean = poly_of(g);
+  EXPECT_EQ(untangle(clean, convex_up, onto_plane), 0);
+  for (auto v : clean.vertices()) EXPECT_EQ(to_eigen(clean.point(v)), g.points[v.idx()]);
+
+  // Across the diagonal, lifted; onto the line from (3, 2) to (2, 3).
+  for (const Vec3& pushed : {Vec3(3.3, 3.2, 0.4), Vec3(2.5, 2.5, 0)}) {
+    SCOPED_TRACE(pushed.transpose());
+    Grid bad = g;
+    const int m = g.at(2, 2);
+    bad.points[m] = pushed;
+    PolyMesh q = poly_of(bad);
+    int unsound = 0;
+    for (auto f : q.faces()) unsound += convex_up(q, f) ? 0 : 1;
+    ASSERT_GT(unsound, 0);
+    EXPECT_EQ(untangle(q, convex_up, onto_plane), 0);
+    for (auto f : q.faces()) EXPECT_TRUE(convex_up(q, f)) << f.idx();
+    for (auto v : q.vertices()) {
+      const Vec3 p = to_eigen(q.point(v));
+      if (v.idx() != m) {
+        EXPECT_EQ(p, g.points[v.idx()]) << v.idx();
+      } else {
+        EXPECT_NEAR(p.z(), 0.0, 1e-12);
+        EXPECT_LT((p - Vec3(2, 2, 0)).norm(), 1.0);  // inside its four cells again
+      }
     }
   }
 }

@@ -452,4 +452,36 @@ CleanupResult clean_up_valences(std::vector<std::vector<int>> faces, std::vector
   return Cleaner(std::move(faces), std::move(points), pinned, is_feature, normal_at).run();
 }
 
+int untangle(PolyMesh& q, const std::function<bool(const PolyMesh&, OpenMesh::FaceHandle)>& sound,
+             const std::function<Vec3(const Vec3&)>& onto) {
+  int left = 0;
+  for (auto f : q.faces()) {
+    if (sound(q, f)) continue;
+    bool fixed = false;
+    for (auto v : q.fv_range(f)) {
+      if (fixed || q.is_boundary(v)) continue;
+      const Vec3 old = to_eigen(q.point(v));
+      Vec3 mean = Vec3::Zero();
+      int n = 0;
+      for (auto w : q.vv_range(v)) {
+        mean += to_eigen(q.point(w));
+        ++n;
+      }
+      mean /= std::max(n, 1);
+      for (double t : {0.25, 0.5, 1.0}) {
+        q.set_point(v, to_openmesh(onto(old + t * (mean - old))));
+        bool ok = true;
+        for (auto g : q.vf_range(v)) ok = ok && sound(q, g);
+        if (ok) {
+          fixed = true;
+          break;
+        }
+        q.set_point(v, to_openmesh(old));
+      }
+    }
+    left += fixed ? 0 : 1;
+  }
+  return left;
+}
+
 }  // namespace kerfab::quads

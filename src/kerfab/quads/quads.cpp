@@ -10,6 +10,7 @@
 
 #include "kerfab/adapters/remesh.h"
 #include "kerfab/core/errors.h"
+#include "kerfab/quads/cleanup.h"
 #include "kerfab/quads/dislocations.h"
 #include "kerfab/quads/fields.h"
 #include "kerfab/quads/lattice.h"
@@ -392,6 +393,24 @@ double target_gap(const PolyMesh& q, const TriangleMesh& mesh) {
   return gap;
 }
 
+/// Face \p f of \p q facing the target's way, convex, with no flat corner (quads of about
+/// \p size [mm]).
+bool sound_face(const PolyMesh& q, OpenMesh::FaceHandle f, const TargetSurface& target,
+                double size) {
+  const auto p = quad_points(q, f);
+  const auto corner_n = corner_normals(p);
+  const Vec3 quad_n = sum_of(corner_n);
+  for (int c = 0; c < 4; ++c)  // convex, no flat corner
+    if (!(corner_n[c].norm() >= 1e-6 * size * size && corner_n[c].dot(quad_n) > 0)) return false;
+  // Not inside out: the target's normal at one of the corners (they lie on the target)
+  // agrees (near thin parts the centre's nearest facet may be the other side's).
+  if (quad_n.normalized().dot(target.closest(0.25 * (p[0] + p[1] + p[2] + p[3])).normal) > 0)
+    return true;
+  for (int c = 0; c < 4; ++c)
+    if (quad_n.normalized().dot(target.closest(p[c]).normal) > 0) return true;
+  return false;
+}
+
 /// What is wrong with \p q as a quad mesh of \p mesh (empty: nothing): not all quads, another
 /// topology, or a folded, reflex or flat corner.
 std::string check(const PolyMesh& q, const TriangleMesh& mesh, const TargetSurface& target,
@@ -407,20 +426,7 @@ std::string check(const PolyMesh& q, const TriangleMesh& mesh, const TargetSurfa
     return std::to_string(boundary_loop_count(q)) + " border loops instead of " +
            std::to_string(want.boundaries);
   int bad = 0;
-  for (auto f : q.faces()) {
-    const auto p = quad_points(q, f);
-    const Vec3 n_surface = target.closest(0.25 * (p[0] + p[1] + p[2] + p[3])).normal;
-    const auto corner_n = corner_normals(p);
-    const Vec3 quad_n = sum_of(corner_n);
-    // Not inside out: the target's normal at one of the corners (they lie on the target)
-    // agrees (near thin parts the centre's nearest facet may be the other side's).
-    double agree = quad_n.normalized().dot(n_surface);
-    for (int c = 0; c < 4; ++c) agree = std::max(agree, quad_n.normalized().dot(target.closest(p[c]).normal));
-    bool ok = agree > 0;
-    for (int c = 0; c < 4; ++c)  // convex, no flat corner
-      ok = ok && corner_n[c].norm() >= 1e-6 * size * size && corner_n[c].dot(quad_n) > 0;
-    bad += ok ? 0 : 1;
-  }
+  for (auto f : q.faces()) bad += sound_face(q, f, target, size) ? 0 : 1;
   if (bad > 0) return std::to_string(bad) + " folded, reflex or flat quads";
   const double gap = target_gap(q, mesh), max_gap = size;
   if (gap > max_gap)
@@ -559,6 +565,13 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
                    : lattice.rows > 0       ? "lattice, triangles paired by rows"
                                             : "lattice";
         if (!on_surface) c.method += ", new points not projected";
+        if (c.quads.n_faces() > 0)
+          quads::untangle(
+              c.quads,
+              [&](const PolyMesh& m, OpenMesh::FaceHandle f) {
+                return sound_face(m, f, target, c.size.size);
+              },
+              [&](const Vec3& p) { return target.closest(p).point; });
         c.problem = c.quads.n_faces() == 0
                         ? std::to_string(c.lattice_triangles) + " triangles found no partner"
                         : check(c.quads, mesh, target, c.size.size);
