@@ -164,7 +164,9 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
          }
          QuadMeshOptions qo = o.quads;
          qo.min_cut_spacing = o.kerf.min_cut_spacing;
-         r.quads = make_quad_mesh(r.input->surface, o.material, qo);
+         r.quads = make_quad_mesh(r.input->surface, o.material, qo, [&](const std::string& line) {
+           if (progress) progress("  " + line);
+         });
          attach_quads(*r.input, r.quads->quads, o.input);
          return notes(*r.quads);
        }},

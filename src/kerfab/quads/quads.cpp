@@ -438,7 +438,8 @@ std::string check(const PolyMesh& q, const TriangleMesh& mesh, const TargetSurfa
 }  // namespace
 
 QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& material,
-                              const QuadMeshOptions& o) {
+                              const QuadMeshOptions& o,
+                              const std::function<void(const std::string&)>& progress) {
   if (o.quads && (*o.quads < 20 || *o.quads > 100000))
     throw InvalidInput("--quads must be between 20 and 100000, got " + std::to_string(*o.quads));
   if (o.quad_size && !(*o.quad_size > 0 && std::isfinite(*o.quad_size)))
@@ -585,6 +586,15 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
       if (better) best = std::move(c);
     }
     r = std::move(*best);
+    if (progress)
+      progress((mode == Mode::kPure    ? "lattice of "
+                : mode == Mode::kSplit ? "split lattice of "
+                                       : "triangles split into quads, remeshed at ") +
+               fmt(mode == Mode::kTriangles ? edge * r.size.size : spacing) + " mm: " +
+               (r.problem.empty()
+                    ? std::to_string(r.quads.n_faces()) + " quads, " +
+                          std::to_string(irregular_vertices(r.quads)) + " irregular vertices"
+                    : "not used, " + r.problem));
     if (pure) {  // this split lattice competed with the sound pure one
       bool keep_pure = !r.problem.empty();
       if (!keep_pure) {

@@ -5,6 +5,7 @@
 /// lattice extracted from a remeshed triangle surface by edge collapses and triangle pairing,
 /// and one split step that makes every face a quad. Derivation and measurements:
 /// docs/quad-meshing.md.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -71,7 +72,10 @@ struct QuadMeshResult {
 /// Makes an all-quad mesh on \p surface (the prepared, scaled target) for the material given.
 /// \throw InvalidInput options out of range, or a target that is not a manifold surface.
 /// \throw SolverError when no valid quad mesh came out (the message says what to pass instead).
+/// \p progress, if set, hears one line per attempt (its lattice, quads and irregular vertices,
+/// or why it failed): a fine mesh takes minutes.
 QuadMeshResult make_quad_mesh(const TargetSurface& surface, const Material& material,
-                              const QuadMeshOptions& options);
+                              const QuadMeshOptions& options,
+                              const std::function<void(const std::string&)>& progress = {});
 
 }  // namespace kerfab
