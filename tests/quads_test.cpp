@@ -172,7 +172,11 @@ TEST(Quads, SizeRuleFollowsMaterialAndCounts) {
   EXPECT_NEAR(by_count.size.kerf_size, 0.5 * 100 * 1.35 * std::sqrt(9 + 1.8225) / 50, 0.3);
   EXPECT_THROW(mesh_of(s.target, {.quads = 5}), InvalidInput);
   EXPECT_THROW(mesh_of(s.target, {.quad_size = -1}), InvalidInput);
-  EXPECT_THROW(mesh_of(s.target, {.quad_size = 0.01}), InvalidInput);  // 100000+ quads
+  EXPECT_THROW(mesh_of(s.target, {.quad_size = 0.01}), InvalidInput);  // 300 million quads
+  // At most 20,000 quads, asked by count or by size (the sphere's 31,416 mm^2 in 1.2 mm quads
+  // is about 21,800).
+  EXPECT_THROW(mesh_of(s.target, {.quads = 20001}), InvalidInput);
+  EXPECT_THROW(mesh_of(s.target, {.quad_size = 1.2}), InvalidInput);
 }
 
 TEST(Quads, Deterministic) {

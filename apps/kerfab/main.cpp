@@ -140,8 +140,8 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->check(CLI::Range(0, 4));
   cmd.add_option("--quads", f.options.quads.quads,
                  "With a triangle target and no --quad: make about this many quads instead of "
-                 "the size the model and material call for [count, 20..100000]")
-      ->check(CLI::Range(20, 100000));
+                 "the size the model and material call for [count, 20..20000]")
+      ->check(CLI::Range(20, 20000));
   cmd.add_option("--quad-size", f.options.quads.quad_size,
                  "With a triangle target and no --quad: quad edge length (wins over --quads) "
                  "[mm, > 0]")

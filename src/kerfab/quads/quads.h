@@ -17,7 +17,7 @@
 namespace kerfab {
 
 struct QuadMeshOptions {
-  std::optional<int> quads;           ///< set: about this many quads [-], 20..100000
+  std::optional<int> quads;           ///< set: about this many quads [-], 20..20000
   std::optional<double> quad_size;    ///< set: quad edge length [mm], > 0 (wins over quads)
   double feature_angle = 1.05;        ///< edges folding more are sharp features [rad], (0, pi)
   double min_cut_spacing = 0.9;       ///< the laser's closest cuts [mm] (the size rule), > 0
