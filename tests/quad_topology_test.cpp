@@ -8,6 +8,7 @@
 
 #include "kerfab/quads/bridges.h"
 #include "kerfab/quads/cleanup.h"
+#include "shapes.h"
 
 namespace kerfab::quads {
 namespace {
@@ -201,17 +202,12 @@ TEST(QuadCleanup, ADiagonalOfTwoValenceThreeCornersIsCollapsed) {
   }
 }
 
-/// \p g as a mesh, and whether a face of it is a convex quad turning counter-clockwise seen
-/// from +z with no corner under a degree (measured here, not by the mesher).
-PolyMesh poly_of(const Grid& g) {
-  PolyMesh m;
-  for (const Vec3& p : g.points) m.add_vertex(to_openmesh(p));
-  for (const auto& f : g.faces) {
-    std::vector<OpenMesh::VertexHandle> vs;
-    for (int v : f) vs.push_back(OpenMesh::VertexHandle(v));
-    m.add_face(vs);
-  }
-  return m;
+/// The n x n grid of unit squares as a mesh (vertex (i, j) is number j (n + 1) + i, as in
+/// Grid::at), and whether a face of it is a convex quad turning counter-clockwise seen from +z
+/// with no corner under a degree (measured here, not by the mesher).
+PolyMesh poly_grid(int n) {
+  return test::grid_mesh(n, n, false, false,
+                         [n](double u, double v) { return Vec3(n * u, n * v, 0); });
 }
 bool convex_up(const PolyMesh& m, OpenMesh::FaceHandle f) {
   std::vector<Vec3> p;
@@ -229,18 +225,17 @@ const auto onto_plane = [](const Vec3& p) { return Vec3(p.x(), p.y(), 0); };
 // neighbours (a corner of 180 degrees, as on the bunny's straight feature line) is moved back
 // until all four quads round it are convex; the border does not move.
 TEST(QuadUntangle, ACornerPushedAcrossItsNeighboursIsMovedBack) {
-  Grid g = grid(4, 4);
-  PolyMesh clean = poly_of(g);
+  const Grid g = grid(4, 4);
+  PolyMesh clean = poly_grid(4);
   EXPECT_EQ(untangle(clean, convex_up, onto_plane), 0);
   for (auto v : clean.vertices()) EXPECT_EQ(to_eigen(clean.point(v)), g.points[v.idx()]);
 
   // Across the diagonal, lifted; onto the line from (3, 2) to (2, 3).
   for (const Vec3& pushed : {Vec3(3.3, 3.2, 0.4), Vec3(2.5, 2.5, 0)}) {
     SCOPED_TRACE(pushed.transpose());
-    Grid bad = g;
     const int m = g.at(2, 2);
-    bad.points[m] = pushed;
-    PolyMesh q = poly_of(bad);
+    PolyMesh q = poly_grid(4);
+    q.set_point(OpenMesh::VertexHandle(m), to_openmesh(pushed));
     int unsound = 0;
     for (auto f : q.faces()) unsound += convex_up(q, f) ? 0 : 1;
     ASSERT_GT(unsound, 0);

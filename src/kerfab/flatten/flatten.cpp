@@ -128,7 +128,6 @@ class AngleLengthEnergy {
       : AngleLengthEnergy(lp, lambda, quad_corners(lp), false) {}
   AngleLengthEnergy(const LocalPatch& lp, double lambda, std::vector<Corner> corners, bool wrapped)
       : lp_(lp), corners_(std::move(corners)), wrapped_(wrapped) {
-    for (const Corner& c : corners_) target_angle_.push_back(c.target);
     double sum = 0;
     for (const auto& e : lp.border) {
       target_length_.push_back((lp.p3[e[1]] - lp.p3[e[0]]).norm());
@@ -138,10 +137,7 @@ class AngleLengthEnergy {
     w_length_ = std::sqrt(lambda) / mean_length_;
     w_angle_ = std::sqrt(1 - lambda);
   }
-  int residual_count() const {
-    return static_cast<int>(target_length_.size() + target_angle_.size());
-  }
-  const std::vector<double>& target_angles() const { return target_angle_; }
+  int residual_count() const { return static_cast<int>(target_length_.size() + corners_.size()); }
   const std::vector<double>& target_lengths() const { return target_length_; }
 
   /// Corner \p c's angle error at \p x [rad].
@@ -150,6 +146,13 @@ class AngleLengthEnergy {
     double e = corner_angle(x[k.at], x[k.next], x[k.prev]) - k.target;
     if (wrapped_) e = std::remainder(e, 2 * M_PI);
     return e;
+  }
+  /// The largest |angle error| over the corners at \p x [rad].
+  double max_angle_error(const std::vector<Vec2>& x) const {
+    double out = 0;
+    for (std::size_t c = 0; c < corners_.size(); ++c)
+      out = std::max(out, std::abs(angle_error(x, c)));
+    return out;
   }
 
   Eigen::VectorXd residuals(const std::vector<Vec2>& x) const {
@@ -197,7 +200,7 @@ class AngleLengthEnergy {
   const LocalPatch& lp_;
   std::vector<Corner> corners_;
   bool wrapped_ = false;
-  std::vector<double> target_angle_, target_length_;
+  std::vector<double> target_length_;
   double mean_length_ = 1, w_length_ = 0, w_angle_ = 0;
 };
 
@@ -440,8 +443,7 @@ std::optional<PatchFlattening> outline_flattening(const LocalPatch& lp,
   out.iterations = s.iterations;
   out.energy = s.energy;
   out.converged = s.converged;
-  for (int k = 0; k < m; ++k)
-    out.max_angle_error = std::max(out.max_angle_error, std::abs(energy.angle_error(x, k)));
+  out.max_angle_error = energy.max_angle_error(x);
   // Inner vertices: each the mean of its quad-edge neighbours, the outline held.
   out.points.assign(n, Vec2::Zero());
   std::vector<int> inner(n, -1);
@@ -506,13 +508,7 @@ PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const Flat
       out.inverted_quads = count_inverted_quads(out.points, lp.quads);
     }
   }
-  int c = 0;
-  for (const auto& q : lp.quads)
-    for (int j = 0; j < 4; ++j, ++c) {
-      const double a =
-          corner_angle(out.points[q[j]], out.points[q[(j + 1) % 4]], out.points[q[(j + 3) % 4]]);
-      out.max_angle_error = std::max(out.max_angle_error, std::abs(a - energy.target_angles()[c]));
-    }
+  out.max_angle_error = energy.max_angle_error(out.points);
   measure_shape(lp, energy.target_lengths(), out);
   if (opt.mimic_3d) out.deformed_3d = deform_to_flat_metric(lp, out.points);
   return out;

@@ -454,7 +454,7 @@ CleanupResult clean_up_valences(std::vector<std::vector<int>> faces, std::vector
 
 int untangle(PolyMesh& q, const std::function<bool(const PolyMesh&, OpenMesh::FaceHandle)>& sound,
              const std::function<Vec3(const Vec3&)>& onto) {
-  int left = 0;
+  std::vector<OpenMesh::FaceHandle> stuck;
   for (auto f : q.faces()) {
     if (sound(q, f)) continue;
     bool fixed = false;
@@ -479,9 +479,12 @@ int untangle(PolyMesh& q, const std::function<bool(const PolyMesh&, OpenMesh::Fa
         q.set_point(v, to_openmesh(old));
       }
     }
-    left += fixed ? 0 : 1;
+    if (!fixed) stuck.push_back(f);
   }
-  return left;
+  // A corner moved for a later quad may have freed an earlier one (a move is taken only where
+  // every quad round it is then sound, so no sound quad is made bad).
+  return static_cast<int>(
+      std::count_if(stuck.begin(), stuck.end(), [&](auto f) { return !sound(q, f); }));
 }
 
 }  // namespace kerfab::quads

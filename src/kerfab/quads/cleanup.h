@@ -34,10 +34,10 @@ CleanupResult clean_up_valences(std::vector<std::vector<int>> faces, std::vector
 /// lines where they are): the quads of \p q that are not \p sound get one of their inner
 /// corners, on a feature line or not, moved towards the mean of its neighbours (a quarter, half
 /// or all the way), then \p onto the surface, where every quad round it is then sound; border
-/// corners stay. One bad
-/// quad among thousands fails a whole lattice, and the next attempt is a finer one (the bunny
-/// asked for 5000 quads: one quad with three corners on a straight feature line made it 10,792
-/// quads in 340 s). Sound quads are left as they are. Returns the quads still not sound.
+/// corners stay. One bad quad among thousands fails a whole lattice, and the next attempt is a
+/// finer one (the bunny asked for 5000 quads: one quad with three corners on a straight feature
+/// line made it 10,792 quads in 340 s). Sound quads are left as they are. Returns the quads
+/// still not sound.
 int untangle(PolyMesh& q, const std::function<bool(const PolyMesh&, OpenMesh::FaceHandle)>& sound,
              const std::function<Vec3(const Vec3&)>& onto);
 
