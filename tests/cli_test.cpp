@@ -802,10 +802,11 @@ TEST(Cli, AFineGivenQuadMeshIsCoarsenedIntoCleanBentStrips) {
 // joints made such a neck (part 288 here: a 4 x 3 mm strip end joined by 0.95 mm, between a slot
 // on one side and a tooth on the other), the intervals near it go plain; a border that so loses
 // its last joint gets a tooth elsewhere if one fits (a tooth once hung on a 0.3 mm neck here,
-// which the auditor's area rule missed). The borders without a joint stay the 7 stubs of
-// 0.7-3.2 mm they were. A part that ends up too small to handle is one the report names; the
-// one there was (the horn's tip, 48.4 mm^2 once that tooth had gone) now owns its borders'
-// teeth instead of their slots and is none.
+// which the auditor's area rule missed). The borders without a joint of their own are stubs of
+// 0.7-3.2 mm (6; 7 before), each held through the parts at one of its corners: in the report,
+// every step of its chain is a border with a joint between those two parts. A part that ends up too
+// small to handle is one the report names; the one there was (the horn's tip, 48.4 mm^2 once that
+// tooth had gone) now owns its borders' teeth instead of their slots and is none.
 TEST(Cli, JointsLeaveNoThinNeckOnSpotsFineQuadMesh) {
   const fs::path scratch = test::fresh_dir(), out = scratch / "out";
   const std::string target = test::real_mesh("spot_triangulated.obj").string(),
@@ -816,7 +817,30 @@ TEST(Cli, JointsLeaveNoThinNeckOnSpotsFineQuadMesh) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = read_report(out);
   EXPECT_EQ(report["resolve"]["critical_after"].get<int>(), 0);
-  EXPECT_LE(report["joints"]["borders_without_joint"].get<int>(), 7);
+  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+  std::set<std::pair<int, int>> jointed;
+  for (const auto& b : report["joints"]["borders"]) {
+    const std::string kind = b["joint"];
+    if (kind == "none" || kind == "corner") continue;
+    const int p = b["patches"][0], q = b["patches"][1];
+    jointed.insert({std::min(p, q), std::max(p, q)});
+  }
+  int stubs = 0;
+  for (const auto& b : report["joints"]["borders"]) {
+    if (b["joint"] != "corner") continue;
+    ++stubs;
+    EXPECT_LE(b["length_mm"].get<double>(), 3.5);
+    const std::vector<int> chain = b["joined_through"];
+    ASSERT_GE(chain.size(), 2u);
+    EXPECT_EQ(chain.front(), b["patches"][0].get<int>());
+    EXPECT_EQ(chain.back(), b["patches"][1].get<int>());
+    for (std::size_t k = 0; k + 1 < chain.size(); ++k)
+      EXPECT_TRUE(
+          jointed.contains({std::min(chain[k], chain[k + 1]), std::max(chain[k], chain[k + 1])}))
+          << chain[k] << " - " << chain[k + 1];
+  }
+  EXPECT_EQ(stubs, report["joints"]["stubs_joined_at_corners"].get<int>());
+  EXPECT_LE(stubs, 7);
   const auto audit = test::audit_sheets(out / "cut");
   const std::string first = audit.findings.empty() ? "" : audit.findings[0];
   EXPECT_EQ(audit.thin_features, 0) << first;

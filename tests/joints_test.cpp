@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -11,6 +12,7 @@
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/joints/border_pieces.h"
+#include "kerfab/joints/corners.h"
 #include "kerfab/joints/glue_tabs.h"
 #include "kerfab/joints/plates.h"
 #include "polygon_probe.h"
@@ -52,6 +54,48 @@ Case folded_sheet(double fold_deg, const JointOptions& options = {},
   c.flat = flatten_patches(c.strips, {});
   c.joints = make_joints(c.strips, c.flat, material, kLaser, options);
   return c;
+}
+
+// Border \p i of \p j is held at a corner, checked in 3D from the pieces: its chain runs from
+// one of its parts to the other, each step over a border with a tooth, tab or glue tab that
+// ends, in 3D, at one of the border's own ends (the same end for every step) and has that joint
+// within two tooth widths of it; the border itself has none and is at most two tooth widths.
+void expect_held_at_corner(const Strips& s, const Flattening& f, const Joints& j, int i) {
+  SCOPED_TRACE("border " + std::to_string(i));
+  const BorderJoint& stub = j.borders[i];
+  const border::Pieces pieces = border::make_pieces(s, f);
+  const double reach = 2 * JointOptions{}.tooth_width;
+  ASSERT_EQ(stub.kind(), "corner");
+  EXPECT_EQ(stub.teeth + stub.glue, 0);
+  EXPECT_LE(stub.length, reach + 1e-9);
+  const std::vector<int>& chain = stub.joined_through;
+  ASSERT_GE(chain.size(), 2u);  // two: another border of the same two parts, with a joint
+  EXPECT_EQ(chain.front(), stub.patches[0]);
+  EXPECT_EQ(chain.back(), stub.patches[1]);
+  const auto stub_ends = border::piece_ends(s, pieces, i);
+  bool held = false;
+  for (const Vec3& corner : stub_ends) {
+    bool all = true;
+    for (std::size_t k = 0; k + 1 < chain.size() && all; ++k) {
+      bool step = false;
+      for (std::size_t b = 0; b < j.borders.size() && !step; ++b) {
+        const BorderJoint& by = j.borders[b];
+        const std::array<int, 2> pair{chain[k], chain[k + 1]};
+        if (static_cast<int>(b) == i ||
+            (by.patches != pair && by.patches != std::array{pair[1], pair[0]}))
+          continue;
+        const auto e = border::piece_ends(s, pieces, static_cast<int>(b));
+        for (int end = 0; end < 2; ++end) {
+          if ((e[end] - corner).norm() > 1e-3) continue;
+          for (const JointInterval& in : by.intervals)
+            if (in.owner >= 0 && (end == 0 ? in.s0 : by.length - in.s1) <= reach) step = true;
+        }
+      }
+      all = step;
+    }
+    held |= all;
+  }
+  EXPECT_TRUE(held) << "no corner of the stub joins its parts";
 }
 
 std::vector<int> ring(std::size_t n) {
@@ -588,6 +632,49 @@ TEST(Joints, ShortBordersWithoutRoomGetAToothCheckedIn3D) {
   expect_short_borders_jointed(33, 90.0);
 }
 
+// A stub with no joint of its own (taken away here from 5 mm fold borders of a sheet folded by
+// 90 degrees in 20 strips) is held where its two parts are joined through the parts at one of
+// its corners: four parts meet at each, so through the neighbouring strip's two halves and the
+// fold border between them. With that neighbour's joint taken away too at both of its corners,
+// it is not, nor when longer than the length allowed.
+TEST(Joints, AStubWithoutAJointIsHeldThroughThePartsAtItsCorner) {
+  Case c = folded_sheet(90, {}, kMdf, 20);
+  const border::Pieces pieces = border::make_pieces(c.strips, c.flat);
+  std::vector<std::pair<double, int>> folds;  // (x of its middle, border)
+  for (std::size_t b = 0; b < c.joints.borders.size(); ++b)
+    if (c.joints.borders[b].intervals.front().fold > 1e-6) {
+      const auto e = border::piece_ends(c.strips, pieces, static_cast<int>(b));
+      folds.push_back({0.5 * (e[0] + e[1]).x(), static_cast<int>(b)});
+    }
+  ASSERT_EQ(folds.size(), 20u);
+  std::sort(folds.begin(), folds.end());
+  auto take_joint = [&](int b) {
+    BorderJoint& by = c.joints.borders[b];
+    EXPECT_GT(by.teeth, 0);
+    by.teeth = by.tabs = 0;
+    for (JointInterval& in : by.intervals) in.owner = -1, in.kind = JointKind::kNone;
+  };
+  const int mid = folds[10].second, left = folds[9].second, right = folds[11].second;
+  const double reach = kStubAtCorner * JointOptions{}.tooth_width;
+  take_joint(mid);
+  join_stubs_at_corners(c.joints, c.strips, pieces, reach);
+  EXPECT_EQ(c.joints.borders_without_joint, 0);
+  EXPECT_EQ(c.joints.stubs_joined_at_corners, 1);
+  expect_held_at_corner(c.strips, c.flat, c.joints, mid);
+  EXPECT_EQ(c.joints.borders[mid].joined_through.size(), 4u);  // both halves of a neighbour
+  take_joint(left);
+  take_joint(right);
+  join_stubs_at_corners(c.joints, c.strips, pieces, reach);
+  EXPECT_EQ(c.joints.borders[mid].kind(), "none");
+  EXPECT_EQ(c.joints.borders_without_joint, 1);
+  EXPECT_EQ(c.joints.stubs_joined_at_corners, 2);
+  expect_held_at_corner(c.strips, c.flat, c.joints, left);
+  expect_held_at_corner(c.strips, c.flat, c.joints, right);
+  join_stubs_at_corners(c.joints, c.strips, pieces, 4.9);
+  EXPECT_EQ(c.joints.borders_without_joint, 3);
+  EXPECT_EQ(c.joints.stubs_joined_at_corners, 0);
+}
+
 // Dovetail tabs lock in the plane (the head is wider than the neck) and the mate's socket has
 // the tab's shape: measured on both final outlines along lines parallel to the border, the
 // socket's opening at depth v exceeds the tab's width there by the stated clearance only
@@ -706,7 +793,17 @@ Polygon2 folded_under(const Case& c, const std::vector<PartFrame>& frames, const
 // mountain where the surface is convex. \p fold_deg: every fold of the shape, or < 0 (any);
 // \p bare: borders that may stay without a tab.
 void expect_sound_glue_tabs(const Case& c, double fold_deg, int bare = 0) {
-  EXPECT_EQ(c.joints.borders_without_joint, bare);
+  int without = 0, at_corners = 0;
+  for (std::size_t b = 0; b < c.joints.borders.size(); ++b) {
+    if (c.joints.borders[b].glue > 0) continue;
+    ++without;
+    if (c.joints.borders[b].kind() == "none") continue;
+    ++at_corners;
+    expect_held_at_corner(c.strips, c.flat, c.joints, static_cast<int>(b));
+  }
+  EXPECT_EQ(without, bare);
+  EXPECT_EQ(c.joints.borders_without_joint, without - at_corners);
+  EXPECT_EQ(c.joints.stubs_joined_at_corners, at_corners);
   EXPECT_EQ(c.joints.teeth, 0);
   std::vector<PartFrame> frames;
   for (std::size_t p = 0; p < c.joints.parts.size(); ++p)
@@ -1204,9 +1301,12 @@ TEST(Joints, PaperStubsGetTheirTabsFirstOrWithSquareEnds) {
   const Strips s = flattened_real_strips(p, f);
   const Joints j = make_joints(s, f, kPaper, kLaser, {});
   std::vector<double> bare;
-  for (const BorderJoint& b : j.borders)
-    if (b.glue == 0) bare.push_back(b.length);
-  EXPECT_EQ(j.borders_without_joint, static_cast<int>(bare.size()));
+  for (std::size_t b = 0; b < j.borders.size(); ++b)
+    if (j.borders[b].glue == 0) {
+      bare.push_back(j.borders[b].length);
+      expect_held_at_corner(s, f, j, static_cast<int>(b));
+    }
+  EXPECT_EQ(j.borders_without_joint, 0);  // every stub held at a corner
   EXPECT_LE(bare.size(), 6u);
   for (double l : bare) EXPECT_LT(l, 3.0) << "a bare border of " << l << " mm";
   EXPECT_GT(j.glue_length, 0.85 * j.border_length) << j.glue_length << " of " << j.border_length;
@@ -1215,8 +1315,9 @@ TEST(Joints, PaperStubsGetTheirTabsFirstOrWithSquareEnds) {
 // The same on a shape where every part is flat, so that the tabs can be checked in 3D as on the
 // other generated shapes: 36 and 40 strips side by side on a folded sheet meet their other
 // halves along stubs of 2.8 and 2.5 mm between four corners. With leaning tabs only, all 36
-// and all 40 stayed bare; with square ends at most 6 of them do, every tab inside its mate in
-// 3D and off every other tab there, off its own part on the sheet.
+// and all 40 stayed bare; with square ends at most 7 of them do, every tab inside its mate in
+// 3D and off every other tab there, off its own part on the sheet, and each bare stub is held
+// through the parts at one of its corners.
 TEST(Joints, PaperStubsOnAFoldedSheetGetTabsWithSquareEnds) {
   for (int nu : {36, 40})
     for (double deg : {30.0, 90.0, 150.0}) {
@@ -1231,6 +1332,7 @@ TEST(Joints, PaperStubsOnAFoldedSheetGetTabsWithSquareEnds) {
       EXPECT_LE(bare, nu / 4);
       std::printf("%d strips, %.0f deg: %d of %d stubs bare\n", nu, deg, bare, nu);
       expect_sound_glue_tabs(c, deg, bare);
+      EXPECT_EQ(c.joints.borders_without_joint, 0);  // each bare stub held at a corner
     }
 }
 

@@ -202,6 +202,12 @@ Pieces make_pieces(const Strips& strips, const Flattening& flat) {
   return out;
 }
 
+std::array<Vec3, 2> piece_ends(const Strips& strips, const Pieces& pieces, int piece) {
+  const Side& side = pieces.pieces[piece].sides[0];
+  return {ends(strips, pieces, side, side.ring_edges.front()).first,
+          ends(strips, pieces, side, side.ring_edges.back()).second};
+}
+
 std::pair<double, double> s_range(const Side& side, int k) {
   const auto it = std::find(side.ring_edges.begin(), side.ring_edges.end(), k);
   const std::size_t j = static_cast<std::size_t>(it - side.ring_edges.begin());

@@ -55,6 +55,10 @@ struct Pieces {
 /// in coarse edges. \pre \p flat was computed from \p strips.
 Pieces make_pieces(const Strips& strips, const Flattening& flat);
 
+/// 3D end points of piece \p piece: where its first side's run of ring edges starts and where it
+/// ends (the same point twice for a border that closes on itself).
+std::array<Vec3, 2> piece_ends(const Strips& strips, const Pieces& pieces, int piece);
+
 /// Arc length range along the piece of ring edge \p k of \p side [mm].
 std::pair<double, double> s_range(const Side& side, int k);
 /// Arc length along the piece of ring edge \p k's parameter \p t (0 at the edge's ring start).

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "kerfab/joints/border_pieces.h"
+#include "kerfab/joints/corners.h"
 
 namespace kerfab {
 namespace {
@@ -565,6 +566,7 @@ Joints make_glue_tabs(const Strips& strips, const Flattening& flat, const Machin
     Joints square = placed(true);
     if (better(square, out)) out = std::move(square);
   }
+  join_stubs_at_corners(out, strips, pieces, kStubAtCorner * options.tooth_width);
   return out;
 }
 

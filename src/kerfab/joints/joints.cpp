@@ -12,6 +12,7 @@
 #include "kerfab/core/errors.h"
 #include "kerfab/core/parallel.h"
 #include "kerfab/joints/border_pieces.h"
+#include "kerfab/joints/corners.h"
 #include "kerfab/joints/glue_tabs.h"
 #include "kerfab/joints/plates.h"
 
@@ -193,8 +194,8 @@ class Builder {
       for (int j = 0; j + 1 < static_cast<int>(out_.borders[b].intervals.size()); ++j)
         if (const auto f = flare_between(static_cast<int>(b), j)) flares.push_back(*f);
       out_.flares.push_back(std::move(flares));
-      out_.borders_without_joint += out_.borders[b].teeth == 0 ? 1 : 0;
     }
+    join_stubs_at_corners(out_, s_, bp_, kStubAtCorner * o_.tooth_width);
     return std::move(out_);
   }
 
@@ -1481,7 +1482,8 @@ std::string BorderJoint::kind() const {
   bool box = false, tab = false;
   for (const JointInterval& in : intervals)
     box |= in.kind == JointKind::kBox, tab |= in.kind == JointKind::kTab;
-  return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : glue > 0 ? "glue" : "none";
+  if (box || tab || glue > 0) return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : "glue";
+  return joined_through.empty() ? "none" : "corner";
 }
 
 std::vector<Polygon2> tooth_slivers(const std::vector<Polygon2>& taken,

@@ -89,8 +89,12 @@ struct BorderJoint {
   /// parts' other borders at its corners [mm] (a tooth needs 1 mm and both parts whole); -1 for
   /// the others
   double free_room = -1;
-  /// "box", "tab", "box+tab", "glue" or "none" (no tooth, tab or glue tab: nothing locates or
-  /// holds the two parts)
+  /// A stub with no joint of its own, no longer than two tooth widths, whose two parts are joined
+  /// to each other at one of its ends by the joints of the parts there: that chain of parts,
+  /// from patches[0] to patches[1] (join_stubs_at_corners, joints/corners.h); else empty
+  std::vector<int> joined_through;
+  /// "box", "tab", "box+tab", "glue", "corner" (a stub located and held by its parts' joints at
+  /// one of its ends, joined_through) or "none" (nothing locates or holds the two parts)
   std::string kind() const;
 };
 
@@ -153,7 +157,10 @@ struct Joints {
   double toothed_length = 0;  ///< of which covered by teeth, tabs or glue tabs [mm]
   double tab_length = 0;      ///< of which by tabs [mm]
   double glue_length = 0;     ///< of which by glue tabs (their roots) [mm]
-  int borders_without_joint = 0;  ///< border pieces with no tooth or tab at all
+  int borders_without_joint = 0;    ///< border pieces with no tooth, tab or glue tab and not
+                                    ///< joined at a corner either (kind() "none")
+  int stubs_joined_at_corners = 0;  ///< stubs without a joint of their own that their parts'
+                                    ///< joints at one of their ends hold (kind() "corner")
   int repaired_parts = 0;
   double lost_area = 0;           ///< of the pieces the parts that fell apart lost [mm^2]
   double largest_lost_piece = 0;  ///< the largest such piece [mm^2]

@@ -299,11 +299,13 @@ json joints_section(const Joints& jt, const Material& material) {
                        {"glue_tabs", b.glue},
                        {"dovetail_sides", flares}});
     if (b.kind() == "none" && b.free_room >= 0) borders.back()["free_room_mm"] = b.free_room;
+    if (!b.joined_through.empty()) borders.back()["joined_through"] = b.joined_through;
   }
   return {{"thickness_mm", material.thickness},
           {"teeth", jt.teeth - jt.tabs},
           {"tabs", jt.tabs},
           {"borders_without_joint", jt.borders_without_joint},
+          {"stubs_joined_at_corners", jt.stubs_joined_at_corners},
           {"tab_length_mm", jt.tab_length},
           {"glue_tabs", jt.glue_tabs},
           {"glue_length_mm", jt.glue_length},

@@ -193,7 +193,8 @@ StageNotes notes(const Joints& j, const JointOptions& options) {
   os << j.teeth - j.tabs << " box teeth and " << j.tabs << " dovetail tabs on " << j.borders.size()
      << " border pieces (" << 100 * (j.border_length > 0 ? j.toothed_length / j.border_length : 0)
      << "% of the shared border length); " << j.borders_without_joint
-     << " border pieces without a joint; intervals without teeth: " << shallow
+     << " border pieces without a joint (and " << j.stubs_joined_at_corners
+     << " stubs held by the joints at their corners); intervals without teeth: " << shallow
      << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
      << " in collision regions";
   n.lines.push_back(os.str());

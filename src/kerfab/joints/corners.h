@@ -1,0 +1,26 @@
+#pragma once
+/// \file Internal to the joints stage: stubs joined at a corner. A border only a few millimetres
+/// long between corners of both its parts (where no tooth, tab or glue tab clears their other
+/// joints, or the border is shorter than the narrowest tooth) cannot carry a joint of its own.
+/// Where its two parts are each joined to the parts at one of its ends, those joints locate and
+/// hold both: placed on them, the stub's two edges meet and are glued (docs/joints.md).
+#include "kerfab/joints/border_pieces.h"
+#include "kerfab/joints/joints.h"
+
+namespace kerfab {
+
+/// A stub no longer than this many tooth widths may be joined at a corner: over that length the
+/// two parts, each held at the stub's end, cannot bow apart (a longer border without a joint stays
+/// one without).
+inline constexpr double kStubAtCorner = 2.0;
+
+/// Sets BorderJoint::joined_through on every border of \p joints with no tooth, tab or glue tab
+/// and at most \p max_length long [mm] whose two parts are joined to each other, at one of its
+/// ends, through the parts there (a shortest chain of borders with a joint that end at that
+/// corner; the chain's parts from one side's to the other's), and recounts
+/// Joints::borders_without_joint and Joints::stubs_joined_at_corners. \pre \p pieces are the pieces
+/// \p joints was built on (one border per piece, same order).
+void join_stubs_at_corners(Joints& joints, const Strips& strips, const border::Pieces& pieces,
+                           double max_length);
+
+}  // namespace kerfab
