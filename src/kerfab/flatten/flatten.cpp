@@ -46,12 +46,42 @@ LocalPatch local_patch(const Strips& strips, const Patch& patch) {
   return lp;
 }
 
+std::vector<Vec2> plane_coordinates(const std::vector<Vec3>& p3);
+
+/// \p lp's vertices on its best-fit plane, turned and moved so that vertex 0 is at (0, 0) and
+/// vertex 1 on the positive x axis, its quads counter-clockwise in total.
+std::vector<Vec2> plane_guess(const LocalPatch& lp) {
+  std::vector<Vec2> x = plane_coordinates(lp.p3);
+  double area = 0;
+  for (const auto& q : lp.quads)
+    for (int c = 0; c < 4; ++c) area += 0.5 * cross2(x[q[c]], x[q[(c + 1) % 4]]);
+  if (area < 0)
+    for (Vec2& p : x) p.y() = -p.y();
+  const Vec2 o = x[0], d = x[1] - x[0];
+  const double a = d.norm() > 0 ? std::atan2(d.y(), d.x()) : 0.0;
+  const Eigen::Rotation2Dd turn(-a);
+  for (Vec2& p : x) p = turn * (p - o);
+  return x;
+}
+
 /// Least-squares conformal map of the triangulated patch, vertices 0 and 1 pinned at (0, 0) and
-/// (|p1 - p0|, 0).
+/// (|p1 - p0|, 0). Where the map leaves some vertices free (a vertex only in triangles of no
+/// area, or a part of the patch joined to the rest only at a point: where a strip's rails touch,
+/// it can turn and scale about that point), those are held, weakly, to the patch's best-fit
+/// plane (plane_guess): the angle-length iteration that follows decides their place.
 std::vector<Vec2> conformal_map(const LocalPatch& lp) {
   const int n = static_cast<int>(lp.p3.size());
   std::vector<Triplet> entries;
   int row = 0;
+  // The vertices' pieces over the triangles with an area: one piece holding every vertex, or the
+  // map leaves some free.
+  std::vector<int> piece(n);
+  for (int i = 0; i < n; ++i) piece[i] = i;
+  auto root = [&](int i) {
+    while (piece[i] != i) i = piece[i] = piece[piece[i]];
+    return i;
+  };
+  std::vector<char> used(n, 0);
   for (const auto& q : lp.quads)
     for (const std::array<int, 3> t :
          {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
@@ -59,6 +89,9 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
       const Vec3 normal = (b - a).cross(c - a);
       const double area = 0.5 * normal.norm();
       if (!(area > 1e-12)) continue;  // degenerate triangle: no conformality to ask for
+      for (int m = 0; m < 3; ++m) used[t[m]] = 1;
+      piece[root(t[1])] = root(t[0]);
+      piece[root(t[2])] = root(t[0]);
       const Vec3 e1 = (b - a).normalized(), e2 = normal.normalized().cross(e1);
       const std::array<Vec2, 3> x = {Vec2(0, 0), Vec2((b - a).norm(), 0),
                                      Vec2((c - a).dot(e1), (c - a).dot(e2))};
@@ -91,10 +124,56 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
         free_entries.emplace_back(it.row(), free_index[it.col()], it.value());
   SparseMatrix af(row, nfree);
   af.setFromTriplets(free_entries.begin(), free_entries.end());
-  const SparseMatrix normal = af.transpose() * af;
+  SparseMatrix normal = af.transpose() * af;
+  Eigen::VectorXd b = af.transpose() * rhs;
+  bool free = false;
+  for (int i = 0; i < n; ++i) free |= !used[i] || root(i) != root(0);
+  // A millionth of the mean diagonal: the determined coordinates move by about as much.
+  const double eps = 1e-6 * std::max(normal.diagonal().mean(), 1e-12);
+  std::vector<Vec2> guess;
+  auto pull_to_guess = [&](Eigen::VectorXd& rhs_of) {
+    for (int i = 2; i < n; ++i)
+      for (int k = 0; k < 2; ++k) rhs_of[free_index[2 * i + k]] += eps * guess[i][k];
+  };
+  Eigen::VectorXd with_guess = b;
+  if (free) {
+    guess = plane_guess(lp);
+    for (int i = 2; i < n; ++i)
+      for (int k = 0; k < 2; ++k)
+        normal.coeffRef(free_index[2 * i + k], free_index[2 * i + k]) += eps;
+    pull_to_guess(with_guess);
+  }
   Eigen::SimplicialLDLT<SparseMatrix> solver(normal);
   if (solver.info() != Eigen::Success) throw SolverError("conformal map: factorisation failed");
-  const Eigen::VectorXd z = solver.solve(af.transpose() * rhs);
+  Eigen::VectorXd z = solver.solve(with_guess);
+  if (free) {
+    // The plane guess in the map's own frame: the similarity (no reflection) that lays it best
+    // onto the vertices the map determines (those in vertex 0's piece), then solved again.
+    auto at = [&](int i) {
+      return i == 0   ? Vec2(0, 0)
+             : i == 1 ? Vec2(len, 0)
+                      : Vec2(z[free_index[2 * i]], z[free_index[2 * i + 1]]);
+    };
+    Vec2 cg = Vec2::Zero(), cz = Vec2::Zero();
+    int m = 0;
+    for (int i = 0; i < n; ++i)
+      if (used[i] && root(i) == root(0)) cg += guess[i], cz += at(i), ++m;
+    cg /= m, cz /= m;
+    double c = 0, s = 0, gg = 0;
+    for (int i = 0; i < n; ++i)
+      if (used[i] && root(i) == root(0)) {
+        const Vec2 g = guess[i] - cg, y = at(i) - cz;
+        c += g.dot(y), s += cross2(g, y), gg += g.squaredNorm();
+      }
+    if (gg > 0) {
+      const double scale = std::hypot(c, s) / gg, turn = std::atan2(s, c);
+      const Eigen::Rotation2Dd r(turn);
+      for (Vec2& g : guess) g = Vec2(scale * (r * (g - cg)) + cz);
+      with_guess = b;
+      pull_to_guess(with_guess);
+      z = solver.solve(with_guess);
+    }
+  }
   std::vector<Vec2> out(n);
   out[0] = Vec2(0, 0);
   out[1] = Vec2(len, 0);
@@ -109,13 +188,22 @@ struct Corner {
   double target = 0;
 };
 
-/// Every quad's four corners, with their 3D angles as targets.
+/// Every quad's four corners, with their 3D angles as targets. A corner on a side of no length
+/// (where a strip's rails meet, two vertices at one point) has no angle: it is left out, and
+/// the side's length (0) holds its ends together.
 std::vector<Corner> quad_corners(const LocalPatch& lp) {
   std::vector<Corner> out;
+  double longest = 0;
   for (const auto& q : lp.quads)
     for (int c = 0; c < 4; ++c)
-      out.push_back({q[c], q[(c + 1) % 4], q[(c + 3) % 4],
-                     corner_angle_3d(lp.p3[q[c]], lp.p3[q[(c + 1) % 4]], lp.p3[q[(c + 3) % 4]])});
+      longest = std::max(longest, (lp.p3[q[(c + 1) % 4]] - lp.p3[q[c]]).norm());
+  const double none = 1e-9 * longest;
+  for (const auto& q : lp.quads)
+    for (int c = 0; c < 4; ++c) {
+      const Vec3 &p = lp.p3[q[c]], &next = lp.p3[q[(c + 1) % 4]], &prev = lp.p3[q[(c + 3) % 4]];
+      if ((next - p).norm() <= none || (prev - p).norm() <= none) continue;
+      out.push_back({q[c], q[(c + 1) % 4], q[(c + 3) % 4], corner_angle_3d(p, next, prev)});
+    }
   return out;
 }
 
