@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <optional>
 
 #include "kerfab/core/errors.h"
@@ -64,6 +65,32 @@ std::vector<Vec2> plane_guess(const LocalPatch& lp) {
   return x;
 }
 
+/// Per vertex: whether it lies in a triangle of \p tris joined, side by side, to one at vertex 0
+/// (the first such triangle's).
+std::vector<char> determined_vertices(int n, const std::vector<std::array<int, 3>>& tris) {
+  std::vector<int> up(tris.size());
+  std::iota(up.begin(), up.end(), 0);
+  auto root = [&](int i) {
+    while (up[i] != i) i = up[i] = up[up[i]];
+    return i;
+  };
+  std::map<std::pair<int, int>, int> side;  // first triangle on each side
+  for (int t = 0; t < static_cast<int>(tris.size()); ++t)
+    for (int m = 0; m < 3; ++m) {
+      const int a = tris[t][m], b = tris[t][(m + 1) % 3];
+      const auto [it, fresh] = side.emplace(std::minmax(a, b), t);
+      if (!fresh) up[root(t)] = root(it->second);
+    }
+  std::vector<char> out(n, 0);
+  int pinned = -1;
+  for (int t = 0; t < static_cast<int>(tris.size()) && pinned < 0; ++t)
+    if (std::find(tris[t].begin(), tris[t].end(), 0) != tris[t].end()) pinned = root(t);
+  for (int t = 0; t < static_cast<int>(tris.size()); ++t)
+    if (root(t) == pinned)
+      for (int v : tris[t]) out[v] = 1;
+  return out;
+}
+
 /// Least-squares conformal map of the triangulated patch, vertices 0 and 1 pinned at (0, 0) and
 /// (|p1 - p0|, 0). Where the map leaves some vertices free (a vertex only in triangles of no
 /// area, or a part of the patch joined to the rest only at a point: where a strip's rails touch,
@@ -73,15 +100,10 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
   const int n = static_cast<int>(lp.p3.size());
   std::vector<Triplet> entries;
   int row = 0;
-  // The vertices' pieces over the triangles with an area: one piece holding every vertex, or the
-  // map leaves some free.
-  std::vector<int> piece(n);
-  for (int i = 0; i < n; ++i) piece[i] = i;
-  auto root = [&](int i) {
-    while (piece[i] != i) i = piece[i] = piece[piece[i]];
-    return i;
-  };
-  std::vector<char> used(n, 0);
+  // The triangles with an area, joined where they share a side: the map determines the vertices
+  // of those joined to the pinned ruling's, and leaves the others free (a vertex only in
+  // triangles of no area, or a part of the patch joined to the rest at a vertex or not at all).
+  std::vector<std::array<int, 3>> tris;
   for (const auto& q : lp.quads)
     for (const std::array<int, 3> t :
          {std::array<int, 3>{q[0], q[1], q[2]}, std::array<int, 3>{q[0], q[2], q[3]}}) {
@@ -89,9 +111,7 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
       const Vec3 normal = (b - a).cross(c - a);
       const double area = 0.5 * normal.norm();
       if (!(area > 1e-12)) continue;  // degenerate triangle: no conformality to ask for
-      for (int m = 0; m < 3; ++m) used[t[m]] = 1;
-      piece[root(t[1])] = root(t[0]);
-      piece[root(t[2])] = root(t[0]);
+      tris.push_back(t);
       const Vec3 e1 = (b - a).normalized(), e2 = normal.normalized().cross(e1);
       const std::array<Vec2, 3> x = {Vec2(0, 0), Vec2((b - a).norm(), 0),
                                      Vec2((c - a).dot(e1), (c - a).dot(e2))};
@@ -126,8 +146,8 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
   af.setFromTriplets(free_entries.begin(), free_entries.end());
   SparseMatrix normal = af.transpose() * af;
   Eigen::VectorXd b = af.transpose() * rhs;
-  bool free = false;
-  for (int i = 0; i < n; ++i) free |= !used[i] || root(i) != root(0);
+  const std::vector<char> determined = determined_vertices(n, tris);
+  bool free = std::find(determined.begin(), determined.end(), 0) != determined.end();
   // A millionth of the mean diagonal: the determined coordinates move by about as much.
   const double eps = 1e-6 * std::max(normal.diagonal().mean(), 1e-12);
   std::vector<Vec2> guess;
@@ -144,11 +164,27 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
     pull_to_guess(with_guess);
   }
   Eigen::SimplicialLDLT<SparseMatrix> solver(normal);
+  // A pivot of about nothing: some freedom the sides did not show (Eigen's LDLT does not fail
+  // on a zero pivot).
+  auto singular = [&] {
+    if (solver.info() != Eigen::Success) return true;
+    const Eigen::VectorXd d = solver.vectorD();
+    return d.size() > 0 && !(d.minCoeff() > 1e-12 * d.cwiseAbs().maxCoeff());
+  };
+  if (!free && singular()) {
+    free = true;
+    guess = plane_guess(lp);
+    for (int i = 2; i < n; ++i)
+      for (int k = 0; k < 2; ++k)
+        normal.coeffRef(free_index[2 * i + k], free_index[2 * i + k]) += eps;
+    pull_to_guess(with_guess);
+    solver.compute(normal);
+  }
   if (solver.info() != Eigen::Success) throw SolverError("conformal map: factorisation failed");
   Eigen::VectorXd z = solver.solve(with_guess);
   if (free) {
     // The plane guess in the map's own frame: the similarity (no reflection) that lays it best
-    // onto the vertices the map determines (those in vertex 0's piece), then solved again.
+    // onto the vertices the map determines, then solved again.
     auto at = [&](int i) {
       return i == 0   ? Vec2(0, 0)
              : i == 1 ? Vec2(len, 0)
@@ -157,15 +193,15 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
     Vec2 cg = Vec2::Zero(), cz = Vec2::Zero();
     int m = 0;
     for (int i = 0; i < n; ++i)
-      if (used[i] && root(i) == root(0)) cg += guess[i], cz += at(i), ++m;
+      if (determined[i]) cg += guess[i], cz += at(i), ++m;
     cg /= m, cz /= m;
     double c = 0, s = 0, gg = 0;
     for (int i = 0; i < n; ++i)
-      if (used[i] && root(i) == root(0)) {
+      if (determined[i]) {
         const Vec2 g = guess[i] - cg, y = at(i) - cz;
         c += g.dot(y), s += cross2(g, y), gg += g.squaredNorm();
       }
-    if (gg > 0) {
+    if (m > 0 && gg > 0) {
       const double scale = std::hypot(c, s) / gg, turn = std::atan2(s, c);
       const Eigen::Rotation2Dd r(turn);
       for (Vec2& g : guess) g = Vec2(scale * (r * (g - cg)) + cz);
