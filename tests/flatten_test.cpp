@@ -329,17 +329,22 @@ Strips rolled_strip(const std::function<double(double)>& width) {
   return s;
 }
 
-// A strip whose rails meet (its end a point, or its waist: the rails touch there) has vertices
-// the conformal start leaves free: one only in sub-quad triangles of no area, or a half joined to
-// the rest at a point. The start then holds them to the strip's plane (stanford-bunny from its
-// triangles failed here: "conformal map: factorisation failed"). Both flatten: every edge as long
-// as in 3D, the vertices at one point still at one point. (A waist leaves its two halves free to
-// turn about it: each is checked on its own.)
+// A strip whose rails meet (its end or its start a point, or its waist: the rails touch there) has
+// vertices the conformal start leaves free: one only in sub-quad triangles of no area, or a half
+// joined to the rest at a point. The start then holds them to the strip's plane (stanford-bunny
+// from its triangles failed here: "conformal map: factorisation failed"). All three flatten: every
+// edge as long as in 3D, the vertices at one point still at one point. (A waist leaves its two
+// halves free to turn about it: each is checked on its own.)
 TEST(Flatten, AStripWhoseRailsMeetFlattensWithItsLengths) {
-  for (const bool waist : {false, true}) {
-    SCOPED_TRACE(waist ? "rails touching at the waist" : "rails meeting at the end");
-    const Strips s = rolled_strip(
-        [waist](double arc) { return waist ? 10 * std::abs(1 - arc / 30) : 10 * (1 - arc / 60); });
+  for (const int shape : {0, 1, 2}) {
+    SCOPED_TRACE(shape == 0   ? "rails meeting at the end"
+                 : shape == 1 ? "rails touching at the waist"
+                              : "rails meeting at the start");
+    const Strips s = rolled_strip([shape](double arc) {
+      return shape == 0   ? 10 * (1 - arc / 60)
+             : shape == 1 ? 10 * std::abs(1 - arc / 30)
+                          : 10 * arc / 60;
+    });
     Flattening f;
     ASSERT_NO_THROW(f = flatten_patches(s, {}));
     const Patch& patch = s.patches[0];
