@@ -156,13 +156,15 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
       for (int k = 0; k < 2; ++k) rhs_of[free_index[2 * i + k]] += eps * guess[i][k];
   };
   Eigen::VectorXd with_guess = b;
-  if (free) {
+  auto hold_to_guess = [&] {  // every free coordinate, weakly, to the plane guess
+    free = true;
     guess = plane_guess(lp);
     for (int i = 2; i < n; ++i)
       for (int k = 0; k < 2; ++k)
         normal.coeffRef(free_index[2 * i + k], free_index[2 * i + k]) += eps;
     pull_to_guess(with_guess);
-  }
+  };
+  if (free) hold_to_guess();
   Eigen::SimplicialLDLT<SparseMatrix> solver(normal);
   // A pivot of about nothing: some freedom the sides did not show (Eigen's LDLT does not fail
   // on a zero pivot).
@@ -172,12 +174,7 @@ std::vector<Vec2> conformal_map(const LocalPatch& lp) {
     return d.size() > 0 && !(d.minCoeff() > 1e-12 * d.cwiseAbs().maxCoeff());
   };
   if (!free && singular()) {
-    free = true;
-    guess = plane_guess(lp);
-    for (int i = 2; i < n; ++i)
-      for (int k = 0; k < 2; ++k)
-        normal.coeffRef(free_index[2 * i + k], free_index[2 * i + k]) += eps;
-    pull_to_guess(with_guess);
+    hold_to_guess();
     solver.compute(normal);
   }
   if (solver.info() != Eigen::Success) throw SolverError("conformal map: factorisation failed");
