@@ -77,8 +77,10 @@ bool fits_sheet(const Polygon2& outline, const LayoutOptions& options);
 /// bound, it also tries the parts with the largest minimum rectangle first and the longest
 /// first, each with a second placing rule (the free position whose far corner is nearest the
 /// sheet's origin), then the parts of the best pass's last sheet first; every pass then tries
-/// to move its last sheet's parts into the other sheets' gaps, turned in 10 degree steps. It
-/// keeps the pass with the fewest sheets (then the emptiest last sheet). \throw InvalidInput
+/// to move its last sheet's parts into the other sheets' gaps, turned in 10 degree steps; where
+/// the grown parts could still fill a sheet fewer, largest first once more on a grid of half
+/// the step. It keeps the pass with the fewest sheets (then the emptiest last sheet).
+/// \throw InvalidInput
 /// options out of range.
 LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& options);
 
