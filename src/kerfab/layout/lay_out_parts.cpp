@@ -1,3 +1,4 @@
+#include "kerfab/core/parallel.h"
 #include "kerfab/layout/layout.h"
 
 namespace kerfab {
@@ -17,7 +18,10 @@ LayoutResult lay_out_parts(const Strips& strips, const Flattening& flat, const J
   for (const auto& part : joints.parts) outlines.push_back(part.cut);
   LayoutResult out = nest_parts(outlines, options);
   const int parts = static_cast<int>(strips.patches.size());
-  for (int p = 0; p < parts; ++p) {
+  // Each part's labels look at that part alone: all parts at once, on every core.
+  out.labels.resize(parts);
+  out.engravings.resize(parts);
+  for_each_index(parts, hardware_threads(), [&](int p) {
     // Labels go on the part itself, not on its glue tabs (hidden once glued).
     std::vector<Polygon2> tabs;
     for (const JointSpan& sp : joints.parts[p].spans)
@@ -31,12 +35,10 @@ LayoutResult lay_out_parts(const Strips& strips, const Flattening& flat, const J
       if (Polygon2 body = largest_polygon(polygon_difference({outline}, polygon_offset(tabs, 0.01)));
           !body.empty())
         outline = std::move(body);
-    out.labels.push_back(part_label(strips, flat, kerf, outline, p));
-    out.engravings.push_back(
-        border_labels(strips, flat, kerf, joints, outline, p, out.labels.back()));
-    if (out.labels.back())
-      out.engravings.back().insert(out.engravings.back().begin(), *out.labels.back());
-  }
+    out.labels[p] = part_label(strips, flat, kerf, outline, p);
+    out.engravings[p] = border_labels(strips, flat, kerf, joints, outline, p, out.labels[p]);
+    if (out.labels[p]) out.engravings[p].insert(out.engravings[p].begin(), *out.labels[p]);
+  });
   out.neighbours = part_neighbours(joints, parts);
   for (int p = 0; p < parts; ++p) {
     out.border_labels_wanted +=
