@@ -176,6 +176,54 @@ TEST(Cli, PaperSizesByNameAndA4ForPaper) {
   EXPECT_NE(bad.err.find("A4, A3, letter"), std::string::npos) << bad.err;
 }
 
+// Offcuts on the command line: --sheet 150x110,600x450 fills the 150 x 110 mm offcut first, then
+// stock sheets; each sheet's files have its own size (SVG, PDF page), every part read back from
+// the SVG lies inside its own sheet's margins, and the report lists the sizes.
+TEST(Cli, OffcutsComeFirstEachFileAtItsSize) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "cube.obj";
+  write_mesh(test::cube_grid_mesh(4, [](const Vec3& p) { return Vec3(60 * p); }), target);
+  const fs::path out = scratch / "a";
+  const CliRun r =
+      run_cli("run --target " + target.string() + " --sheet 150x110,600x450 --out " + out.string(),
+              scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto layout = read_report(out)["layout"];
+  ASSERT_GE(layout["sheets"].get<int>(), 2);
+  EXPECT_EQ(layout["sheet_mm"], nlohmann::json::array({600.0, 450.0}));
+  EXPECT_EQ(layout["offcuts_mm"], nlohmann::json::parse("[[150.0, 110.0]]"));
+  const auto sizes = layout["sheet_sizes_mm"];
+  ASSERT_EQ(sizes.size(), layout["sheets"].get<std::size_t>());
+  EXPECT_EQ(sizes[0], nlohmann::json::array({150.0, 110.0}));
+  for (std::size_t k = 1; k < sizes.size(); ++k)
+    EXPECT_EQ(sizes[k], nlohmann::json::array({600.0, 450.0}));
+  const std::string svg = test::slurp(out / "cut" / "sheet-001.svg");
+  EXPECT_NE(svg.find("width=\"150mm\" height=\"110mm\" viewBox=\"0 0 150 110\""),
+            std::string::npos);
+  EXPECT_NE(test::slurp(out / "cut" / "sheet-002.svg").find("width=\"600mm\" height=\"450mm\""),
+            std::string::npos);
+  // 150 x 110 mm = 425.20 x 311.81 pt.
+  EXPECT_NE(test::slurp(out / "cut" / "sheet-001.pdf").find("/MediaBox [ 0 0 425.19"),
+            std::string::npos);
+  int on_offcut = 0;
+  for (const auto& part : test::read_sheet_parts(out / "cut")) {
+    const double w = part.sheet == 1 ? 150 : 600, h = part.sheet == 1 ? 110 : 450;
+    on_offcut += part.sheet == 1;
+    for (const Vec2& v : part.outline) {
+      EXPECT_GE(v.x(), 10 - 0.1) << part.id;
+      EXPECT_GE(v.y(), 10 - 0.1) << part.id;
+      EXPECT_LE(v.x(), w - 10 + 0.1) << part.id;
+      EXPECT_LE(v.y(), h - 10 + 0.1) << part.id;
+    }
+  }
+  EXPECT_GT(on_offcut, 0);
+  const CliRun bad = run_cli("run --target " + target.string() +
+                                 " --sheet 150x110,,600x450 --out " + (scratch / "b").string(),
+                             scratch);
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("kerfab: error: --sheet"), std::string::npos) << bad.err;
+}
+
 // Paper: every part is on a page and no outline has a slit or tail a cutter cannot follow,
 // read back from the SVG by the independent auditor. Tabs of two borders met at their part's
 // corners in notches of 0.1-0.5 mm (111 on this sphere at 120 mm, 227 on the shared icosphere),

@@ -337,12 +337,13 @@ void expect_sound_nest(const std::vector<Polygon2>& parts, const LayoutResult& l
                        const LayoutOptions& o) {
   std::vector<Polygon2> placed(parts.size());
   for (std::size_t i = 0; i < parts.size(); ++i) {
+    const Vec2 sheet = l.sheet_size(l.placements[i].sheet);
     for (const Vec2& v : parts[i]) {
       const Vec2 q = l.placements[i].apply(v);
       EXPECT_GE(q.x(), o.margin - 1e-6);
       EXPECT_GE(q.y(), o.margin - 1e-6);
-      EXPECT_LE(q.x(), o.sheet_width - o.margin + 1e-6);
-      EXPECT_LE(q.y(), o.sheet_height - o.margin + 1e-6);
+      EXPECT_LE(q.x(), sheet.x() - o.margin + 1e-6);
+      EXPECT_LE(q.y(), sheet.y() - o.margin + 1e-6);
       placed[i].push_back(q);
     }
     placed[i] = polygon_offset({placed[i]}, 0.49 * o.spacing).front();
@@ -399,6 +400,55 @@ TEST(Layout, CurvedStripsPackIntoFewerSheets) {
     expect_sound_nest(parts, l, o);
   }
   EXPECT_LE(total, 25);
+}
+
+// Offcuts (--sheet 250x150,80x60,600x450): filled first, one each, in their order, then stock
+// sheets. 100 x 50 mm plates: 4 fit the 250 x 150 offcut inside its 10 mm margins and 3 mm
+// spacing (2 x 2: 203 x 103 of 230 x 130), none the 80 x 60 one (60 x 40 inside), so that one
+// is left out of the sheets and the rest go on stock sheets; 20 x 15 mm tags fit it.
+TEST(Layout, OffcutsAreFilledFirstInTheirOrder) {
+  LayoutOptions o;
+  o.offcuts = {Vec2(250, 150), Vec2(80, 60)};
+  const Polygon2 plate = {{0, 0}, {100, 0}, {100, 50}, {0, 50}};
+  std::vector<Polygon2> parts(30, plate);
+  LayoutResult l = nest_parts(parts, o);
+  ASSERT_TRUE(l.unplaced.empty());
+  ASSERT_EQ(l.sheets, 2);
+  EXPECT_EQ(l.sheet_sizes, (std::vector<Vec2>{Vec2(250, 150), Vec2(600, 450)}));
+  int on_offcut = 0;
+  for (const Placement& at : l.placements) on_offcut += at.sheet == 0;
+  EXPECT_EQ(on_offcut, 4);
+  // 30 x 5000 mm^2 over the sheets' areas; by area one stock sheet (580 x 430 usable) holds
+  // them, and no offcut is larger than it.
+  EXPECT_NEAR(l.utilization, 150000.0 / (250 * 150 + 600 * 450), 1e-12);
+  EXPECT_NEAR(l.sheet_utilization[0], 4 * 5000.0 / (250 * 150), 1e-12);
+  EXPECT_EQ(l.sheets_lower_bound, 1);
+  expect_sound_nest(parts, l, o);
+  // Small tags too: the 80 x 60 offcut is used, the sheets in the order given.
+  for (int k = 0; k < 40; ++k) parts.push_back({{0, 0}, {20, 0}, {20, 15}, {0, 15}});
+  l = nest_parts(parts, o);
+  ASSERT_TRUE(l.unplaced.empty());
+  ASSERT_EQ(l.sheets, 3);
+  EXPECT_EQ(l.sheet_sizes, (std::vector<Vec2>{Vec2(250, 150), Vec2(80, 60), Vec2(600, 450)}));
+  int tags_on_small = 0;
+  for (std::size_t i = 30; i < parts.size(); ++i) tags_on_small += l.placements[i].sheet == 1;
+  EXPECT_GE(tags_on_small, 2);  // 60 x 40 inside the margins: at least 2 x 2 less the spacing
+  expect_sound_nest(parts, l, o);
+  // An offcut larger than the stock counts first in the bound: 60 plates (300000 mm^2) on a
+  // 1000 x 500 offcut (980 x 480 usable) and 600 x 450 stock: 1 sheet by area.
+  o.offcuts = {Vec2(1000, 500)};
+  l = nest_parts(std::vector<Polygon2>(60, plate), o);
+  EXPECT_EQ(l.sheets_lower_bound, 1);
+  EXPECT_EQ(l.sheets, 1);
+  EXPECT_EQ(l.sheet_sizes, (std::vector<Vec2>{Vec2(1000, 500)}));
+  // One whose margins leave nothing: refused with its size named.
+  o.offcuts = {Vec2(15, 300)};
+  try {
+    nest_parts({plate}, o);
+    ADD_FAILURE() << "no error";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("15 x 300 mm"), std::string::npos) << e.what();
+  }
 }
 
 // Real parts: the 252 cut outlines of Spot's run from its triangle mesh alone (examples/spot,

@@ -292,7 +292,9 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
   f.sheet_option = cmd.add_option("--sheet", f.sheet,
                                   "Sheet size WxH of the laser bed or stock, e.g. 600x450, or a "
                                   "paper size A4, A3, letter (portrait) [mm]; A4 with "
-                                  "--material paper")
+                                  "--material paper. Offcuts first, comma separated: "
+                                  "300x200,250x250,600x450 fills one 300x200 and one 250x250 "
+                                  "sheet before as many 600x450 sheets as needed")
                        ->capture_default_str();
   cmd.add_option("--format", f.format,
                  "Cut-sheet files to write, comma separated: svg, dxf, pdf (PNG previews always)")
@@ -400,22 +402,36 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
     // Printed lines must be visible; a laser driver wants hairlines.
     if (f.material == "paper" && f.stroke_option && f.stroke_option->count() == 0)
       output.style.stroke = 0.2;
-    std::string lower = sheet;
-    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (lower == "a4") sheet = "210x297";
-    if (lower == "a3") sheet = "297x420";
-    if (lower == "letter") sheet = "215.9x279.4";
-    double w = 0, h = 0;
-    char x = 0, rest = 0;
-    if (std::sscanf(sheet.c_str(), "%lf%c%lf%c", &w, &x, &h, &rest) != 3 ||
-        (x != 'x' && x != 'X') || !(w > 0) || !(h > 0) || !(w <= 10000) || !(h <= 10000)) {
+    // Offcuts first, the stock sheet last: "300x200,600x450".
+    std::vector<kerfab::Vec2> sizes;
+    std::stringstream list(sheet);
+    std::string item;
+    while (std::getline(list, item, ',')) {
+      std::string lower = item;
+      for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (lower == "a4") item = "210x297";
+      if (lower == "a3") item = "297x420";
+      if (lower == "letter") item = "215.9x279.4";
+      double w = 0, h = 0;
+      char x = 0, rest = 0;
+      if (std::sscanf(item.c_str(), "%lf%c%lf%c", &w, &x, &h, &rest) != 3 ||
+          (x != 'x' && x != 'X') || !(w > 0) || !(h > 0) || !(w <= 10000) || !(h <= 10000) ||
+          sizes.size() >= 100) {
+        sizes.clear();
+        break;
+      }
+      sizes.emplace_back(w, h);
+    }
+    if (sizes.empty() || sheet.empty() || sheet.back() == ',') {
       std::cerr << "kerfab: error: --sheet must be WxH in mm, each side in (0, 10000], e.g. "
-                   "600x450, or A4, A3, letter, got '"
+                   "600x450, or A4, A3, letter, or up to 100 such sizes comma separated "
+                   "(offcuts first, the stock sheet last), got '"
                 << kerfab::one_line(f.sheet) << "'\n";
       return kInvalid;
     }
-    options.layout.sheet_width = w;
-    options.layout.sheet_height = h;
+    options.layout.sheet_width = sizes.back().x();
+    options.layout.sheet_height = sizes.back().y();
+    options.layout.offcuts.assign(sizes.begin(), sizes.end() - 1);
   }
   {
     output.formats = {false, false, false};

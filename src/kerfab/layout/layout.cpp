@@ -80,8 +80,12 @@ MinRect min_area_rect(const Polygon2& polygon) {
 
 bool fits_sheet(const Polygon2& outline, const LayoutOptions& o) {
   const MinRect r = min_area_rect(outline);
-  const double w = o.sheet_width - 2 * o.margin, h = o.sheet_height - 2 * o.margin;
-  return (r.width <= w && r.height <= h) || (r.height <= w && r.width <= h);
+  for (int k = 0; k <= static_cast<int>(o.offcuts.size()); ++k) {
+    const Vec2 size = o.size_of(k < static_cast<int>(o.offcuts.size()) ? k : -1);
+    const double w = size.x() - 2 * o.margin, h = size.y() - 2 * o.margin;
+    if ((r.width <= w && r.height <= h) || (r.height <= w && r.width <= h)) return true;
+  }
+  return false;
 }
 
 namespace {
@@ -173,6 +177,13 @@ struct SheetGrid {
   std::vector<std::vector<int>> prefix, last;
   int free_cells = 0;
   std::vector<int> longest_free;
+  Vec2 size;  ///< the sheet's width and height [mm]
+  /// The grid of cells of \p cell [mm] on a sheet of \p sheet [mm].
+  SheetGrid(const Vec2& sheet, double cell)
+      : SheetGrid(static_cast<int>(std::floor(sheet.x() / cell)),
+                  static_cast<int>(std::floor(sheet.y() / cell))) {
+    size = sheet;
+  }
   SheetGrid(int w, int h)
       : width(w),
         height(h),
@@ -284,11 +295,13 @@ Spot find_spot(const SheetGrid& grid, const Turned& turns, Rule rule, const Layo
     const double dx0 = boxes[q].x0 - r.corner.x(), dx1 = boxes[q].x1 - r.corner.x();
     const double dy0 = boxes[q].y0 - r.corner.y(), dy1 = boxes[q].y1 - r.corner.y();
     const int x_min = std::max(0, static_cast<int>(std::ceil((o.margin - dx0) / cell)));
-    const int x_max = std::min(
-        grid.width - r.width, static_cast<int>(std::floor((o.sheet_width - o.margin - dx1) / cell)));
+    const int x_max =
+        std::min(grid.width - r.width,
+                 static_cast<int>(std::floor((grid.size.x() - o.margin - dx1) / cell)));
     const int y_min = std::max(0, static_cast<int>(std::ceil((o.margin - dy0) / cell)));
-    const int y_max = std::min(
-        grid.height - r.height, static_cast<int>(std::floor((o.sheet_height - o.margin - dy1) / cell)));
+    const int y_max =
+        std::min(grid.height - r.height,
+                 static_cast<int>(std::floor((grid.size.y() - o.margin - dy1) / cell)));
     for (int y = y_min; y <= y_max; ++y) {
       // Both scores grow with y at least as fast as y: no lower row can win any more.
       if (best.raster >= 0 && y > best_score) break;
@@ -341,8 +354,6 @@ constexpr double kFullest = 0.8;
 Pass place_in_order(const std::vector<int>& order, const std::vector<Prepared>& parts,
                     const LayoutOptions& o, Rule rule, const std::vector<Turned>* turns = nullptr) {
   const double cell = o.step;
-  const int gw = static_cast<int>(std::floor(o.sheet_width / cell));
-  const int gh = static_cast<int>(std::floor(o.sheet_height / cell));
   Pass pass;
   pass.placements.resize(parts.size());
   for (int i : order) {
@@ -354,13 +365,15 @@ Pass place_in_order(const std::vector<int>& order, const std::vector<Prepared>& 
     bool placed = false;
     for (std::size_t s = 0; s <= pass.grids.size() && !placed; ++s) {
       const bool fresh = s == pass.grids.size();
-      if (fresh) pass.grids.emplace_back(gw, gh);
+      if (fresh) pass.grids.emplace_back(o.size_of(static_cast<int>(s)), cell);
       const Turned& turned = turns ? (*turns)[i] : part.quarters;
       const Spot spot = find_spot(pass.grids[s], turned, rule, o);
       if (spot.raster < 0) {
-        if (fresh) {
+        // An offcut this part does not fit stays open for the parts after it (nest_parts
+        // drops it if none takes it); a fresh stock sheet that does not take it, no sheet does.
+        if (fresh && s >= o.offcuts.size()) {
           pass.grids.pop_back();
-          break;  // not even an empty sheet takes it
+          break;
         }
         continue;
       }
@@ -416,6 +429,15 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   if (!(o.step > 0)) throw InvalidInput("layout step must be > 0 mm");
   if (2 * o.margin >= std::min(o.sheet_width, o.sheet_height))
     throw InvalidInput("--margin leaves no room on the sheet");
+  for (const Vec2& offcut : o.offcuts) {
+    if (!(offcut.x() > 0) || !(offcut.y() > 0))
+      throw InvalidInput("--sheet: every sheet's width and height must be > 0 mm");
+    if (2 * o.margin >= std::min(offcut.x(), offcut.y())) {
+      std::ostringstream os;
+      os << "--margin leaves no room on the " << offcut.x() << " x " << offcut.y() << " mm sheet";
+      throw InvalidInput(os.str());
+    }
+  }
   const int n = static_cast<int>(outlines.size());
   std::vector<Prepared> parts(n);
   for_each_index(n, hardware_threads(), [&](int i) {
@@ -441,12 +463,30 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   double fitting_area = 0, grown_area = 0;  // of the parts that fit a sheet [mm^2]
   for (const Prepared& p : parts)
     if (p.fits) fitting_area += p.area, grown_area += p.grown_area;
-  const double usable = (o.sheet_width - 2 * o.margin) * (o.sheet_height - 2 * o.margin);
+  // With offcuts: the fewest sheets whose areas add up to it, the largest first (offcuts larger
+  // than a stock sheet, then stock sheets; a smaller offcut never beats another stock sheet).
+  auto sheets_for = [&](double area, double grow) {
+    auto usable_of = [&](const Vec2& size) {
+      return (size.x() - 2 * o.margin + grow) * (size.y() - 2 * o.margin + grow);
+    };
+    const double stock = usable_of(o.size_of(-1));
+    std::vector<double> larger;
+    for (const Vec2& offcut : o.offcuts)
+      if (usable_of(offcut) > stock) larger.push_back(usable_of(offcut));
+    std::sort(larger.rbegin(), larger.rend());
+    int k = 0;
+    for (double a : larger)
+      if (area > 0) area -= a, ++k;
+    if (area > 0) k += static_cast<int>(std::ceil(area / stock - 1e-9));
+    return k;
+  };
   const double usable_grown =
       (o.sheet_width - 2 * o.margin + o.spacing) * (o.sheet_height - 2 * o.margin + o.spacing);
-  result.sheets_lower_bound = static_cast<int>(std::ceil(fitting_area / usable - 1e-9));
+  result.sheets_lower_bound = sheets_for(fitting_area, 0);
   result.spaced_fill = grown_area / usable_grown;
-  result.sheets_lower_bound_spaced = static_cast<int>(std::ceil(result.spaced_fill - 1e-9));
+  result.sheets_lower_bound_spaced = o.offcuts.empty()
+                                         ? static_cast<int>(std::ceil(result.spaced_fill - 1e-9))
+                                         : sheets_for(grown_area, o.spacing);
   // Largest area first, bottom-left. While that needs more sheets than the spaced bound, also
   // the parts with the largest minimum rectangle first (long thin and curved parts, which
   // otherwise come last and open sheets of their own) and the longest first, each with both
@@ -523,12 +563,25 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     if (finer.unplaced.size() <= best.unplaced.size() && finer.sheets() < best.sheets())
       best = std::move(finer);
   }
+  // Offcuts no part took are not used: the sheets are numbered without them.
+  std::vector<int> renumbered(best.sheets(), -1);
+  for (const Placement& at : best.placements)
+    if (at.sheet >= 0) renumbered[at.sheet] = 0;
+  std::vector<double> sheet_area;
+  for (int k = 0; k < best.sheets(); ++k)
+    if (renumbered[k] == 0) {
+      renumbered[k] = static_cast<int>(result.sheet_sizes.size());
+      result.sheet_sizes.push_back(o.size_of(k));
+      sheet_area.push_back(best.sheet_area[k]);
+    }
+  for (Placement& at : best.placements)
+    if (at.sheet >= 0) at.sheet = renumbered[at.sheet];
   result.placements = std::move(best.placements);
   result.unplaced = std::move(best.unplaced);
   std::sort(result.unplaced.begin(), result.unplaced.end());
   for (int i : result.unplaced)
     if (outlines[i].size() < 3 || !(parts[i].area > 0)) result.empty.push_back(i);
-  result.sheets = best.sheets();
+  result.sheets = static_cast<int>(result.sheet_sizes.size());
   if (result.sheets == 0 && n > 0 && static_cast<int>(result.empty.size()) == n)
     throw InvalidInput(
         "every part has nothing left once its slots and mitres are cut (the shape is thinner "
@@ -550,11 +603,14 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     os << "; use a larger --sheet";
     throw InvalidInput(os.str());
   }
-  const double total = std::accumulate(best.sheet_area.begin(), best.sheet_area.end(), 0.0);
-  result.utilization =
-      result.sheets > 0 ? total / (result.sheets * o.sheet_width * o.sheet_height) : 0.0;
-  for (double a : best.sheet_area)
-    result.sheet_utilization.push_back(a / (o.sheet_width * o.sheet_height));
+  double total = 0, whole = 0;
+  for (int k = 0; k < result.sheets; ++k) {
+    const double area = result.sheet_sizes[k].x() * result.sheet_sizes[k].y();
+    total += sheet_area[k], whole += area;
+    result.sheet_utilization.push_back(sheet_area[k] / area);
+  }
+  if (o.offcuts.empty()) whole = result.sheets * o.sheet_width * o.sheet_height;  // as it was
+  result.utilization = result.sheets > 0 ? total / whole : 0.0;
   return result;
 }
 

@@ -12,8 +12,16 @@
 namespace kerfab {
 
 struct LayoutOptions {
-  double sheet_width = 600;   ///< [mm], > 0
+  double sheet_width = 600;   ///< the stock sheet, as many as needed [mm], > 0
   double sheet_height = 450;  ///< [mm], > 0
+  /// Offcuts: sheets (width, height) [mm] filled before the stock sheets, one each, in this
+  /// order; one that no part fits is not used.
+  std::vector<Vec2> offcuts;
+  /// The size of sheet \p k as nest_parts fills them: the offcuts, then the stock sheet [mm].
+  Vec2 size_of(int k) const {
+    return k >= 0 && k < static_cast<int>(offcuts.size()) ? offcuts[k]
+                                                          : Vec2(sheet_width, sheet_height);
+  }
   double margin = 10;         ///< kept free along the sheet's edges [mm], >= 0
   double spacing = 3;         ///< between parts [mm], >= 0
   double step = 1.0;          ///< cell of the occupancy grid parts are placed on [mm], > 0
@@ -30,6 +38,9 @@ struct Placement {
 struct LayoutResult {
   std::vector<Placement> placements;  ///< per part; sheet -1: does not fit any sheet
   int sheets = 0;
+  std::vector<Vec2> sheet_sizes;  ///< per sheet used: its width and height [mm]
+  /// The size of sheet \p k (0-based) [mm].
+  Vec2 sheet_size(int k) const { return sheet_sizes.at(k); }
   double utilization = 0;  ///< parts' area / sheets' area [-]
   std::vector<double> sheet_utilization;  ///< per sheet: its parts' area / its area [-]
   /// No nesting can use fewer sheets than this: the placed parts' area over one sheet's usable

@@ -139,8 +139,8 @@ json model_json(const RunResult& run) {
       on.push_back({{"part", placed.part}, {"outline", outline}});
     }
     sheets.push_back({{"n", s + 1},
-                      {"w", run.options.layout.sheet_width},
-                      {"h", run.options.layout.sheet_height},
+                      {"w", layout.sheet_size(s).x()},
+                      {"h", layout.sheet_size(s).y()},
                       {"parts", on}});
   }
   return {{"version", 1},

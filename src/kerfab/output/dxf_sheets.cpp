@@ -32,7 +32,6 @@ void line(std::ostream& out, const char* layer, const Vec2& a, const Vec2& b) {
 
 void write_dxf_sheets(const RunResult& run, const std::filesystem::path& cut_dir) {
   const LayoutResult& layout = *run.layout;
-  const LayoutOptions& lo = run.options.layout;
   for (int sheet = 0; sheet < layout.sheets; ++sheet) {
     std::ostringstream out;
     pair(out, 0, "SECTION");
@@ -47,8 +46,8 @@ void write_dxf_sheets(const RunResult& run, const std::filesystem::path& cut_dir
     pair(out, 10, 0.0);
     pair(out, 20, 0.0);
     pair(out, 9, "$EXTMAX");
-    pair(out, 10, lo.sheet_width);
-    pair(out, 20, lo.sheet_height);
+    pair(out, 10, layout.sheet_size(sheet).x());
+    pair(out, 20, layout.sheet_size(sheet).y());
     pair(out, 0, "ENDSEC");
     pair(out, 0, "SECTION");
     pair(out, 2, "TABLES");

@@ -73,9 +73,9 @@ void check(cairo_status_t status, const std::string& what) {
 
 void write_pdf_sheets(const RunResult& run, const SheetStyle& style,
                       const std::filesystem::path& cut_dir) {
-  const double w = run.options.layout.sheet_width, h = run.options.layout.sheet_height;
   const double pt = 72.0 / 25.4;  // PDF points per mm
   for (int sheet = 0; sheet < run.layout->sheets; ++sheet) {
+    const double w = run.layout->sheet_size(sheet).x(), h = run.layout->sheet_size(sheet).y();
     const auto path = sheet_file(cut_dir, sheet, "pdf");
     cairo_surface_t* surface = cairo_pdf_surface_create(path.c_str(), w * pt, h * pt);
     cairo_t* cr = cairo_create(surface);
@@ -94,10 +94,13 @@ void write_pdf_sheets(const RunResult& run, const SheetStyle& style,
 
 void write_sheet_previews(const RunResult& run, const SheetStyle& style,
                           const std::filesystem::path& cut_dir, double pixels_per_mm) {
-  const double w = run.options.layout.sheet_width, h = run.options.layout.sheet_height;
-  const int pw = static_cast<int>(std::ceil(w * pixels_per_mm));
-  const int ph = static_cast<int>(std::ceil(h * pixels_per_mm));
   const int sheets = run.layout->sheets;
+  // The contact sheet's cells fit the largest sheet (offcuts may be smaller or larger).
+  double w = run.options.layout.sheet_width, h = run.options.layout.sheet_height;
+  if (sheets > 0) w = 0, h = 0;
+  for (int sheet = 0; sheet < sheets; ++sheet)
+    w = std::max(w, run.layout->sheet_size(sheet).x()),
+    h = std::max(h, run.layout->sheet_size(sheet).y());
   // Contact sheet: about as many columns as rows, each sheet 500 px wide up to three columns,
   // smaller beyond, so that hundreds of sheets still make a picture of a few thousand pixels.
   const int columns =
@@ -113,12 +116,15 @@ void write_sheet_previews(const RunResult& run, const SheetStyle& style,
   cairo_paint(cc);
   for (int sheet = 0; sheet < sheets; ++sheet) {
     const std::vector<PlacedPart> parts = sheet_parts(run, sheet);
+    const double sw = run.layout->sheet_size(sheet).x(), sh = run.layout->sheet_size(sheet).y();
+    const int pw = static_cast<int>(std::ceil(sw * pixels_per_mm));
+    const int ph = static_cast<int>(std::ceil(sh * pixels_per_mm));
     cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, pw, ph);
     cairo_t* cr = cairo_create(surface);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     cairo_scale(cr, pixels_per_mm, pixels_per_mm);
-    draw_sheet(cr, parts, style, h, 0.4);
+    draw_sheet(cr, parts, style, sh, 0.4);
     cairo_destroy(cr);
     const auto path = sheet_file(cut_dir, sheet, "png");
     check(cairo_surface_write_to_png(surface, path.c_str()), path.string());
@@ -126,21 +132,21 @@ void write_sheet_previews(const RunResult& run, const SheetStyle& style,
     // The same sheet, small, on the contact sheet.
     cairo_save(cc);
     cairo_translate(cc, 20 + (sheet % columns) * (tw + 20), 20 + (sheet / columns) * (th + 20));
-    cairo_rectangle(cc, 0, 0, tw, th);
+    cairo_rectangle(cc, 0, 0, std::ceil(sw * thumb), std::ceil(sh * thumb));
     cairo_set_source_rgb(cc, 1, 1, 1);
     cairo_fill(cc);
     cairo_scale(cc, thumb, thumb);
-    draw_sheet(cc, parts, style, h, 0.8);
+    draw_sheet(cc, parts, style, sh, 0.8);
     // The sheet's number, 20 mm tall, in the top left corner.
     Label number;
     number.text = std::to_string(sheet + 1);
     number.height = 20;
-    number.origin = Vec2(10, h - 30);
+    number.origin = Vec2(10, sh - 30);
     cairo_set_source_rgb(cc, 0.2, 0.2, 0.2);
     cairo_set_line_width(cc, 2.5);
     for (const auto& stroke : label_strokes(number)) {
-      cairo_move_to(cc, stroke[0].x(), h - stroke[0].y());
-      cairo_line_to(cc, stroke[1].x(), h - stroke[1].y());
+      cairo_move_to(cc, stroke[0].x(), sh - stroke[0].y());
+      cairo_line_to(cc, stroke[1].x(), sh - stroke[1].y());
     }
     cairo_stroke(cc);
     cairo_restore(cc);

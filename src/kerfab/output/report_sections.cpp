@@ -416,6 +416,9 @@ json layout_section(const LayoutResult& l, const LayoutOptions& options,
     assembly.push_back(
         {{"part", p}, {"sheet", l.sheet_number(static_cast<int>(p))}, {"neighbours", list}});
   }
+  json offcuts = json::array(), sizes = json::array();
+  for (const Vec2& o : options.offcuts) offcuts.push_back({o.x(), o.y()});
+  for (const Vec2& size : l.sheet_sizes) sizes.push_back({size.x(), size.y()});
   json written = json::array();
   if (formats.svg) written.push_back("svg");
   if (formats.dxf) written.push_back("dxf");
@@ -423,6 +426,8 @@ json layout_section(const LayoutResult& l, const LayoutOptions& options,
   return {
       {"sheets", l.sheets},
       {"sheet_mm", {options.sheet_width, options.sheet_height}},
+      {"offcuts_mm", offcuts},
+      {"sheet_sizes_mm", sizes},
       {"margin_mm", options.margin},
       {"spacing_mm", options.spacing},
       {"utilization", l.utilization},

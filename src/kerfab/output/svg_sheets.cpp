@@ -10,20 +10,19 @@ namespace kerfab {
 void write_svg_sheets(const RunResult& run, const SheetStyle& style,
                       const std::filesystem::path& cut_dir) {
   const LayoutResult& layout = *run.layout;
-  const LayoutOptions& lo = run.options.layout;
   for (int sheet = 0; sheet < layout.sheets; ++sheet) {
+    const double width = layout.sheet_size(sheet).x(), height = layout.sheet_size(sheet).y();
     std::ostringstream svg;
     svg.precision(10);
     svg << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-        << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << lo.sheet_width
-        << "mm\" height=\"" << lo.sheet_height << "mm\" viewBox=\"0 0 " << lo.sheet_width << " "
-        << lo.sheet_height << "\">\n"
+        << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "mm\" height=\""
+        << height << "mm\" viewBox=\"0 0 " << width << " " << height << "\">\n"
         << "<title>kerfab sheet " << sheet + 1 << " of " << layout.sheets << "</title>\n";
     // Sheet coordinates have y up; SVG's go down.
     auto point = [&](const Vec2& q) {
       std::ostringstream os;
       os.precision(10);
-      os << q.x() << " " << lo.sheet_height - q.y();
+      os << q.x() << " " << height - q.y();
       return os.str();
     };
     const std::string line_style =
@@ -40,7 +39,7 @@ void write_svg_sheets(const RunResult& run, const SheetStyle& style,
         // only the strokes above.
         for (const Label& l : p.labels)
           svg << "<text class=\"label\" visibility=\"hidden\" font-size=\"" << l.height << "\" x=\""
-              << l.origin.x() << "\" y=\"" << lo.sheet_height - l.origin.y() << "\">" << l.text
+              << l.origin.x() << "\" y=\"" << height - l.origin.y() << "\">" << l.text
               << "</text>\n";
       }
       if (!p.kerf.empty()) {

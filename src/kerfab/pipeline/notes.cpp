@@ -288,8 +288,15 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
 StageNotes notes(const LayoutResult& l, const LayoutOptions& options) {
   StageNotes n;
   Line os(3);
-  os << l.placements.size() << " parts on " << l.sheets << " sheets of " << options.sheet_width
-     << " x " << options.sheet_height << " mm, material used " << 100 * l.utilization << "%";
+  os << l.placements.size() << " parts on " << l.sheets << " sheets of ";
+  if (options.offcuts.empty()) {
+    os << options.sheet_width << " x " << options.sheet_height << " mm";
+  } else {
+    for (int k = 0; k < l.sheets; ++k)
+      os << (k ? ", " : "") << l.sheet_size(k).x() << " x " << l.sheet_size(k).y();
+    os << " mm";
+  }
+  os << ", material used " << 100 * l.utilization << "%";
   if (l.sheets > 1)
     os << " (no nesting fits them on fewer than " << l.sheets_lower_bound_spaced
        << " with this spacing, " << l.sheets_lower_bound << " by area alone)";
