@@ -224,6 +224,36 @@ TEST(Cli, OffcutsComeFirstEachFileAtItsSize) {
   EXPECT_NE(bad.err.find("kerfab: error: --sheet"), std::string::npos) << bad.err;
 }
 
+// A sheet of 10 x 10 m (the largest --sheet takes): the preview stays at most 4000 px on its
+// long side and the occupancy grid's cell grows to keep it at 4 million cells (at 2.5 px/mm and
+// 1 mm cells Spot's run on it peaked at 2.5 GB, now 121 MB), and the parts are on the sheet.
+TEST(Cli, AHugeSheetKeepsPreviewAndGridBounded) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "cube.obj";
+  write_mesh(test::cube_grid_mesh(4, [](const Vec3& p) { return Vec3(60 * p); }), target);
+  const fs::path out = scratch / "a";
+  const CliRun r = run_cli(
+      "run --target " + target.string() + " --sheet 10000x10000 --out " + out.string(), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // PNG: width and height are the big-endian words at bytes 16 and 20.
+  const std::string png = test::slurp(out / "cut" / "sheet-001.png");
+  ASSERT_GT(png.size(), 24u);
+  auto word = [&](int at) {
+    unsigned v = 0;
+    for (int k = 0; k < 4; ++k) v = v << 8 | static_cast<unsigned char>(png[at + k]);
+    return v;
+  };
+  EXPECT_EQ(word(16), 4000u);
+  EXPECT_EQ(word(20), 4000u);
+  const auto parts = test::read_sheet_parts(out / "cut");
+  EXPECT_EQ(parts.size(), read_report(out)["layout"]["parts"].size());
+  for (const auto& part : parts)
+    for (const Vec2& v : part.outline) {
+      EXPECT_GE(std::min(v.x(), v.y()), 10 - 0.1) << part.id;
+      EXPECT_LE(std::max(v.x(), v.y()), 10000 - 10 + 0.1) << part.id;
+    }
+}
+
 // Paper: every part is on a page and no outline has a slit or tail a cutter cannot follow,
 // read back from the SVG by the independent auditor. Tabs of two borders met at their part's
 // corners in notches of 0.1-0.5 mm (111 on this sphere at 120 mm, 227 on the shared icosphere),

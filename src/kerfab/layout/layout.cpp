@@ -344,6 +344,9 @@ void put(Pass& pass, int i, int s, const Raster& r, const Spot& spot, double are
   pass.sheet_area[s] += area;
 }
 
+/// The most cells a sheet's occupancy grid has: 2000 x 2000 mm at the 1 mm step.
+constexpr double kMaxCells = 4e6;
+
 /// The fullest sheets the passes reach: the grown parts cover about this much of a sheet's
 /// usable area, grown alike, on every sheet but the last (0.77-0.80 on Spot at 500 mm, Amo and
 /// the quad sphere on small sheets; stanford-bunny's 365 parts 0.76 on one sheet) [-].
@@ -421,12 +424,20 @@ void empty_last_sheet(Pass& pass, const std::vector<Prepared>& parts, const Layo
 
 }  // namespace
 
-LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& o) {
+LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& options) {
+  // A grid cell of the step asked, or coarser where a sheet would have more than kMaxCells of
+  // them (a 10 x 10 m sheet at 1 mm: 10^8 cells, about 0.9 GB per grid and pass).
+  if (!(options.step > 0)) throw InvalidInput("layout step must be > 0 mm");
+  LayoutOptions o = options;
+  for (int k = 0; k <= static_cast<int>(o.offcuts.size()); ++k) {
+    const Vec2 size = o.size_of(k < static_cast<int>(o.offcuts.size()) ? k : -1);
+    if (size.x() > 0 && size.y() > 0 && std::isfinite(size.x() * size.y()))
+      o.step = std::max(o.step, std::sqrt(size.x() * size.y() / kMaxCells));
+  }
   if (!(o.sheet_width > 0) || !(o.sheet_height > 0))
     throw InvalidInput("--sheet: width and height must be > 0 mm");
   if (!(o.margin >= 0) || !(o.spacing >= 0))
     throw InvalidInput("--margin and --spacing must be >= 0 mm");
-  if (!(o.step > 0)) throw InvalidInput("layout step must be > 0 mm");
   if (2 * o.margin >= std::min(o.sheet_width, o.sheet_height))
     throw InvalidInput("--margin leaves no room on the sheet");
   for (const Vec2& offcut : o.offcuts) {

@@ -63,6 +63,9 @@ void draw_sheet(cairo_t* cr, const std::vector<PlacedPart>& parts, const SheetSt
   }
 }
 
+/// The longest side of a sheet's PNG preview [px] (a 600 mm sheet at 2.5 px/mm is 1500).
+constexpr double kMaxPreviewPixels = 4000;
+
 void check(cairo_status_t status, const std::string& what) {
   if (status == CAIRO_STATUS_NO_MEMORY) throw std::bad_alloc();  // the machine's limit, not I/O
   if (status != CAIRO_STATUS_SUCCESS)
@@ -117,13 +120,15 @@ void write_sheet_previews(const RunResult& run, const SheetStyle& style,
   for (int sheet = 0; sheet < sheets; ++sheet) {
     const std::vector<PlacedPart> parts = sheet_parts(run, sheet);
     const double sw = run.layout->sheet_size(sheet).x(), sh = run.layout->sheet_size(sheet).y();
-    const int pw = static_cast<int>(std::ceil(sw * pixels_per_mm));
-    const int ph = static_cast<int>(std::ceil(sh * pixels_per_mm));
+    // At most kMaxPreviewPixels on its long side: a 10 m sheet at 2.5 px/mm was a 2.5 GB image.
+    const double scale = std::min(pixels_per_mm, kMaxPreviewPixels / std::max(sw, sh));
+    const int pw = static_cast<int>(std::ceil(sw * scale));
+    const int ph = static_cast<int>(std::ceil(sh * scale));
     cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, pw, ph);
     cairo_t* cr = cairo_create(surface);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
-    cairo_scale(cr, pixels_per_mm, pixels_per_mm);
+    cairo_scale(cr, scale, scale);
     draw_sheet(cr, parts, style, sh, 0.4);
     cairo_destroy(cr);
     const auto path = sheet_file(cut_dir, sheet, "png");
