@@ -134,13 +134,30 @@ TEST(Cli, SheetStyleOptionsAreCheckedAndReported) {
   EXPECT_EQ(bad_stroke.exit_code, 1);
 }
 
+// A 120 mm cube of 4 x 4 quads a side (the grid cube scaled by 60), as a target in \p scratch.
+fs::path cube_120mm(const fs::path& scratch) {
+  const fs::path target = scratch / "cube.obj";
+  write_mesh(test::cube_grid_mesh(4, [](const Vec3& p) { return Vec3(60 * p); }), target);
+  return target;
+}
+
+// Every vertex of \p part (read back from an SVG sheet) inside the 10 mm margins of its
+// sheet of \p w x \p h mm (to 0.1 mm).
+void expect_inside_margins(const test::SheetPart& part, double w, double h) {
+  for (const Vec2& v : part.outline) {
+    EXPECT_GE(v.x(), 10 - 0.1) << part.id;
+    EXPECT_GE(v.y(), 10 - 0.1) << part.id;
+    EXPECT_LE(v.x(), w - 10 + 0.1) << part.id;
+    EXPECT_LE(v.y(), h - 10 + 0.1) << part.id;
+  }
+}
+
 // Paper sizes by name; paper models go on A4 pages of true size unless told otherwise. A 120 mm
 // cube (whose quality stage once needed more than 50 million distance samples and failed) runs
 // in paper; the report says the sample spacing it used.
 TEST(Cli, PaperSizesByNameAndA4ForPaper) {
   const fs::path scratch = test::fresh_dir();
-  const fs::path target = scratch / "cube.obj";
-  write_mesh(test::cube_grid_mesh(4, [](const Vec3& p) { return Vec3(60 * p); }), target);
+  const fs::path target = cube_120mm(scratch);
   const CliRun paper = run_cli(
       "run --target " + target.string() + " --material paper --out " + (scratch / "a").string(),
       scratch);
@@ -181,8 +198,7 @@ TEST(Cli, PaperSizesByNameAndA4ForPaper) {
 // the SVG lies inside its own sheet's margins, and the report lists the sizes.
 TEST(Cli, OffcutsComeFirstEachFileAtItsSize) {
   const fs::path scratch = test::fresh_dir();
-  const fs::path target = scratch / "cube.obj";
-  write_mesh(test::cube_grid_mesh(4, [](const Vec3& p) { return Vec3(60 * p); }), target);
+  const fs::path target = cube_120mm(scratch);
   const fs::path out = scratch / "a";
   const CliRun r =
       run_cli("run --target " + target.string() + " --sheet 150x110,600x450 --out " + out.string(),
@@ -209,12 +225,7 @@ TEST(Cli, OffcutsComeFirstEachFileAtItsSize) {
   for (const auto& part : test::read_sheet_parts(out / "cut")) {
     const double w = part.sheet == 1 ? 150 : 600, h = part.sheet == 1 ? 110 : 450;
     on_offcut += part.sheet == 1;
-    for (const Vec2& v : part.outline) {
-      EXPECT_GE(v.x(), 10 - 0.1) << part.id;
-      EXPECT_GE(v.y(), 10 - 0.1) << part.id;
-      EXPECT_LE(v.x(), w - 10 + 0.1) << part.id;
-      EXPECT_LE(v.y(), h - 10 + 0.1) << part.id;
-    }
+    expect_inside_margins(part, w, h);
   }
   EXPECT_GT(on_offcut, 0);
   const CliRun bad = run_cli("run --target " + target.string() +
@@ -229,8 +240,7 @@ TEST(Cli, OffcutsComeFirstEachFileAtItsSize) {
 // 1 mm cells Spot's run on it peaked at 2.5 GB, now 121 MB), and the parts are on the sheet.
 TEST(Cli, AHugeSheetKeepsPreviewAndGridBounded) {
   const fs::path scratch = test::fresh_dir();
-  const fs::path target = scratch / "cube.obj";
-  write_mesh(test::cube_grid_mesh(4, [](const Vec3& p) { return Vec3(60 * p); }), target);
+  const fs::path target = cube_120mm(scratch);
   const fs::path out = scratch / "a";
   const CliRun r = run_cli(
       "run --target " + target.string() + " --sheet 10000x10000 --out " + out.string(), scratch);
@@ -247,11 +257,7 @@ TEST(Cli, AHugeSheetKeepsPreviewAndGridBounded) {
   EXPECT_EQ(word(20), 4000u);
   const auto parts = test::read_sheet_parts(out / "cut");
   EXPECT_EQ(parts.size(), read_report(out)["layout"]["parts"].size());
-  for (const auto& part : parts)
-    for (const Vec2& v : part.outline) {
-      EXPECT_GE(std::min(v.x(), v.y()), 10 - 0.1) << part.id;
-      EXPECT_LE(std::max(v.x(), v.y()), 10000 - 10 + 0.1) << part.id;
-    }
+  for (const auto& part : parts) expect_inside_margins(part, 10000, 10000);
 }
 
 // Paper: every part is on a page and no outline has a slit or tail a cutter cannot follow,

@@ -80,8 +80,8 @@ MinRect min_area_rect(const Polygon2& polygon) {
 
 bool fits_sheet(const Polygon2& outline, const LayoutOptions& o) {
   const MinRect r = min_area_rect(outline);
-  for (int k = 0; k <= static_cast<int>(o.offcuts.size()); ++k) {
-    const Vec2 size = o.size_of(k < static_cast<int>(o.offcuts.size()) ? k : -1);
+  for (int k = 0; k <= static_cast<int>(o.offcuts.size()); ++k) {  // the offcuts, the stock
+    const Vec2 size = o.size_of(k);
     const double w = size.x() - 2 * o.margin, h = size.y() - 2 * o.margin;
     if ((r.width <= w && r.height <= h) || (r.height <= w && r.width <= h)) return true;
   }
@@ -429,8 +429,8 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   // them (a 10 x 10 m sheet at 1 mm: 10^8 cells, about 0.9 GB per grid and pass).
   if (!(options.step > 0)) throw InvalidInput("layout step must be > 0 mm");
   LayoutOptions o = options;
-  for (int k = 0; k <= static_cast<int>(o.offcuts.size()); ++k) {
-    const Vec2 size = o.size_of(k < static_cast<int>(o.offcuts.size()) ? k : -1);
+  for (int k = 0; k <= static_cast<int>(o.offcuts.size()); ++k) {  // the offcuts, the stock
+    const Vec2 size = o.size_of(k);
     if (size.x() > 0 && size.y() > 0 && std::isfinite(size.x() * size.y()))
       o.step = std::max(o.step, std::sqrt(size.x() * size.y() / kMaxCells));
   }
@@ -476,14 +476,15 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     if (p.fits) fitting_area += p.area, grown_area += p.grown_area;
   // With offcuts: the fewest sheets whose areas add up to it, the largest first (offcuts larger
   // than a stock sheet, then stock sheets; a smaller offcut never beats another stock sheet).
+  // A sheet's usable area, its sides grown by \p grow [mm^2].
+  auto usable_of = [&](const Vec2& size, double grow) {
+    return (size.x() - 2 * o.margin + grow) * (size.y() - 2 * o.margin + grow);
+  };
   auto sheets_for = [&](double area, double grow) {
-    auto usable_of = [&](const Vec2& size) {
-      return (size.x() - 2 * o.margin + grow) * (size.y() - 2 * o.margin + grow);
-    };
-    const double stock = usable_of(o.size_of(-1));
+    const double stock = usable_of(o.size_of(-1), grow);
     std::vector<double> larger;
     for (const Vec2& offcut : o.offcuts)
-      if (usable_of(offcut) > stock) larger.push_back(usable_of(offcut));
+      if (usable_of(offcut, grow) > stock) larger.push_back(usable_of(offcut, grow));
     std::sort(larger.rbegin(), larger.rend());
     int k = 0;
     for (double a : larger)
@@ -491,13 +492,9 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     if (area > 0) k += static_cast<int>(std::ceil(area / stock - 1e-9));
     return k;
   };
-  const double usable_grown =
-      (o.sheet_width - 2 * o.margin + o.spacing) * (o.sheet_height - 2 * o.margin + o.spacing);
   result.sheets_lower_bound = sheets_for(fitting_area, 0);
-  result.spaced_fill = grown_area / usable_grown;
-  result.sheets_lower_bound_spaced = o.offcuts.empty()
-                                         ? static_cast<int>(std::ceil(result.spaced_fill - 1e-9))
-                                         : sheets_for(grown_area, o.spacing);
+  result.spaced_fill = grown_area / usable_of(o.size_of(-1), o.spacing);
+  result.sheets_lower_bound_spaced = sheets_for(grown_area, o.spacing);
   // Largest area first, bottom-left. While that needs more sheets than the spaced bound, also
   // the parts with the largest minimum rectangle first (long thin and curved parts, which
   // otherwise come last and open sheets of their own) and the longest first, each with both
@@ -575,12 +572,13 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
       best = std::move(finer);
   }
   // Offcuts no part took are not used: the sheets are numbered without them.
-  std::vector<int> renumbered(best.sheets(), -1);
+  std::vector<char> used(best.sheets(), 0);
   for (const Placement& at : best.placements)
-    if (at.sheet >= 0) renumbered[at.sheet] = 0;
+    if (at.sheet >= 0) used[at.sheet] = 1;
+  std::vector<int> renumbered(best.sheets(), -1);
   std::vector<double> sheet_area;
   for (int k = 0; k < best.sheets(); ++k)
-    if (renumbered[k] == 0) {
+    if (used[k]) {
       renumbered[k] = static_cast<int>(result.sheet_sizes.size());
       result.sheet_sizes.push_back(o.size_of(k));
       sheet_area.push_back(best.sheet_area[k]);
