@@ -1,4 +1,5 @@
 // End-to-end tests of the kerfab command line: exit codes, one-line errors, report files.
+#include <cairo.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -228,6 +230,35 @@ TEST(Cli, OffcutsComeFirstEachFileAtItsSize) {
     expect_inside_margins(part, w, h);
   }
   EXPECT_GT(on_offcut, 0);
+  // The contact sheet numbers its sheets in grey (r = g = b) outside them: drawn on the sheet,
+  // the 20 mm number covered the parts of small offcuts. Parts are red and blue, the sheets
+  // white, the background light grey; no grey ink may touch a sheet's white, and there is some.
+  using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
+  Surface contact(cairo_image_surface_create_from_png((out / "cut" / "contact-sheet.png").c_str()),
+                  cairo_surface_destroy);
+  ASSERT_EQ(cairo_surface_status(contact.get()), CAIRO_STATUS_SUCCESS);
+  const int cw = cairo_image_surface_get_width(contact.get());
+  const int ch = cairo_image_surface_get_height(contact.get());
+  const int stride = cairo_image_surface_get_stride(contact.get());
+  const unsigned char* data = cairo_image_surface_get_data(contact.get());
+  auto rgb = [&](int x, int y) {  // B G R A in memory
+    const unsigned char* p = data + y * stride + 4 * x;
+    return std::array<int, 3>{p[2], p[1], p[0]};
+  };
+  long grey_ink = 0, grey_on_white = 0;
+  for (int y = 0; y < ch; ++y)
+    for (int x = 0; x < cw; ++x) {
+      const auto c = rgb(x, y);
+      if (!(c[0] == c[1] && c[1] == c[2] && c[0] < 150)) continue;
+      ++grey_ink;
+      bool by_white = false;
+      for (int v = std::max(0, y - 2); v <= std::min(ch - 1, y + 2); ++v)
+        for (int u = std::max(0, x - 2); u <= std::min(cw - 1, x + 2); ++u)
+          by_white = by_white || rgb(u, v) == std::array<int, 3>{255, 255, 255};
+      grey_on_white += by_white;
+    }
+  EXPECT_GT(grey_ink, 20 * layout["sheets"].get<long>());
+  EXPECT_EQ(grey_on_white, 0);
   const CliRun bad = run_cli("run --target " + target.string() +
                                  " --sheet 150x110,,600x450 --out " + (scratch / "b").string(),
                              scratch);

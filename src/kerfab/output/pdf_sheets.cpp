@@ -112,8 +112,11 @@ void write_sheet_previews(const RunResult& run, const SheetStyle& style,
   const double thumb = std::min(500.0, 3000.0 / columns) / w;  // pixels per mm in the contact sheet
   const int tw = static_cast<int>(std::ceil(w * thumb)),
             th = static_cast<int>(std::ceil(h * thumb));
+  // Each sheet's number goes in a band above its cell, outside the sheet: drawn on the sheet
+  // at 20 mm it covered parts of small offcuts.
+  constexpr int kGap = 20, kBand = 30;
   cairo_surface_t* contact = cairo_image_surface_create(
-      CAIRO_FORMAT_RGB24, columns * (tw + 20) + 20, rows * (th + 20) + 20);
+      CAIRO_FORMAT_RGB24, columns * (tw + kGap) + kGap, rows * (th + kBand) + kGap);
   cairo_t* cc = cairo_create(contact);
   cairo_set_source_rgb(cc, 0.85, 0.85, 0.85);
   cairo_paint(cc);
@@ -136,24 +139,25 @@ void write_sheet_previews(const RunResult& run, const SheetStyle& style,
     cairo_surface_destroy(surface);
     // The same sheet, small, on the contact sheet.
     cairo_save(cc);
-    cairo_translate(cc, 20 + (sheet % columns) * (tw + 20), 20 + (sheet / columns) * (th + 20));
+    cairo_translate(cc, kGap + (sheet % columns) * (tw + kGap),
+                    kBand + (sheet / columns) * (th + kBand));
+    // The sheet's number, 14 px tall, in the band above the sheet's top left corner.
+    Label number;
+    number.text = std::to_string(sheet + 1);
+    number.height = 14;
+    number.origin = Vec2(0, 8);
+    cairo_set_source_rgb(cc, 0.2, 0.2, 0.2);
+    cairo_set_line_width(cc, 2);
+    for (const auto& stroke : label_strokes(number)) {
+      cairo_move_to(cc, stroke[0].x(), -stroke[0].y());
+      cairo_line_to(cc, stroke[1].x(), -stroke[1].y());
+    }
+    cairo_stroke(cc);
     cairo_rectangle(cc, 0, 0, std::ceil(sw * thumb), std::ceil(sh * thumb));
     cairo_set_source_rgb(cc, 1, 1, 1);
     cairo_fill(cc);
     cairo_scale(cc, thumb, thumb);
     draw_sheet(cc, parts, style, sh, 0.8);
-    // The sheet's number, 20 mm tall, in the top left corner.
-    Label number;
-    number.text = std::to_string(sheet + 1);
-    number.height = 20;
-    number.origin = Vec2(10, sh - 30);
-    cairo_set_source_rgb(cc, 0.2, 0.2, 0.2);
-    cairo_set_line_width(cc, 2.5);
-    for (const auto& stroke : label_strokes(number)) {
-      cairo_move_to(cc, stroke[0].x(), sh - stroke[0].y());
-      cairo_line_to(cc, stroke[1].x(), sh - stroke[1].y());
-    }
-    cairo_stroke(cc);
     cairo_restore(cc);
   }
   cairo_destroy(cc);
