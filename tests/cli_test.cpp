@@ -1070,6 +1070,16 @@ TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
   r.materials = {{"mdf2", 2.0, 9705.1}};
   w = warning();
   EXPECT_NE(w.find("up to 10 m (in --material mdf2 at 9706)"), std::string::npos) << w;
+  EXPECT_EQ(w.find("--quad"), std::string::npos) << w;
+  // Quads kerfab made from the triangles: a size named holds for these quads (the bunny's
+  // "would hold at --size 3837" did, 0 unresolved, with its quads.obj passed back); a run from
+  // the triangles at that size would make others. Named only where a size is named.
+  EXPECT_EQ(notes(r, KerfOptions{}, true).warnings.at(0).find("--quad"), std::string::npos);
+  r.small_parts_size_mm = 3836.2;
+  const std::string made = notes(r, KerfOptions{}, true).warnings.at(0);
+  EXPECT_NE(made.find("would hold at --size 3837"), std::string::npos) << made;
+  EXPECT_NE(made.find("with this run's quads: add --quad model/quads.obj"), std::string::npos) << made;
+  EXPECT_EQ(notes(r, KerfOptions{}).warnings.at(0).find("--quad"), std::string::npos);
 }
 
 // Issue 14, item 3: a part that its joints cut away is reported with the size at which it would

@@ -220,7 +220,7 @@ StageNotes notes(const KerfResult& k, const KerfOptions& options) {
   return n;
 }
 
-StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
+StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_made) {
   StageNotes n;
   std::map<std::string, int> actions;
   for (const RegionChange& c : r.changes) ++actions[c.action];
@@ -280,6 +280,14 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf) {
           break;
         }
     }
+    const bool named = (r.small_parts_after > 0 && r.small_parts_size_mm > r.current_size_mm + 0.5 &&
+                        r.small_parts_size_mm <= kLargestSize) ||
+                       (r.min_size_mm > r.current_size_mm + 0.5 && r.min_size_mm <= kLargestSize);
+    // The sizes are for the quads of this run; from the triangles alone a run at another size
+    // makes quads of its own (the size rule), so the size holds with these passed back.
+    if (named && quads_made)
+      w << " (with this run's quads: add --quad model/quads.obj; from the triangles alone kerfab "
+        << "makes new quads for the size asked)";
     n.warnings.push_back(w.str());
   }
   return n;

@@ -27,7 +27,9 @@ StageNotes notes(const Strips& strips, const std::optional<RowBaseline>& baselin
 StageNotes notes(const CuttablePatches& flat, double target_diagonal);
 StageNotes notes(const Joints& joints, const JointOptions& options);
 StageNotes notes(const KerfResult& kerf, const KerfOptions& options);
-StageNotes notes(const ResolveResult& resolve, const KerfOptions& kerf);
+/// \p quads_made: kerfab made the quad mesh (no --quad); the sizes the warning names hold for
+/// these quads, and a run at another size from the triangles alone would make others.
+StageNotes notes(const ResolveResult& resolve, const KerfOptions& kerf, bool quads_made = false);
 StageNotes notes(const LayoutResult& layout, const LayoutOptions& options);
 StageNotes notes(const AssemblyPlan& assembly);
 StageNotes notes(const SurfaceDistance& quality, double target_diagonal);

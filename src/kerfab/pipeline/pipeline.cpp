@@ -79,7 +79,7 @@ static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double 
   r.kerf = std::move(build.kerf);
   if (r.resolve->rounds > 0 && o.flatten.mimic_3d)
     r.flat->deformation = flat_metric_deformation(*r.flat, deformation_spacing);
-  StageNotes n = notes(*r.resolve, o.kerf);
+  StageNotes n = notes(*r.resolve, o.kerf, r.quads.has_value());
   if (r.resolve->rounds > 0) {
     n.supersedes = {Stage::kStrips, Stage::kFlatten, Stage::kJoints, Stage::kKerf};
     std::vector<std::string> held;
