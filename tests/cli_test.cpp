@@ -1073,7 +1073,10 @@ TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
   EXPECT_EQ(w.find("--quad"), std::string::npos) << w;
   // Quads kerfab made from the triangles: a size named holds for these quads (the bunny's
   // "would hold at --size 3837" did, 0 unresolved, with its quads.obj passed back); a run from
-  // the triangles at that size would make others. Named only where a size is named.
+  // the triangles at that size would make others. Named only where a size is named: here
+  // the material's 9706, then none.
+  EXPECT_NE(notes(r, KerfOptions{}, true).warnings.at(0).find("--quad"), std::string::npos);
+  r.materials.clear();
   EXPECT_EQ(notes(r, KerfOptions{}, true).warnings.at(0).find("--quad"), std::string::npos);
   r.small_parts_size_mm = 3836.2;
   const std::string made = notes(r, KerfOptions{}, true).warnings.at(0);

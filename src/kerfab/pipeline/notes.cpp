@@ -254,6 +254,7 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
   }
   if (r.critical_after > 0 || changed > 0 || r.small_parts_after > 0) {
     Line w(4);
+    bool named = false;  // a --size (or a material's) was named
     if (changed > 0) w << changed << " regions were changed to be buildable (resolve.changes)";
     if (r.critical_after > 0)
       w << (changed > 0 ? " and " : "") << r.critical_after << " remain critical: their cuts keep "
@@ -265,24 +266,23 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
       if (r.small_parts_size_mm > kLargestSize)
         w << ", which no --size up to " << kLargestSize / 1000 << " m would hold";
       else if (r.small_parts_size_mm > r.current_size_mm + 0.5)
-        w << ", which would hold at --size " << whole_mm(r.small_parts_size_mm);
+        w << ", which would hold at --size " << whole_mm(r.small_parts_size_mm), named = true;
     }
     if (r.min_size_mm > r.current_size_mm + 0.5) {
       if (r.min_size_mm > kLargestSize)
         w << "; the tightest bends need a change at every --size up to " << kLargestSize / 1000
           << " m";
       else
-        w << "; the tightest bends would need no change at --size " << whole_mm(r.min_size_mm);
+        w << "; the tightest bends would need no change at --size " << whole_mm(r.min_size_mm),
+            named = true;
       for (const MaterialSize& m : r.materials)
         if (m.size_mm < r.min_size_mm - 0.5) {
           if (m.size_mm <= kLargestSize)
-            w << " (in --material " << m.material << " at " << whole_mm(m.size_mm) << ")";
+            w << " (in --material " << m.material << " at " << whole_mm(m.size_mm) << ")",
+                named = true;
           break;
         }
     }
-    const bool named = (r.small_parts_after > 0 && r.small_parts_size_mm > r.current_size_mm + 0.5 &&
-                        r.small_parts_size_mm <= kLargestSize) ||
-                       (r.min_size_mm > r.current_size_mm + 0.5 && r.min_size_mm <= kLargestSize);
     // The sizes are for the quads of this run; from the triangles alone a run at another size
     // makes quads of its own (the size rule), so the size holds with these passed back.
     if (named && quads_made)
