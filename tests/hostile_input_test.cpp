@@ -59,6 +59,21 @@ TEST(HostileInput, BrokenMeshFilesEndInOneClearLine) {
        "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n100 "
        "0 0\n100 100 NaN\n0 100 0\n4 0 1 2 3\n",
        1, "non-finite number 'NaN'"},
+      // A coordinate that is no number, or past a float's range: the readers dropped the line
+      // or read garbage and the run said "no faces", "out-of-range vertex index" or "zero area".
+      {"word.obj", "v 0 0 0\nv 100 0 0\nv 100 abc 0\nv 0 100 0\nf 1 2 3 4\n", 1,
+       "mesh line 3: 'abc' is not a number"},
+      {"far.stl",
+       "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1e300 0 0\nvertex 0 100 "
+       "0\nendloop\nendfacet\nendsolid x\n",
+       1, "mesh line 5: 1e300 is out of range"},
+      {"hex.off", "OFF\n4 1 0\n0 0 0\n0x10 0 0\n100 100 0\n0 100 0\n4 0 1 2 3\n", 1,
+       "mesh line 4: '0x10' is not a number"},
+      {"word.ply",
+       "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty "
+       "float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n100 "
+       "0 0\n100 100 1.5.3\n0 100 0\n4 0 1 2 3\n",
+       1, "mesh line 12: '1.5.3' is not a number"},
       {"huge.off", "OFF\n999999999999 1 0\n0 0 0\n", 1, "header promises 999999999999 vertices"},
       {"huge.ply",
        "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float "

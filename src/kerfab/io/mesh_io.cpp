@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <iostream>
 #include <sstream>
 #include <vector>
@@ -131,8 +132,11 @@ void check_header_counts(const std::filesystem::path& path, const std::string& e
   }
 }
 
-/// An ASCII mesh with a "nan" or "inf" number: the readers stop there and report a mesh without
-/// faces, so the line is named here instead. \throw InvalidInput such a number.
+/// An ASCII mesh with a number that is not one: "nan" or "inf", a word ("abc"), or one past a
+/// 32-bit float's range (1e300: OpenMesh's readers take floats). The readers stop there or drop
+/// the line and report something else (no faces, an out-of-range vertex index, a face of zero
+/// area, a vertex silently at 0), so the line is named here instead. \throw InvalidInput such a
+/// number.
 void check_ascii_numbers(const std::filesystem::path& path, const std::string& ext) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
@@ -140,7 +144,7 @@ void check_ascii_numbers(const std::filesystem::path& path, const std::string& e
   const bool ascii = ext == ".obj" || (ext == ".stl" && line.rfind("solid", 0) == 0) ||
                      (ext == ".off" && line.find("BINARY") == std::string::npos) || ext == ".ply";
   if (!ascii) return;
-  bool ply_ascii = false, in_body = ext != ".ply";
+  bool ply_ascii = false, in_body = ext != ".ply", off_header_seen = false;
   for (long long number = 1;; ++number) {
     std::istringstream words(line);
     std::string first;
@@ -176,7 +180,12 @@ void check_ascii_numbers(const std::filesystem::path& path, const std::string& e
                                corners[i] + ": " + path.string());
     }
     if (ext != ".obj" && ext != ".stl" && numbers) words.seekg(0);
+    // Every word a number, up to a comment; but OFF's header keyword (first line: OFF, COFF,
+    // NOFF, ...) and STL's "facet normal".
     for (std::string word; numbers && words >> word;) {
+      if (word[0] == '#') break;
+      if (ext == ".stl" && first == "facet" && word == "normal") continue;
+      if (ext == ".off" && !off_header_seen && word.find("OFF") != std::string::npos) continue;
       std::string lower;
       for (char c : word) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
       const std::size_t at = lower.find_first_not_of("+-");
@@ -185,7 +194,20 @@ void check_ascii_numbers(const std::filesystem::path& path, const std::string& e
       if (bare == "nan" || bare.rfind("nan(", 0) == 0 || bare == "inf" || bare == "infinity")
         throw InvalidInput("mesh line " + std::to_string(number) + " has a non-finite number '" +
                            word + "': " + path.string());
+      // Decimal only: strtod takes hexadecimal ("0x10"), the readers do not.
+      char* end = nullptr;
+      const double value = std::strtod(word.c_str(), &end);
+      if (end == word.c_str() || *end != '\0' ||
+          word.find_first_not_of("0123456789+-.eE") != std::string::npos)
+        throw InvalidInput("mesh line " + std::to_string(number) + ": '" + word +
+                           "' is not a number: " + path.string());
+      if (std::abs(value) > std::numeric_limits<float>::max())
+        throw InvalidInput("mesh line " + std::to_string(number) + ": " + word +
+                           " is out of range (the mesh readers read 32-bit floats, at most "
+                           "3.4e38): " +
+                           path.string());
     }
+    if (ext == ".off" && numbers) off_header_seen = true;
     if (!std::getline(in, line)) return;
   }
 }
