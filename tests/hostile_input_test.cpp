@@ -163,6 +163,18 @@ TEST(HostileInput, ASheetNothingFitsIsAnInputErrorAndManySheetsAreStillWritten) 
   auto r = test::run_cli(
       "run --quiet --target " + target.string() + " --sheet 40x40 --out " + out.string(), scratch);
   expect_one_line_failure(r, 1, "no part fits a 40 x 40 mm sheet", out, "40x40");
+  // A sheet with no room inside its margins (10 mm, and 3 mm for the teeth) is refused before
+  // any stage runs: it was refused by the layout, after every stage before it.
+  const fs::path none = scratch / "none";
+  r = test::run_cli("run --target " + target.string() + " --sheet 600x450,20x20 --out " +
+                        none.string(),
+                    scratch);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("kerfab: error: --sheet: the 20 x 20 mm sheet has no room inside margins of 13 mm"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("[load]"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(none / "cut"));
   // Parts with nothing left once cut are not parts too big for the sheet: an open triangular
   // prism 60 mm long and 5 mm across, whose three faces' mitres (folds of 120 deg) meet in the
   // middle of each, once said "no part fits a 600 x 450 mm sheet".

@@ -424,6 +424,24 @@ void empty_last_sheet(Pass& pass, const std::vector<Prepared>& parts, const Layo
 
 }  // namespace
 
+void check_sheets(const LayoutOptions& o) {
+  if (!(o.margin >= 0) || !(o.spacing >= 0))
+    throw InvalidInput("--margin and --spacing must be >= 0 mm");
+  for (int k = 0; k <= static_cast<int>(o.offcuts.size()); ++k) {  // the offcuts, the stock
+    const Vec2 size = o.size_of(k);
+    if (!(size.x() > 0) || !(size.y() > 0))
+      throw InvalidInput("--sheet: every sheet's width and height must be > 0 mm");
+    if (2 * o.margin >= std::min(size.x(), size.y())) {
+      std::ostringstream os;
+      os << "--sheet: the " << size.x() << " x " << size.y()
+         << " mm sheet has no room inside margins of " << o.margin
+         << " mm (--margin, plus the plate's thickness for teeth, or in paper a glue "
+         << "tab's height): each side must be over " << 2 * o.margin << " mm";
+      throw InvalidInput(os.str());
+    }
+  }
+}
+
 LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& options) {
   // A grid cell of the step asked, or coarser where a sheet would have more than kMaxCells of
   // them (a 10 x 10 m sheet at 1 mm: 10^8 cells, about 0.9 GB per grid and pass).
@@ -434,21 +452,7 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     if (size.x() > 0 && size.y() > 0 && std::isfinite(size.x() * size.y()))
       o.step = std::max(o.step, std::sqrt(size.x() * size.y() / kMaxCells));
   }
-  if (!(o.sheet_width > 0) || !(o.sheet_height > 0))
-    throw InvalidInput("--sheet: width and height must be > 0 mm");
-  if (!(o.margin >= 0) || !(o.spacing >= 0))
-    throw InvalidInput("--margin and --spacing must be >= 0 mm");
-  if (2 * o.margin >= std::min(o.sheet_width, o.sheet_height))
-    throw InvalidInput("--margin leaves no room on the sheet");
-  for (const Vec2& offcut : o.offcuts) {
-    if (!(offcut.x() > 0) || !(offcut.y() > 0))
-      throw InvalidInput("--sheet: every sheet's width and height must be > 0 mm");
-    if (2 * o.margin >= std::min(offcut.x(), offcut.y())) {
-      std::ostringstream os;
-      os << "--margin leaves no room on the " << offcut.x() << " x " << offcut.y() << " mm sheet";
-      throw InvalidInput(os.str());
-    }
-  }
+  check_sheets(o);
   const int n = static_cast<int>(outlines.size());
   std::vector<Prepared> parts(n);
   for_each_index(n, hardware_threads(), [&](int i) {
@@ -519,11 +523,11 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     const std::vector<int> by_length = order_by([&](int i) { return parts[i].length; });
     // Each extra pass: its order and rule; no order: the first pass again (for its last sheet).
     using Extra = std::vector<std::pair<const std::vector<int>*, Rule>>;
-    const Extra extra =
-        cheap ? Extra{{&by_area, Rule::kCorner},   {nullptr, Rule::kBottomLeft},
-                      {&by_rect, Rule::kCorner},   {&by_rect, Rule::kBottomLeft},
-                      {&by_length, Rule::kCorner}, {&by_length, Rule::kBottomLeft}}
-              : Extra{{&by_rect, Rule::kBottomLeft}, {&by_length, Rule::kBottomLeft}};
+    const Extra extra = cheap
+                            ? Extra{{&by_area, Rule::kCorner},   {nullptr, Rule::kBottomLeft},
+                                    {&by_rect, Rule::kCorner},   {&by_rect, Rule::kBottomLeft},
+                                    {&by_length, Rule::kCorner}, {&by_length, Rule::kBottomLeft}}
+                            : Extra{{&by_rect, Rule::kBottomLeft}, {&by_length, Rule::kBottomLeft}};
     std::vector<Pass> more(extra.size());
     for_each_index(static_cast<int>(more.size()), hardware_threads(), [&](int k) {
       const auto& [order, rule] = extra[k];

@@ -92,8 +92,13 @@ bool fits_sheet(const Polygon2& outline, const LayoutOptions& options);
 /// the grown parts could still fill a sheet fewer, largest first once more on a grid of half
 /// the step. It keeps the pass with the fewest sheets (then the emptiest last sheet).
 /// \throw InvalidInput
-/// options out of range.
+/// options out of range (check_sheets).
 LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& options);
+
+/// Sheet sizes, margin and spacing a layout can use: every sheet larger than twice the margin
+/// both ways. The pipeline calls it before any stage runs (a 1 x 1 mm sheet was refused only
+/// after every stage had run). \throw InvalidInput naming the sheet that has no room.
+void check_sheets(const LayoutOptions& options);
 
 /// Per part: neighbour part -> total shared border length [mm] (3D length of the border pieces).
 std::vector<std::map<int, double>> part_neighbours(const Joints& joints, int parts);

@@ -106,6 +106,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   // (a 23-quad strip of the bunny fitted A4 until its tabs were added, and was left off).
   LayoutOptions usable = o.layout;
   usable.margin += o.material.thickness > 0 ? o.material.thickness : o.joints.glue_tab;
+  check_sheets(usable);  // before any work: a sheet with no room fails only in the layout
   // The joints give a part too small or too narrow to handle the teeth instead of the slots,
   // by the resolve step's measures of what a maker can handle.
   JointOptions joints = o.joints;
