@@ -233,6 +233,18 @@ TEST(HostileInput, RunawayWorkIsRefusedBeforeItStarts) {
   expect_one_line_failure(r, 1, "(at most 250000)", scratch / "a", "ruling spacing");
   r = test::run_cli(run + (scratch / "b").string() + " --tooth-width 1e-6", scratch);
   expect_one_line_failure(r, 1, "--tooth-width must be >= 1 mm", scratch / "b", "tooth width");
+  // Absurdly large: every border was left without a joint and the run ended as if fine; a
+  // spacing wider than the sheet ran every stage, then blamed the sheet's size.
+  r = test::run_cli(run + (scratch / "b2").string() + " --tooth-width 1e6", scratch);
+  expect_one_line_failure(r, 1, "--tooth-width must be at most 100 mm", scratch / "b2",
+                          "tooth width");
+  r = test::run_cli(run + (scratch / "b3").string() + " --spacing 500", scratch);
+  expect_one_line_failure(r, 1,
+                          "--spacing 500 mm leaves no room for a part on the 600 x 450 mm sheet",
+                          scratch / "b3", "spacing");
+  r = test::run_cli(run + (scratch / "b4").string() + " --kerf-width 100", scratch);
+  expect_one_line_failure(r, 1, "--kerf-width: Value 100 not in range", scratch / "b4",
+                          "kerf width");
   const std::string spot = test::real_mesh("spot_triangulated.obj").string();
   const std::string cage = test::real_mesh("spot_control_mesh.obj").string();
   r = test::run_cli("run --quiet --target " + spot + " --quad " + cage +

@@ -232,7 +232,7 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->capture_default_str()
       ->check(kNonNegative);
   cmd.add_option("--tooth-width", jo.tooth_width,
-                 "Width of box-joint teeth along the border, >= 1 [mm]")
+                 "Width of box-joint teeth along the border, 1 to 100 [mm]")
       ->capture_default_str()
       ->check(kPositive);
   cmd.add_option("--min-tooth-depth", jo.min_depth,
@@ -254,9 +254,9 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                "strips are folded there instead of curved)");
   cmd.add_option("--kerf-width", f.options.machine.kerf_width,
                  "Width of the laser cut; outlines are offset by half of it so parts fit as "
-                 "designed [mm]")
+                 "designed [mm, 0..5]")
       ->capture_default_str()
-      ->check(kNonNegative);
+      ->check(CLI::Range(0.0, 5.0));
   cmd.add_option("--min-cut-spacing", ko.min_cut_spacing,
                  "Kerf cuts closer than this are a critical region (reported, shown red in "
                  "model/kerf_density.ply) [mm]")

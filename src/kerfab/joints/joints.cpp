@@ -1605,6 +1605,11 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
   // intervals on an ordinary model).
   if (!(options.tooth_width >= 1.0) || !std::isfinite(options.tooth_width))
     throw InvalidInput("--tooth-width must be >= 1 mm, got " + std::to_string(options.tooth_width));
+  // Wider than any border piece of a model: no border got a tooth (--tooth-width 1e6 on Spot:
+  // 240 borders without a joint, 68 parts in pieces, and the run ended as if fine).
+  if (options.tooth_width > 100)
+    throw InvalidInput("--tooth-width must be at most 100 mm, got " +
+                       std::to_string(options.tooth_width));
   if (!(options.min_depth >= 0)) throw InvalidInput("--min-tooth-depth must be >= 0 mm");
   if (!(machine.kerf_width >= 0)) throw InvalidInput("--kerf-width must be >= 0 mm");
   if (!(options.max_tip > 0)) throw InvalidInput("joints: max_tip must be > 0 mm");

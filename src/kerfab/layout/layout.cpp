@@ -439,6 +439,15 @@ void check_sheets(const LayoutOptions& o) {
          << "tab's height): each side must be over " << 2 * o.margin << " mm";
       throw InvalidInput(os.str());
     }
+    // Parts keep the spacing apart: each takes half of it on every side.
+    const double inside = std::min(size.x(), size.y()) - 2 * o.margin;
+    if (o.spacing >= inside) {
+      std::ostringstream os;
+      os << "--spacing " << o.spacing << " mm leaves no room for a part on the " << size.x()
+         << " x " << size.y() << " mm sheet, whose narrower side is " << inside
+         << " mm inside its margins";
+      throw InvalidInput(os.str());
+    }
   }
 }
 
