@@ -96,7 +96,8 @@ bool fits_sheet(const Polygon2& outline, const LayoutOptions& options);
 LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptions& options);
 
 /// Sheet sizes, margin and spacing a layout can use: every sheet larger than twice the margin
-/// both ways. The pipeline calls it before any stage runs (a 1 x 1 mm sheet was refused only
+/// both ways, and wider inside its margins than the spacing (each part takes half of it on
+/// every side). The pipeline calls it before any stage runs (a 1 x 1 mm sheet was refused only
 /// after every stage had run). \throw InvalidInput naming the sheet that has no room.
 void check_sheets(const LayoutOptions& options);
 
