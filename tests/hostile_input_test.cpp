@@ -32,6 +32,25 @@ std::string binary_stl(std::uint32_t count, int triangles_written) {
   return s;
 }
 
+/// A closed tetrahedron (100 mm legs) as binary STL, one corner of triangle \p bad (1-based;
+/// 0: none) set to NaN.
+std::string tetrahedron_stl(int bad) {
+  const float p[4][3] = {{0, 0, 0}, {100, 0, 0}, {0, 100, 0}, {0, 0, 100}};
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  std::string s(80, ' ');
+  const std::uint32_t count = 4;
+  s.append(reinterpret_cast<const char*>(&count), 4);
+  for (int t = 0; t < 4; ++t) {
+    float floats[12] = {};
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < 3; ++k) floats[3 + 3 * c + k] = p[faces[t][c]][k];
+    if (t + 1 == bad) floats[6] = std::nanf("");
+    s.append(reinterpret_cast<const char*>(floats), sizeof floats);
+    s.append(2, '\0');
+  }
+  return s;
+}
+
 void expect_one_line_failure(const test::CliRun& r, int code, const std::string& says,
                              const fs::path& out, const std::string& what) {
   EXPECT_EQ(r.exit_code, code) << what << "\n" << r.err;
@@ -82,6 +101,9 @@ TEST(HostileInput, BrokenMeshFilesEndInOneClearLine) {
       {"negative.off", "OFF\n-4 1 0\n0 0 0\n", 1, "negative count"},
       {"huge.stl", binary_stl(1000000000u, 2), 1, "header promises 1000000000 triangles"},
       {"truncated.stl", binary_stl(12u, 5), 1, "header promises 12 triangles"},
+      // The reader dropped the triangle, and the tetrahedron was cut open without a word.
+      {"nan-binary.stl", tetrahedron_stl(2), 1,
+       "binary STL triangle 2 has a non-finite coordinate (nan or inf)"},
       {"outside.obj", quad + "f 1 2 3 99\n", 1, "out-of-range vertex index"},
       {"repeated.obj", quad + "f 1 2 2 4\n", 1, "a face repeats vertex 2"},
       {"empty.obj", "", 1, "no faces"},
