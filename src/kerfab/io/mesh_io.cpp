@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <limits>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -67,7 +67,9 @@ class OpenMeshLogCapture {
 /// against the file's size before the reader allocates for them: a header claiming billions of
 /// elements in a small file is refused, not followed into the allocator. Every vertex takes at
 /// least 3 bytes and every face at least 1 in any of these encodings (50 bytes per binary STL
-/// triangle). \throw InvalidInput a count the file cannot hold.
+/// triangle). A binary STL's triangles are also scanned for a nan or inf corner, which its
+/// reader drops without a word. \throw InvalidInput a count the file cannot hold, or such a
+/// corner.
 void check_header_counts(const std::filesystem::path& path, const std::string& ext) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
