@@ -15,6 +15,7 @@
 #include "kerfab/joints/corners.h"
 #include "kerfab/joints/glue_tabs.h"
 #include "kerfab/joints/plates.h"
+#include "kerfab/pipeline/notes.h"
 #include "polygon_probe.h"
 #include "shapes.h"
 #include "test_util.h"
@@ -311,6 +312,40 @@ TEST(Joints, ShallowFoldsGetTabsOrNoTeethWithoutAMisfitAllowance) {
   const Case e = folded_sheet(8);  // by default: tabs everywhere
   EXPECT_EQ(e.joints.tabs, e.joints.teeth);
   EXPECT_EQ(e.joints.borders_without_joint, 0);
+}
+
+// The run says so when a border is left with nothing that holds it: how many, their length,
+// between which parts, and why (here: folds too shallow for a box tooth, with tabs off).
+TEST(Joints, BordersWithoutAJointAreWarnedOfWithWhereAndWhy) {
+  JointOptions o;
+  o.tab_misfit = 0;
+  const Case c = folded_sheet(8, o);
+  ASSERT_GT(c.joints.borders_without_joint, 0);
+  auto warning = [](const StageNotes& n) {
+    for (const std::string& w : n.warnings)
+      if (w.find("have no joint") != std::string::npos) return w;
+    return std::string();
+  };
+  const std::string w = warning(notes(c.joints, o, 3.0));
+  ASSERT_FALSE(w.empty());
+  const int n = c.joints.borders_without_joint;
+  EXPECT_EQ(w.rfind(std::to_string(n) + " shared borders (", 0), 0u) << w;
+  const BorderJoint& first = c.joints.borders.front();
+  EXPECT_NE(w.find("between parts " + std::to_string(first.patches[0]) + " and " +
+                   std::to_string(first.patches[1])),
+            std::string::npos)
+      << w;
+  EXPECT_NE(w.find(std::to_string(n) + " folded too shallow for a tooth 0.5 mm deep"),
+            std::string::npos)
+      << w;
+  EXPECT_NE(w.find("--tab-misfit 0"), std::string::npos) << w;
+  EXPECT_EQ(w.find("fell apart"), std::string::npos) << w;
+  // Plain borders asked for in paper are no defect; with the default tabs nothing is left bare.
+  JointOptions plain = o;
+  plain.glue_tab = 0;
+  EXPECT_TRUE(warning(notes(c.joints, plain, 0.0)).empty());
+  const Case e = folded_sheet(8);
+  EXPECT_TRUE(warning(notes(e.joints, JointOptions{}, 3.0)).empty());
 }
 
 TEST(Joints, FoldAnglesAndOffsetsFollowTheSurface) {

@@ -20,6 +20,9 @@ long long whole_mm(double mm) { return static_cast<long long>(std::ceil(mm)); }
 /// folded back thinner than the sheets) need another remedy than size [mm].
 constexpr double kLargestSize = 10000;
 
+/// Borders a warning names by their two parts, at most [-].
+constexpr std::size_t kBordersNamed = 6;
+
 std::string summary_line(const std::string& what, const MeshSummary& s) {
   Line os;
   os << what << ": " << s.vertices << " vertices, " << s.faces << " faces (";
@@ -185,7 +188,7 @@ StageNotes notes(const CuttablePatches& c, double diagonal) {
   return n;
 }
 
-StageNotes notes(const Joints& j, const JointOptions& options) {
+StageNotes notes(const Joints& j, const JointOptions& options, double thickness) {
   StageNotes n;
   int blocked = 0, shallow = 0;
   for (const auto& b : j.borders) blocked += b.blocked, shallow += b.shallow;
@@ -198,6 +201,52 @@ StageNotes notes(const Joints& j, const JointOptions& options) {
      << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
      << " in collision regions";
   n.lines.push_back(os.str());
+  // A border with nothing that locates its two parts or holds them while the glue sets is a
+  // defect of the build: said, with where and why. (Paper with --glue-tab 0 asks for plain
+  // borders.)
+  const bool plain_asked = thickness == 0 && options.glue_tab == 0;
+  if (j.borders_without_joint > 0 && !plain_asked) {
+    int apart = 0, too_shallow = 0, crowded = 0;
+    double length = 0;  // [mm]
+    std::vector<std::string> where;
+    for (const BorderJoint& b : j.borders) {
+      if (b.kind() != "none") continue;
+      length += b.length;
+      const auto fell = [&](int p) {
+        return p >= 0 && p < static_cast<int>(j.parts.size()) && j.parts[p].repaired;
+      };
+      if (fell(b.patches[0]) || fell(b.patches[1]))
+        ++apart;
+      else if (b.shallow > 0 && b.blocked == 0)
+        ++too_shallow;
+      else
+        ++crowded;
+      if (where.size() < kBordersNamed)
+        where.push_back(std::to_string(b.patches[0]) + " and " + std::to_string(b.patches[1]));
+    }
+    Line w;
+    w << j.borders_without_joint << " shared borders (" << length
+      << " mm) have no joint: nothing locates their two parts or holds them while the glue sets "
+         "(joints.borders, joint \"none\"); between parts ";
+    for (std::size_t k = 0; k < where.size(); ++k) w << (k ? ", " : "") << where[k];
+    if (j.borders_without_joint > static_cast<int>(where.size())) w << ", ...";
+    w << ":";
+    const char* sep = " ";
+    if (apart > 0) {
+      w << sep << apart << " beside a part that fell apart when its joints were cut";
+      sep = "; ";
+    }
+    if (too_shallow > 0) {
+      w << sep << too_shallow << " folded too shallow for a tooth " << options.min_depth
+        << " mm deep (--min-tooth-depth";
+      if (options.tab_misfit == 0) w << "; dovetail tabs are off: --tab-misfit 0";
+      w << ")";
+      sep = "; ";
+    }
+    if (crowded > 0)
+      w << sep << crowded << " with no room for a tooth clear of the joints beside them";
+    n.warnings.push_back(w.str());
+  }
   if (j.repaired_parts > 0) {
     Line w(3);
     w << j.repaired_parts

@@ -25,7 +25,9 @@ StageNotes notes(const BendingResult& bending);
 StageNotes notes(const Strips& strips, const std::optional<RowBaseline>& baseline,
                  const StripsOptions& options);
 StageNotes notes(const CuttablePatches& flat, double target_diagonal);
-StageNotes notes(const Joints& joints, const JointOptions& options);
+/// \p thickness: the sheet's [mm]; 0 (paper) with JointOptions::glue_tab 0 asks for plain
+/// borders, which are then no defect to warn of.
+StageNotes notes(const Joints& joints, const JointOptions& options, double thickness);
 StageNotes notes(const KerfResult& kerf, const KerfOptions& options);
 /// \p quads_made: kerfab made the quad mesh (no --quad); the sizes the warning names hold for
 /// these quads, and a run at another size from the triangles alone would make others.

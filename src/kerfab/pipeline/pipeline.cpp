@@ -85,7 +85,7 @@ static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double 
     std::vector<std::string> held;
     for (const StageNotes& rebuilt :
          {notes(*r.strips, r.baseline, o.strips), notes(*r.flat, diagonal),
-          notes(*r.joints, o.joints), notes(*r.kerf, o.kerf)})
+          notes(*r.joints, o.joints, o.material.thickness), notes(*r.kerf, o.kerf)})
       held.insert(held.end(), rebuilt.warnings.begin(), rebuilt.warnings.end());
     n.warnings.insert(n.warnings.begin(), held.begin(), held.end());
   }
@@ -195,7 +195,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        [&] {
          r.joints = make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, joints,
                                 &memo.outlines);
-         return notes(*r.joints, joints);
+         return notes(*r.joints, joints, o.material.thickness);
        }},
       {Stage::kKerf,
        [&] {
