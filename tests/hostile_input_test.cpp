@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -274,6 +275,50 @@ TEST(HostileInput, RunawayWorkIsRefusedBeforeItStarts) {
                         (scratch / "c").string(),
                     scratch);
   expect_one_line_failure(r, 1, "749568 sub-quads", scratch / "c", "rulings per quad");
+}
+
+// Joint options no joint can be made with are refused before any stage runs, naming the limit
+// the sheet sets. Each ran every stage before and ended with exit 0 (or, --thickness 200, with
+// "every part has nothing left" after 34 s): --min-tooth-depth 1e6 left all 443 of Spot's
+// borders without a joint, --protrusion 1e6 let teeth stand out of the surface, --thickness 40
+// inverted 54 quads in the flattening after 107 s.
+TEST(HostileInput, JointOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "plane.obj";
+  write_mesh(test::quad_plane(100, 4).quads, target);
+  const std::string run = "run --target " + target.string() + " --out ";
+  const std::vector<std::array<std::string, 2>> cases = {
+      {"--thickness 40", "--thickness 40 mm is thicker than a laser cuts MDF or plywood (at most 25 mm)"},
+      {"--protrusion 1e6", "--protrusion 1e+06 mm lets a box tooth stand out of the surface by "
+                           "more than the 3 mm sheet is thick; at most 3 mm"},
+      {"--material mdf2 --tab-misfit 2.5", "--tab-misfit 2.5 mm lets a dovetail tab stand out of "
+                                           "the surface by more than the 2 mm sheet is thick"},
+      {"--min-tooth-depth 1e6", "--min-tooth-depth 1e+06 mm is deeper than any box tooth in a 3 "
+                                "mm sheet (at most 17.28 mm, at a 170 degree fold)"},
+      {"--tooth-width 1e6", "--tooth-width must be at most 100 mm"}};
+  int k = 0;
+  for (const auto& [option, message] : cases) {
+    std::string name = "o";  // built in place: GCC 12 warns falsely on "o" + a temporary
+    name += std::to_string(k++);
+    const fs::path out = scratch / name;
+    const auto r = test::run_cli(run + out.string() + " " + option, scratch);
+    EXPECT_EQ(r.exit_code, 1) << option << ": " << r.err;
+    EXPECT_NE(r.err.find("kerfab: error: " + message), std::string::npos) << option << ": " << r.err;
+    EXPECT_EQ(r.err.find("[load]"), std::string::npos) << option << ": " << r.err;
+    EXPECT_FALSE(fs::exists(out / "cut")) << option;
+  }
+  // At the limits, and in paper (no teeth: the tab misfit and tooth depth do not apply), the
+  // run goes on.
+  for (const std::string& option :
+       {std::string("--thickness 25 --stop-after prepare"),
+        std::string("--protrusion 3 --tab-misfit 3 --min-tooth-depth 17 --stop-after prepare"),
+        std::string("--material paper --tab-misfit 5 --min-tooth-depth 100 --stop-after prepare")}) {
+    std::string name = "o";  // built in place: GCC 12 warns falsely on "o" + a temporary
+    name += std::to_string(k++);
+    const fs::path out = scratch / name;
+    const auto r = test::run_cli(run + out.string() + " --quiet " + option, scratch);
+    EXPECT_EQ(r.exit_code, 0) << option << ": " << r.err;
+  }
 }
 
 // Memory: --max-memory refuses work that would not fit before it starts, naming the budget; a

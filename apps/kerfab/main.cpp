@@ -214,7 +214,8 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "1.5), plywood3 (the same, 3 mm), paper (h 0, no cuts)")
       ->capture_default_str()
       ->check(CLI::IsMember({"mdf", "mdf2", "plywood", "plywood3", "paper"}));
-  cmd.add_option("--thickness", f.thickness, "Sheet thickness h, overrides the material's [mm]")
+  cmd.add_option("--thickness", f.thickness,
+                 "Sheet thickness h, overrides the material's, 0 (paper) to 25 [mm]")
       ->check(kNonNegative);
   cmd.add_option("--shear-modulus", f.shear_modulus,
                  "Shear modulus G, overrides the material's [MPa]")
@@ -228,7 +229,7 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->check(CLI::Range(1.0, 100.0));
   cmd.add_option("--protrusion", jo.protrusion,
                  "How far a box-joint tooth may stick out of the shell between the surface "
-                 "offsets +-h/2 [mm]")
+                 "offsets +-h/2, at most h [mm]")
       ->capture_default_str()
       ->check(kNonNegative);
   cmd.add_option("--tooth-width", jo.tooth_width,
@@ -236,12 +237,13 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->capture_default_str()
       ->check(kPositive);
   cmd.add_option("--min-tooth-depth", jo.min_depth,
-                 "No teeth where the tooth would overlap its slot by less than this [mm]")
+                 "No teeth where the tooth would overlap its slot by less than this; at most the "
+                 "deepest box tooth of the sheet (5.76 h) [mm]")
       ->capture_default_str()
       ->check(kNonNegative);
   cmd.add_option("--tab-misfit", jo.tab_misfit,
                  "Where a fold is too shallow for box teeth, in-plane dovetail tabs whose tip "
-                 "leaves the other part's faces by at most this; 0: no tabs [mm]")
+                 "leaves the other part's faces by at most this, at most h; 0: no tabs [mm]")
       ->capture_default_str()
       ->check(kNonNegative);
   cmd.add_option("--glue-tab", jo.glue_tab,

@@ -7,7 +7,9 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
+#include <tuple>
 
 #include "kerfab/core/errors.h"
 #include "kerfab/core/parallel.h"
@@ -1597,9 +1599,18 @@ std::size_t OutlineDrawing::bytes() const {
   return n;
 }
 
-Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,
-                   const Machine& machine, const JointOptions& options, OutlineMemo* memo) {
-  if (!(material.thickness >= 0)) throw InvalidInput("--thickness must be >= 0 mm");
+void check_joint_options(const Material& material, const Machine& machine,
+                         const JointOptions& options) {
+  const double h = material.thickness;
+  if (!(h >= 0)) throw InvalidInput("--thickness must be >= 0 mm");
+  // A laser cutter cuts MDF and plywood up to about this thick; a 40 mm sheet on Spot at 250 mm
+  // ran for 107 s, inverted 54 quads in the flattening and ended as if fine.
+  if (!(h <= kMaxThickness)) {
+    std::ostringstream os;
+    os << "--thickness " << h << " mm is thicker than a laser cuts MDF or plywood (at most "
+       << kMaxThickness << " mm)";
+    throw InvalidInput(os.str());
+  }
   if (!(options.protrusion >= 0)) throw InvalidInput("--protrusion must be >= 0 mm");
   // A tooth narrower than 1 mm breaks off when glued (and a micrometre one asks for a billion
   // intervals on an ordinary model).
@@ -1619,6 +1630,36 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
     throw InvalidInput("--tab-misfit must be >= 0 mm");
   if (!(options.glue_tab >= 0) || !std::isfinite(options.glue_tab))
     throw InvalidInput("--glue-tab must be >= 0 mm");
+  if (h == 0) return;  // paper: glue tabs, no teeth
+  // Sticking out of the shell, or leaving the mate's faces, by more than the sheet is thick, a
+  // tooth or tab is no longer inside the shape (--protrusion 1e6 on Spot: 36 borders without a
+  // joint, and the teeth stood out of the surface, with exit 0).
+  for (const auto& [name, what, value] :
+       {std::tuple{"--protrusion", "box tooth", options.protrusion},
+        std::tuple{"--tab-misfit", "dovetail tab", options.tab_misfit}})
+    if (value > h) {
+      std::ostringstream os;
+      os << name << " " << value << " mm lets a " << what
+         << " stand out of the surface by more than the " << h << " mm sheet is thick; at most "
+         << h << " mm";
+      throw InvalidInput(os.str());
+    }
+  // Deeper than the deepest box tooth of any fold (the sharpest one joined, kMaxJointFold): no
+  // border gets a tooth (--min-tooth-depth 1e6 on Spot: 443 borders without a joint, exit 0).
+  const ToothOffsets deepest = tooth_offsets(kMaxJointFold, h, options.protrusion, options.max_tip);
+  if (options.min_depth > deepest.tip - deepest.slot) {
+    std::ostringstream os;
+    os.precision(4);
+    os << "--min-tooth-depth " << options.min_depth << " mm is deeper than any box tooth in a "
+       << h << " mm sheet (at most " << deepest.tip - deepest.slot << " mm, at a "
+       << std::lround(kMaxJointFold * 180 / M_PI) << " degree fold): no border would get one";
+    throw InvalidInput(os.str());
+  }
+}
+
+Joints make_joints(const Strips& strips, const Flattening& flat, const Material& material,
+                   const Machine& machine, const JointOptions& options, OutlineMemo* memo) {
+  check_joint_options(material, machine, options);
   if (flat.patches.size() != strips.patches.size())
     throw InvalidInput("joints: flattening does not belong to these strips");
   if (material.thickness == 0 && options.glue_tab > 0)

@@ -185,6 +185,16 @@ class OutlineMemo : public Memo<OutlineDrawing> {
   explicit OutlineMemo(std::size_t max_bytes = std::size_t{48} << 20) : Memo(max_bytes) {}
 };
 
+/// The thickest sheet kerfab cuts: a laser cuts MDF and plywood up to about this [mm].
+inline constexpr double kMaxThickness = 25.0;
+
+/// Refuses options no joint can be made with: out of range, a sheet thicker than kMaxThickness,
+/// a protrusion or tab misfit larger than the sheet is thick, a minimum tooth depth deeper than
+/// any box tooth of the sheet. make_joints checks them; a pipeline calls this before any stage
+/// runs. \throw InvalidInput naming the option.
+void check_joint_options(const Material& material, const Machine& machine,
+                         const JointOptions& options);
+
 /// Builds the joints of every shared border and the outline of every part, for sheets of
 /// \p material (its thickness) cut on \p machine (outlines grow by half its kerf width). Paper
 /// (thickness 0) gets glue tabs (make_glue_tabs) unless JointOptions::glue_tab is 0. With a
