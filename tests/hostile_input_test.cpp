@@ -103,6 +103,10 @@ TEST(HostileInput, BrokenMeshFilesEndInOneClearLine) {
       {"huge.stl", binary_stl(1000000000u, 2), 1, "header promises 1000000000 triangles"},
       {"truncated.stl", binary_stl(12u, 5), 1, "header promises 12 triangles"},
       // The reader dropped the triangle, and the tetrahedron was cut open without a word.
+      // A stray vertex 1e30 away made every real face "zero area" next to the model's extent,
+      // and the line said only that.
+      {"stray.obj", quad + "v 1e30 0 5\nf 1 2 3 4\nf 2 5 3\n", 1,
+       "vertex 4 at (1e+30, 0, 5) lies 1e+30 from the middle of the others: a stray vertex?"},
       {"nan-binary.stl", tetrahedron_stl(2), 1,
        "binary STL triangle 2 has a non-finite coordinate (nan or inf)"},
       {"outside.obj", quad + "f 1 2 3 99\n", 1, "out-of-range vertex index"},

@@ -312,9 +312,39 @@ void check_geometry(const PolyMesh& mesh, const std::string& what) {
   const double diag = bounding_box(mesh).diagonal();
   if (!(diag > 0.0)) throw InvalidInput(what + " has zero extent (all vertices coincide)");
   const double min_area = kZeroArea * diag * diag;
-  for (auto f : mesh.faces())
-    if (face_area(mesh, f) <= min_area)
-      throw InvalidInput(what + " face " + std::to_string(f.idx()) + " has zero area");
+  for (auto f : mesh.faces()) {
+    const double area = face_area(mesh, f);
+    if (area > min_area) continue;
+    std::ostringstream os;
+    os.precision(4);
+    os << what << " face " << f.idx() << " has zero area";
+    // A face of real size next to a model 10^6 times larger: a stray vertex far from the rest
+    // (a coordinate of 1e30 beside ones of 1 said only "zero area"). Named: the vertex farthest
+    // from the median of the vertices.
+    if (area > 0) {
+      std::array<std::vector<double>, 3> xyz;
+      for (auto v : mesh.vertices())
+        for (int k = 0; k < 3; ++k) xyz[k].push_back(mesh.point(v)[k]);
+      Vec3 median;
+      for (int k = 0; k < 3; ++k) {
+        auto mid = xyz[k].begin() + static_cast<std::ptrdiff_t>(xyz[k].size() / 2);
+        std::nth_element(xyz[k].begin(), mid, xyz[k].end());
+        median[k] = *mid;
+      }
+      int far = -1;
+      double farthest = -1;
+      for (auto v : mesh.vertices()) {
+        const auto& p = mesh.point(v);
+        const double d = (Vec3(p[0], p[1], p[2]) - median).norm();
+        if (d > farthest) farthest = d, far = v.idx();
+      }
+      const auto& p = mesh.point(OpenMesh::VertexHandle(far));
+      os << " next to the model's extent: it is " << std::sqrt(area) << " across, the model "
+         << diag << "; vertex " << far << " at (" << p[0] << ", " << p[1] << ", " << p[2]
+         << ") lies " << farthest << " from the middle of the others: a stray vertex?";
+    }
+    throw InvalidInput(os.str());
+  }
 }
 
 void scale_mesh(PolyMesh& mesh, double s) {
