@@ -35,10 +35,11 @@ std::string binary_stl(std::uint32_t count, int triangles_written) {
 
 /// A closed tetrahedron (100 mm legs) as binary STL, one corner of triangle \p bad (1-based;
 /// 0: none) set to NaN.
-std::string tetrahedron_stl(int bad) {
+std::string tetrahedron_stl(int bad, const std::string& header = "") {
   const float p[4][3] = {{0, 0, 0}, {100, 0, 0}, {0, 100, 0}, {0, 0, 100}};
   const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  std::string s(80, ' ');
+  std::string s = header;
+  s.resize(80, ' ');
   const std::uint32_t count = 4;
   s.append(reinterpret_cast<const char*>(&count), 4);
   for (int t = 0; t < 4; ++t) {
@@ -109,6 +110,11 @@ TEST(HostileInput, BrokenMeshFilesEndInOneClearLine) {
        "vertex 4 at (1e+30, 0, 5) lies 1e+30 from the middle of the others: a stray vertex?"},
       {"nan-binary.stl", tetrahedron_stl(2), 1,
        "binary STL triangle 2 has a non-finite coordinate (nan or inf)"},
+      // Binary, though its header starts with "solid" (as some exporters write it): the reader
+      // goes by the size and read it as binary, the check as ASCII, and the tetrahedron came
+      // out open with exit 0.
+      {"nan-solid-binary.stl", tetrahedron_stl(3, "solid exported"), 1,
+       "binary STL triangle 3 has a non-finite coordinate (nan or inf)"},
       {"outside.obj", quad + "f 1 2 3 99\n", 1, "out-of-range vertex index"},
       {"repeated.obj", quad + "f 1 2 2 4\n", 1, "a face repeats vertex 2"},
       {"empty.obj", "", 1, "no faces"},

@@ -63,6 +63,22 @@ class OpenMeshLogCapture {
   std::ostringstream& log_;
 };
 
+/// Whether the STL file at \p path is binary, as OpenMesh's reader decides: its size is what the
+/// triangle count after the 80-byte header makes it (84 + 50 n bytes), or it does not start with
+/// "solid". (Exporters write binary files whose header starts with "solid"; read as ASCII here,
+/// their nan corners went unseen.)
+bool binary_stl(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[84];
+  if (!in.read(head, 84)) return false;
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  std::uint32_t n = 0;
+  std::memcpy(&n, head + 80, 4);
+  if (!ec && 84ULL + 50ULL * n == size) return true;
+  return std::string(head, 5) != "solid";
+}
+
 /// The element counts an OFF or PLY header promises, and binary STL's triangle count, checked
 /// against the file's size before the reader allocates for them: a header claiming billions of
 /// elements in a small file is refused, not followed into the allocator. Every vertex takes at
@@ -83,7 +99,7 @@ void check_header_counts(const std::filesystem::path& path, const std::string& e
   if (ext == ".stl") {
     char head[84];
     if (!in.read(head, 84)) return;
-    if (std::string(head, 5) == "solid") return;  // ASCII: no count
+    if (!binary_stl(path)) return;  // ASCII: no count
     std::uint32_t n = 0;
     std::memcpy(&n, head + 80, 4);
     if (84ULL + 50ULL * n > size) refuse("triangles", n);
@@ -160,7 +176,7 @@ void check_ascii_numbers(const std::filesystem::path& path, const std::string& e
   std::ifstream in(path, std::ios::binary);
   std::string line;
   if (!std::getline(in, line)) return;
-  const bool ascii = ext == ".obj" || (ext == ".stl" && line.rfind("solid", 0) == 0) ||
+  const bool ascii = ext == ".obj" || (ext == ".stl" && !binary_stl(path)) ||
                      (ext == ".off" && line.find("BINARY") == std::string::npos) || ext == ".ply";
   if (!ascii) return;
   bool ply_ascii = false, in_body = ext != ".ply", off_header_seen = false;
