@@ -7,6 +7,8 @@
 #include <complex>
 #include <deque>
 
+#include "kerfab/core/parallel.h"
+
 namespace kerfab::quads {
 namespace {
 
@@ -91,7 +93,7 @@ Surface make_surface(const TriangleMesh& mesh) {
   return s;
 }
 
-Curvatures principal_curvatures(const Surface& s, double radius) {
+Curvatures principal_curvatures(const Surface& s, double radius, int stride) {
   const auto& m = *s.mesh;
   const int n = static_cast<int>(m.vertices.size());
   // Per edge: signed dihedral angle beta (> 0 convex) times the edge vector's outer product
@@ -139,9 +141,16 @@ Curvatures principal_curvatures(const Surface& s, double radius) {
   c.larger.assign(n, 0.0);
   c.smaller.assign(n, 0.0);
   c.weak_direction.assign(n, Vec3::Zero());
+  stride = std::max(stride, 1);
+  // Each vertex's ball is its own: the vertices are shared out in blocks, each with its own
+  // marks, and the result does not depend on the threads.
+  const int threads = hardware_threads(), blocks = 4 * threads;
+  const int block_size = (n + blocks - 1) / blocks;
+  for_each_index(blocks, threads, [&](int block) {
   std::vector<int> mark(n, -1);
   std::vector<int> ball;
-  for (int i = 0; i < n; ++i) {
+  for (int i = block * block_size; i < std::min(n, (block + 1) * block_size); ++i) {
+    if (i % stride != 0) continue;
     // The vertices within radius of i, reached over edges.
     ball.assign(1, i);
     mark[i] = i;
@@ -184,6 +193,7 @@ Curvatures principal_curvatures(const Surface& s, double radius) {
     c.smaller[i] = std::min(la, lb);
     c.weak_direction[i] = tangent(eig.eigenvectors().col(strong), nrm).normalized();
   }
+  });
   return c;
 }
 

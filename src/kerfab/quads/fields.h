@@ -28,7 +28,8 @@ struct Curvatures {
   std::vector<Vec3> weak_direction;  ///< unit tangent of the weaker curvature (ruling direction)
 };
 
-Curvatures principal_curvatures(const Surface& surface, double radius);
+/// \p stride: only at every stride-th vertex (the others stay 0), for a large mesh's statistics.
+Curvatures principal_curvatures(const Surface& surface, double radius, int stride = 1);
 
 /// Smooth cross field: per vertex a unit tangent q (the cross is q, n x q, -q, -n x q).
 /// \p target_direction / \p weight: where weight > 0 the field is pulled towards that tangent
