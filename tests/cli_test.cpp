@@ -187,10 +187,8 @@ TEST(Cli, PaperSizesByNameAndA4ForPaper) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(read_report(out)["layout"]["sheet_mm"], nlohmann::json::array({w, h})) << name;
   }
-  const CliRun bad =
-      run_cli("run --target " + target.string() + " --sheet B5 --out " +
-                  (scratch / "b").string(),
-              scratch);
+  const CliRun bad = run_cli(
+      "run --target " + target.string() + " --sheet B5 --out " + (scratch / "b").string(), scratch);
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_NE(bad.err.find("A4, A3, letter"), std::string::npos) << bad.err;
 }
@@ -432,9 +430,9 @@ TEST(Cli, PaperModelsGetGlueTabsAndFoldLines) {
   const fs::path scratch = test::fresh_dir();
   const fs::path target = scratch / "cube.obj";
   write_mesh(test::cube_grid_mesh(4, [](const Vec3& p) { return Vec3(40 * p); }), target);
-  const CliRun r = run_cli("run --target " + target.string() + " --material paper --out " +
-                               (scratch / "a").string(),
-                           scratch);
+  const CliRun r = run_cli(
+      "run --target " + target.string() + " --material paper --out " + (scratch / "a").string(),
+      scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = read_report(scratch / "a");
   const auto& j = report["joints"];
@@ -489,11 +487,10 @@ TEST(Cli, PaperModelsGetGlueTabsAndFoldLines) {
 TEST(Cli, AQuadSphereKeepsAJointOnEveryLongBorder) {
   if (!test::have_shared_meshes()) GTEST_SKIP() << "no shared meshes beside the repository";
   const fs::path scratch = test::fresh_dir();
-  const CliRun r = run_cli("run --quiet --target " +
-                               (test::shared_meshes() / "quad-sphere.off").string() +
-                               " --subdivide 1 --size 250 --stop-after layout --out " +
-                               (scratch / "a").string(),
-                           scratch);
+  const CliRun r =
+      run_cli("run --quiet --target " + (test::shared_meshes() / "quad-sphere.off").string() +
+                  " --subdivide 1 --size 250 --stop-after layout --out " + (scratch / "a").string(),
+              scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto j = read_report(scratch / "a")["joints"];
   int without = 0;
@@ -517,10 +514,10 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   // build left: one line per round, numbered from 1.
   const auto resolve_at = r.err.find("[resolve] ...");
   ASSERT_NE(resolve_at, std::string::npos) << r.err;
-  EXPECT_EQ(r.err.find("  round 1: " +
-                       std::to_string(report["resolve"]["critical_before"].get<int>()) +
-                       " critical regions, "),
-            r.err.find('\n', resolve_at) + 1)
+  EXPECT_EQ(
+      r.err.find("  round 1: " + std::to_string(report["resolve"]["critical_before"].get<int>()) +
+                 " critical regions, "),
+      r.err.find('\n', resolve_at) + 1)
       << r.err;
   int round_lines = 0;  // each round rebuilds at least once, the last one only looks
   for (auto at = r.err.find("\n  round "); at != std::string::npos;
@@ -620,7 +617,8 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     EXPECT_TRUE(placed.insert(p).second) << "part " << p << " twice";
   }
   EXPECT_TRUE(fs::is_regular_file(out / "assembly" / "index.html"));
-  for (const char* f : {"bending.png", "strips.png", "kerf_density.png", "patches.png", "parts.png"})
+  for (const char* f :
+       {"bending.png", "strips.png", "kerf_density.png", "patches.png", "parts.png"})
     EXPECT_TRUE(fs::is_regular_file(out / "pictures" / f)) << f;
   const auto& q = report["quality"];
   EXPECT_GT(q["hausdorff_rel"].get<double>(), 0.0);
@@ -880,8 +878,8 @@ TEST(Cli, TheResolveStepKeepsItsTimeLimit) {
   EXPECT_NE(r.err.find("stopped at its time limit"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::is_empty(out / "cut"));
   // Out of range: one line, exit 1.
-  const CliRun bad = run_cli("run --target " + target.string() +
-                                 " --resolve-time-limit 0 --out " + (scratch / "bad").string(),
+  const CliRun bad = run_cli("run --target " + target.string() + " --resolve-time-limit 0 --out " +
+                                 (scratch / "bad").string(),
                              scratch);
   EXPECT_EQ(bad.exit_code, 1) << bad.err;
 }
@@ -1086,7 +1084,8 @@ TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
   r.small_parts_size_mm = 3836.2;
   const std::string made = notes(r, KerfOptions{}, true).warnings.at(0);
   EXPECT_NE(made.find("would hold at --size 3837"), std::string::npos) << made;
-  EXPECT_NE(made.find("with this run's quads: add --quad model/quads.obj"), std::string::npos) << made;
+  EXPECT_NE(made.find("with this run's quads: add --quad model/quads.obj"), std::string::npos)
+      << made;
   EXPECT_EQ(notes(r, KerfOptions{}).warnings.at(0).find("--quad"), std::string::npos);
 }
 

@@ -199,11 +199,11 @@ TEST(HostileInput, ASheetNothingFitsIsAnInputErrorAndManySheetsAreStillWritten) 
   // A sheet with no room inside its margins (10 mm, and 3 mm for the teeth) is refused before
   // any stage runs: it was refused by the layout, after every stage before it.
   const fs::path none = scratch / "none";
-  r = test::run_cli("run --target " + target.string() + " --sheet 600x450,20x20 --out " +
-                        none.string(),
-                    scratch);
+  r = test::run_cli(
+      "run --target " + target.string() + " --sheet 600x450,20x20 --out " + none.string(), scratch);
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("kerfab: error: --sheet: the 20 x 20 mm sheet has no room inside margins of 13 mm"),
+  EXPECT_NE(r.err.find(
+                "kerfab: error: --sheet: the 20 x 20 mm sheet has no room inside margins of 13 mm"),
             std::string::npos)
       << r.err;
   EXPECT_EQ(r.err.find("[load]"), std::string::npos) << r.err;
@@ -298,13 +298,17 @@ TEST(HostileInput, JointOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
   write_mesh(test::quad_plane(100, 4).quads, target);
   const std::string run = "run --target " + target.string() + " --out ";
   const std::vector<std::array<std::string, 2>> cases = {
-      {"--thickness 40", "--thickness 40 mm is thicker than a laser cuts MDF or plywood (at most 25 mm)"},
-      {"--protrusion 1e6", "--protrusion 1e+06 mm lets a box tooth stand out of the surface by "
-                           "more than the 3 mm sheet is thick; at most 3 mm"},
-      {"--material mdf2 --tab-misfit 2.5", "--tab-misfit 2.5 mm lets a dovetail tab stand out of "
-                                           "the surface by more than the 2 mm sheet is thick"},
-      {"--min-tooth-depth 1e6", "--min-tooth-depth 1e+06 mm is deeper than any box tooth in a 3 "
-                                "mm sheet (at most 17.28 mm, at a 170 degree fold)"},
+      {"--thickness 40",
+       "--thickness 40 mm is thicker than a laser cuts MDF or plywood (at most 25 mm)"},
+      {"--protrusion 1e6",
+       "--protrusion 1e+06 mm lets a box tooth stand out of the surface by "
+       "more than the 3 mm sheet is thick; at most 3 mm"},
+      {"--material mdf2 --tab-misfit 2.5",
+       "--tab-misfit 2.5 mm lets a dovetail tab stand out of "
+       "the surface by more than the 2 mm sheet is thick"},
+      {"--min-tooth-depth 1e6",
+       "--min-tooth-depth 1e+06 mm is deeper than any box tooth in a 3 "
+       "mm sheet (at most 17.28 mm, at a 170 degree fold)"},
       {"--tooth-width 1e6", "--tooth-width must be at most 100 mm"}};
   int k = 0;
   for (const auto& [option, message] : cases) {
@@ -313,7 +317,8 @@ TEST(HostileInput, JointOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
     const fs::path out = scratch / name;
     const auto r = test::run_cli(run + out.string() + " " + option, scratch);
     EXPECT_EQ(r.exit_code, 1) << option << ": " << r.err;
-    EXPECT_NE(r.err.find("kerfab: error: " + message), std::string::npos) << option << ": " << r.err;
+    EXPECT_NE(r.err.find("kerfab: error: " + message), std::string::npos)
+        << option << ": " << r.err;
     EXPECT_EQ(r.err.find("[load]"), std::string::npos) << option << ": " << r.err;
     EXPECT_FALSE(fs::exists(out / "cut")) << option;
   }
@@ -322,7 +327,8 @@ TEST(HostileInput, JointOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
   for (const std::string& option :
        {std::string("--thickness 25 --stop-after prepare"),
         std::string("--protrusion 3 --tab-misfit 3 --min-tooth-depth 17 --stop-after prepare"),
-        std::string("--material paper --tab-misfit 5 --min-tooth-depth 100 --stop-after prepare")}) {
+        std::string(
+            "--material paper --tab-misfit 5 --min-tooth-depth 100 --stop-after prepare")}) {
     std::string name = "o";  // built in place: GCC 12 warns falsely on "o" + a temporary
     name += std::to_string(k++);
     const fs::path out = scratch / name;
@@ -347,8 +353,7 @@ TEST(HostileInput, MemoryLimitsEndInOneLineNeverACrash) {
                           scratch / "a", "budget");
   // A new --out gets the failure report only.
   auto failed_alone = [](const fs::path& out) {
-    return fs::exists(out / "report.json") &&
-           test::read_report(out)["status"] == "failed" &&
+    return fs::exists(out / "report.json") && test::read_report(out)["status"] == "failed" &&
            std::distance(fs::directory_iterator(out), fs::directory_iterator()) == 2;  // + marker
   };
   EXPECT_TRUE(failed_alone(scratch / "a"));

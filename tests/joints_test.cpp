@@ -498,7 +498,8 @@ TEST(Joints, BothSidesOfABorderMeasureFromTheSamePlace) {
     const border::Ring& ring = bp.rings[side.patch];
     const std::size_t j = static_cast<std::size_t>(side.edge_at(at));
     const auto& e = ring.edges[side.ring_edges[j]];
-    Vec3 a = s.vertices[bp.locals[side.patch][e.v[0]]], b = s.vertices[bp.locals[side.patch][e.v[1]]];
+    Vec3 a = s.vertices[bp.locals[side.patch][e.v[0]]],
+         b = s.vertices[bp.locals[side.patch][e.v[1]]];
     if (side.reversed) std::swap(a, b);
     const double len = side.s[j + 1] - side.s[j];
     return Vec3(a + (len > 0 ? std::clamp((at - side.s[j]) / len, 0.0, 1.0) : 0.0) * (b - a));
@@ -586,7 +587,8 @@ int points_inside_other_parts(const Case& c, double h) {
             if (std::abs(l.z()) > 0.5 * h - tol) continue;
             const Vec2 m(l.x(), l.y());
             const Polygon2& other = c.joints.parts[o].designed;
-            if (test::inside_even_odd(m, other) && test::distance_to_outline(m, other) > tol) ++hits;
+            if (test::inside_even_odd(m, other) && test::distance_to_outline(m, other) > tol)
+              ++hits;
           }
         }
       }
@@ -595,10 +597,10 @@ int points_inside_other_parts(const Case& c, double h) {
 }
 
 // Issue 16: folds from 0 to 160 degrees all get a joint. (Sharper folds cut the parts back so far
-// at the fold, h/2 tan(fold/2), that the 16.7 mm borders beside it lie wholly in the cut-back.) The borders between neighbouring strips
-// of each flat half (fold 0) and the fold itself: box teeth where tip - slot reaches the minimum
-// depth, dovetail tabs below it; sound outlines, teeth that fit their slots, and in 3D no plate
-// inside another.
+// at the fold, h/2 tan(fold/2), that the 16.7 mm borders beside it lie wholly in the cut-back.) The
+// borders between neighbouring strips of each flat half (fold 0) and the fold itself: box teeth
+// where tip - slot reaches the minimum depth, dovetail tabs below it; sound outlines, teeth that
+// fit their slots, and in 3D no plate inside another.
 TEST(Joints, EveryFoldGetsAJoint) {
   const double h = kMdf.thickness;
   for (double deg : {1.0, 4.0, 8.0, 9.0, 12.0, 30.0, 90.0, 150.0, 160.0}) {
@@ -616,8 +618,8 @@ TEST(Joints, EveryFoldGetsAJoint) {
         if (in.owner < 0) continue;
         EXPECT_GE(in.offsets.tip - in.offsets.slot, JointOptions{}.min_depth);
         if (in.kind == JointKind::kTab) {  // the misfit at the tip stays within the tolerance
-          const double f = in.fold, lean = in.offsets.tip * std::sin(f) -
-                                               0.5 * h * (1 - std::cos(f));
+          const double f = in.fold,
+                       lean = in.offsets.tip * std::sin(f) - 0.5 * h * (1 - std::cos(f));
           EXPECT_LE(lean, JointOptions{}.tab_misfit + 1e-9);
         }
       }
@@ -745,8 +747,10 @@ TEST(Joints, TabsInterlockWithTheirSockets) {
           for (const JointSpan& sp : c.joints.parts[p].spans)
             if (sp.border == static_cast<int>(bi) && sp.interval == static_cast<int>(j) &&
                 std::abs(sp.length - (in.s1 - in.s0)) < 0.05) {
-              if (sp.tooth) tab = &sp, tab_part = static_cast<int>(p);
-              else socket = &sp, socket_part = static_cast<int>(p);
+              if (sp.tooth)
+                tab = &sp, tab_part = static_cast<int>(p);
+              else
+                socket = &sp, socket_part = static_cast<int>(p);
             }
         if (!tab || !socket) continue;
         const double tip = in.offsets.tip;
@@ -1284,8 +1288,8 @@ TEST(Joints, PlatesPlaceFlatPointsIn3D) {
       EXPECT_NEAR(d.norm(), 1.0, 1e-9);
       EXPECT_NEAR(std::abs(y < 49 ? d.z() : d.y()), 1.0, 1e-9);
       const auto w = plates.window(static_cast<int>(p), q, q);
-      EXPECT_LT((plates.local(w, up) - Vec3(c.flat.patches[p].points[i].x(),
-                                           c.flat.patches[p].points[i].y(), 1.0))
+      EXPECT_LT((plates.local(w, up) -
+                 Vec3(c.flat.patches[p].points[i].x(), c.flat.patches[p].points[i].y(), 1.0))
                     .norm(),
                 1e-9);
     }
@@ -1298,15 +1302,18 @@ TEST(Joints, PlatesPlaceFlatPointsIn3D) {
     const auto w = plates.window(static_cast<int>(k), mid, mid);
     if (w.frames.empty()) continue;
     const Vec3 l = plates.local(w, mid);
-    if (std::abs(l.z()) < 1e-9 && test::inside_even_odd(Vec2(l.x(), l.y()), c.joints.parts[k].designed) &&
+    if (std::abs(l.z()) < 1e-9 &&
+        test::inside_even_odd(Vec2(l.x(), l.y()), c.joints.parts[k].designed) &&
         test::distance_to_outline(Vec2(l.x(), l.y()), c.joints.parts[k].designed) > 2)
       p = static_cast<int>(k);
   }
   ASSERT_GE(p, 0);
   const Polygon2& outline = c.joints.parts[p].designed;
-  auto depth = [&](const Vec3& q) { return plates.deepest_in(plates.window(p, q, q), {q}, outline); };
-  EXPECT_NEAR(depth(Vec3(41, 25, 0)), 1.0, 1e-9);     // 1.5 from the faces, outline counted to 1
-  EXPECT_NEAR(std::abs(depth(Vec3(41, 25, 1.2))), 0.3, 1e-9);   // 0.3 from a face
+  auto depth = [&](const Vec3& q) {
+    return plates.deepest_in(plates.window(p, q, q), {q}, outline);
+  };
+  EXPECT_NEAR(depth(Vec3(41, 25, 0)), 1.0, 1e-9);  // 1.5 from the faces, outline counted to 1
+  EXPECT_NEAR(std::abs(depth(Vec3(41, 25, 1.2))), 0.3, 1e-9);  // 0.3 from a face
   EXPECT_NEAR(depth(Vec3(41, 25, 1.2)), depth(Vec3(41, 25, -1.2)), 1e-9);
   EXPECT_NEAR(depth(Vec3(41, 25, -2.0)), -0.5, 1e-9);  // 0.5 beyond the bottom face
   // In its plane, 3 mm beyond its outline on the side toward x = 50 (where its strip ends):

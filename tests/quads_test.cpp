@@ -1,17 +1,18 @@
 // Quad meshing of triangle targets (src/kerfab/quads): alignment, topology and soundness,
 // checked on generated shapes with exact answers and on real meshes.
+#include "kerfab/quads/quads.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 
+#include "cli_util.h"
 #include "kerfab/adapters/target_surface.h"
 #include "kerfab/core/errors.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/quads/fields.h"
-#include "kerfab/quads/quads.h"
-#include "cli_util.h"
 #include "shapes.h"
 #include "test_util.h"
 
@@ -44,7 +45,8 @@ void expect_sound_quads(const PolyMesh& q) {
       n[c] = a.cross(b);
       sum += n[c];
     }
-    for (int c = 0; c < 4; ++c) ASSERT_GT(n[c].dot(sum), 0) << "face " << f.idx() << " corner " << c;
+    for (int c = 0; c < 4; ++c)
+      ASSERT_GT(n[c].dot(sum), 0) << "face " << f.idx() << " corner " << c;
   }
   // Manifold: every edge has one or two faces, every vertex one fan.
   for (auto v : q.vertices()) EXPECT_TRUE(q.is_manifold(v)) << "vertex " << v.idx();
@@ -93,7 +95,8 @@ TEST(Quads, CylinderEdgesRunAlongTheAxisAndAroundIt) {
 
 TEST(Quads, ClosedShapesKeepTheirTopology) {
   const std::vector<std::pair<test::Shape, double>> shapes = {
-      {test::sphere(50, 6), 12.0}, {test::torus(60, 20, 32, 16), 2 * kPi * 20 / 12},
+      {test::sphere(50, 6), 12.0},
+      {test::torus(60, 20, 32, 16), 2 * kPi * 20 / 12},
       {test::closed_cylinder(40, 80, 4), 10.0}};
   for (const auto& [shape, size] : shapes) {
     SCOPED_TRACE(shape.name);
@@ -325,7 +328,8 @@ TEST(Quads, FandisksSharpEdgesLieOnQuadEdges) {
       faces_of[std::minmax(t.triangles[f][k], t.triangles[f][(k + 1) % 3])].push_back(f);
   auto normal = [&](int f) {
     const auto& tr = t.triangles[f];
-    return Vec3((t.vertices[tr[1]] - t.vertices[tr[0]]).cross(t.vertices[tr[2]] - t.vertices[tr[0]]))
+    return Vec3(
+               (t.vertices[tr[1]] - t.vertices[tr[0]]).cross(t.vertices[tr[2]] - t.vertices[tr[0]]))
         .normalized();
   };
   std::vector<std::pair<Vec3, Vec3>> sharp;
@@ -431,8 +435,8 @@ TEST(Quads, TriangleTargetAloneRunsAndWritesItsQuadMesh) {
   const std::string back = std::string(KERFAB_CLI) + " run --quiet --target " +
                            test::real_mesh("spot_triangulated.obj").string() + " --quad " +
                            (out / "model" / "quads.obj").string() +
-                           " --size 250 --no-coarsen --stop-after prepare --out " +
-                           again.string() + " 2>" + (dir / "err").string();
+                           " --size 250 --no-coarsen --stop-after prepare --out " + again.string() +
+                           " 2>" + (dir / "err").string();
   ASSERT_EQ(std::system(back.c_str()), 0) << test::slurp(dir / "err");
   const auto report = test::read_report(again);
   EXPECT_EQ(report["input"]["quads"].get<int>(), static_cast<int>(q.n_faces()));

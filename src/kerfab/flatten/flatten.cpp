@@ -418,8 +418,8 @@ Solve minimise(const AngleLengthEnergy& energy, std::vector<Vec2>& x, const Flat
     s.energy = r.squaredNorm();
     // Stationary: residuals that cannot vanish. (Not where a damped step was cut short: a
     // shorter one may still descend.)
-    const bool damped_short = s.iterations >= kPlainIterations && t < 1 &&
-                              relative_damping < kMaxDamping;
+    const bool damped_short =
+        s.iterations >= kPlainIterations && t < 1 && relative_damping < kMaxDamping;
     if (!damped_short && before - s.energy <= 1e-12 * before) {
       s.converged = true;
       ++s.iterations;
@@ -820,9 +820,8 @@ Flattening flatten_patches(const Strips& strips, const FlattenOptions& options) 
   Flattening flat;
   const int np = static_cast<int>(strips.patches.size());
   flat.patches.resize(np);
-  for_each_index(np, options.threads > 0 ? options.threads : hardware_threads(), [&](int p) {
-    flat.patches[p] = flatten_one(strips, strips.patches[p], options);
-  });
+  for_each_index(np, options.threads > 0 ? options.threads : hardware_threads(),
+                 [&](int p) { flat.patches[p] = flatten_one(strips, strips.patches[p], options); });
   summarise_flattening(strips, flat);
   return flat;
 }

@@ -390,8 +390,8 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
     const std::vector<int> collapsed = collapse_doublets(*repaired);
     if (!collapsed.empty()) {
       std::ostringstream w;
-      w << "quad mesh: " << collapsed.size() << " zero-area quad" << (collapsed.size() > 1 ? "s" : "")
-        << " whose opposite corners coincide (face";
+      w << "quad mesh: " << collapsed.size() << " zero-area quad"
+        << (collapsed.size() > 1 ? "s" : "") << " whose opposite corners coincide (face";
       for (std::size_t i = 0; i < collapsed.size() && i < 8; ++i) w << " " << collapsed[i];
       w << (collapsed.size() > 8 ? " ..." : "") << ") collapsed along that diagonal";
       warnings.push_back(w.str());

@@ -18,7 +18,9 @@
 #if defined(__SANITIZE_ADDRESS__)
 /// The sanitized build's LeakSanitizer: OpenMesh's stream connects below allocate once per
 /// process and are never freed, on purpose (OpenMesh keeps them); not a leak.
-extern "C" const char* __lsan_default_suppressions() { return "leak:libOpenMeshCore.so\nleak:libfontconfig.so\n"; }
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:libOpenMeshCore.so\nleak:libfontconfig.so\n";
+}
 /// ... and says nothing about it (the one error line stays the only line).
 extern "C" const char* __lsan_default_options() { return "print_suppressions=0"; }
 #endif

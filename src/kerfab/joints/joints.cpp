@@ -27,7 +27,6 @@ using border::s_of;
 using border::s_range;
 using border::Side;
 
-
 /// A tooth on a short border between corners, checked in 3D instead of by the bands (sampled at
 /// 0.1 mm): it may reach no deeper than this into a third part's plate (the teeth the bands let
 /// through reach 0 into third parts on the demo: the bands' own standard) [mm] ...
@@ -233,7 +232,8 @@ class Builder {
   ToothOffsets offsets_of(JointKind kind, double fold) const {
     const double f = std::clamp(fold, 1e-6, kMaxJointFold);
     if (kind == JointKind::kTab)
-      return tooth_offsets(f, thickness_, o_.tab_misfit, std::min(o_.max_tip, 0.5 * o_.tooth_width));
+      return tooth_offsets(f, thickness_, o_.tab_misfit,
+                           std::min(o_.max_tip, 0.5 * o_.tooth_width));
     return tooth_offsets(f, thickness_, o_.protrusion, o_.max_tip);
   }
   /// The offsets an interval of \p kind is drawn with: box offsets where there is no joint.
@@ -575,8 +575,8 @@ class Builder {
     // The plain intervals around it keep their offsets.
     std::vector<JointInterval> with;
     for (const JointInterval& old : b.intervals) {
-      for (const auto& [lo, hi] : {std::pair{old.s0, std::min(old.s1, s0)},
-                                   std::pair{std::max(old.s0, s1), old.s1}}) {
+      for (const auto& [lo, hi] :
+           {std::pair{old.s0, std::min(old.s1, s0)}, std::pair{std::max(old.s0, s1), old.s1}}) {
         if (hi - lo <= 1e-9) continue;
         JointInterval part = old;
         part.s0 = lo, part.s1 = hi;
@@ -636,8 +636,8 @@ class Builder {
       }
       // Into its mate, as both are now drawn (the slot cut).
       if (sound && in_bands)
-        sound = reach_into_others(b.patches[owner], i, in, zones, &out_.parts[b.patches[owner]].designed,
-                                  false)[1] <= kMateReach;
+        sound = reach_into_others(b.patches[owner], i, in, zones,
+                                  &out_.parts[b.patches[owner]].designed, false)[1] <= kMateReach;
       if (sound) {
         b.free_room = -1;
         ++b.teeth, ++t.teeth;
@@ -654,7 +654,7 @@ class Builder {
   /// Where the tooth of interval \p in of border \p i lies on side \p owner's part: per ring
   /// edge it runs along, the stretch of the border line (from, to) and its outward normal.
   struct Zone {
-    int k = -1;          // ring edge
+    int k = -1;             // ring edge
     double t0 = 0, t1 = 0;  // stretch of it (0 at its ring start)
     Vec2 from, to, normal;
   };
@@ -679,8 +679,8 @@ class Builder {
   /// the assembled position [mm], {into third parts, into its mate}; <= 0: clear. Sampled on a
   /// 0.1 mm grid from the plain cut-back out to the tip, at three heights through the plate.
   std::array<double, 2> reach_into_others(int p, int i, const JointInterval& in,
-                                          const std::vector<Zone>& zones,
-                                          const Polygon2* within, bool third_only) const {
+                                          const std::vector<Zone>& zones, const Polygon2* within,
+                                          bool third_only) const {
     std::array<double, 2> deepest = {-std::numeric_limits<double>::infinity(),
                                      -std::numeric_limits<double>::infinity()};
     std::vector<Vec3> points;
@@ -694,8 +694,8 @@ class Builder {
                 nv = std::max(2, static_cast<int>(std::ceil((hi - lo) / 0.1)));
       for (int a = 0; a <= nu; ++a)
         for (int b = 0; b <= nv; ++b) {
-          const Vec2 v = z.from + along * (static_cast<double>(a) / nu) +
-                         (lo + (hi - lo) * b / nv) * z.normal;
+          const Vec2 v =
+              z.from + along * (static_cast<double>(a) / nu) + (lo + (hi - lo) * b / nv) * z.normal;
           if (within && !inside(v, *within)) continue;
           const auto [at, normal] = plates_.place(p, v);
           for (double w : {-0.45, 0.0, 0.45}) {
@@ -762,9 +762,9 @@ class Builder {
 
   /// The stretches of a border piece of \p length where side \p a or \p b forbids teeth, within
   /// [0, length], merged (touching within a nanometre) and in order.
-  static std::vector<std::array<double, 2>> blocked(
-      double length, const std::vector<std::array<double, 2>>& a,
-      const std::vector<std::array<double, 2>>& b) {
+  static std::vector<std::array<double, 2>> blocked(double length,
+                                                    const std::vector<std::array<double, 2>>& a,
+                                                    const std::vector<std::array<double, 2>>& b) {
     std::vector<std::array<double, 2>> all;
     for (const auto* list : {&a, &b})
       for (const auto& f : *list)
@@ -784,9 +784,8 @@ class Builder {
   /// of about the tooth width (teeth alternate sides); the forbidden stretches between them, and
   /// free ones too short for a tooth, plain. Teeth fill the room that is free instead of a fixed
   /// grid, so a short border between two corners still gets one.
-  std::vector<Stretch> tooth_stretches(
-      double length, const std::vector<std::array<double, 2>>& a,
-      const std::vector<std::array<double, 2>>& b) const {
+  std::vector<Stretch> tooth_stretches(double length, const std::vector<std::array<double, 2>>& a,
+                                       const std::vector<std::array<double, 2>>& b) const {
     std::vector<std::array<double, 2>> merged = blocked(length, a, b);
     // The narrowest tooth that stands: half the tooth width, at least 1 mm.
     const double narrowest = std::max(1.0, 0.5 * o_.tooth_width);
@@ -1008,8 +1007,8 @@ class Builder {
         const double k_ = flare->slope, g = flare->clearance;
         const double v0 = 0.5 * g / std::max(k_, 1e-12);  // where the line crosses the boundary
         auto at = [&](double u, double v) { return Vec2(point + u * e + v * n); };
-        Polygon2 gain, loss = {at(k_ * slot - 0.5 * g, slot), at(kOverlap, slot),
-                               at(kOverlap, v0), at(0, v0)};
+        Polygon2 gain,
+            loss = {at(k_ * slot - 0.5 * g, slot), at(kOverlap, slot), at(kOverlap, v0), at(0, v0)};
         if (k_ * tip - 0.5 * g > 0 && tip > v0)
           gain = {at(-kOverlap, v0), at(k_ * tip - 0.5 * g, tip), at(-kOverlap, tip)};
         make_counter_clockwise(loss);
@@ -1250,8 +1249,8 @@ class Builder {
     const BorderJoint& border = out_.borders[b];
     if (j < 0 || j + 1 >= static_cast<int>(border.intervals.size())) return std::nullopt;
     const JointInterval &lo = border.intervals[j], &hi = border.intervals[j + 1];
-    if (lo.kind != JointKind::kTab || hi.kind != JointKind::kTab || lo.owner < 0 ||
-        hi.owner < 0 || lo.owner == hi.owner)
+    if (lo.kind != JointKind::kTab || hi.kind != JointKind::kTab || lo.owner < 0 || hi.owner < 0 ||
+        lo.owner == hi.owner)
       return std::nullopt;
     TabFlare f;
     f.s = lo.s1;
@@ -1260,8 +1259,8 @@ class Builder {
     const double reach = 0.5 * std::min(lo.s1 - lo.s0, hi.s1 - hi.s0);
     for (double at : pieces_[b].sides[0].s)
       if (std::abs(at - f.s) < reach) return std::nullopt;
-    const double deepest = std::max({lo.offsets.tip, hi.offsets.tip, -lo.offsets.slot,
-                                     -hi.offsets.slot});
+    const double deepest =
+        std::max({lo.offsets.tip, hi.offsets.tip, -lo.offsets.slot, -hi.offsets.slot});
     const double narrowest = std::min(lo.s1 - lo.s0, hi.s1 - hi.s0);
     f.slope = std::min(kTabFlare, narrowest / 6 / std::max(deepest, 1e-9));
     const double fold = std::max({lo.fold, hi.fold, pieces_[b].fold_at(f.s)});
@@ -1342,8 +1341,7 @@ class Builder {
       const Polygon2 rest = largest_polygon(left);
       for (const auto* list : {&pieces, &left})
         for (const auto& c : *list)
-          if (polygon_area(c) > significant && c != kept && c != rest)
-            lost.push_back(c);
+          if (polygon_area(c) > significant && c != kept && c != rest) lost.push_back(c);
     }
     // Pinches closed: a cavity joined to the outside only through a slit of zero width (where a
     // widened slit stopped at a tooth) would be skipped by the laser path around the part. And
@@ -1472,10 +1470,14 @@ class Builder {
 
 const char* to_string(JointKind kind) {
   switch (kind) {
-    case JointKind::kBox: return "box";
-    case JointKind::kTab: return "tab";
-    case JointKind::kGlue: return "glue";
-    case JointKind::kNone: break;
+    case JointKind::kBox:
+      return "box";
+    case JointKind::kTab:
+      return "tab";
+    case JointKind::kGlue:
+      return "glue";
+    case JointKind::kNone:
+      break;
   }
   return "none";
 }
@@ -1650,8 +1652,8 @@ void check_joint_options(const Material& material, const Machine& machine,
   if (options.min_depth > deepest.tip - deepest.slot) {
     std::ostringstream os;
     os.precision(4);
-    os << "--min-tooth-depth " << options.min_depth << " mm is deeper than any box tooth in a "
-       << h << " mm sheet (at most " << deepest.tip - deepest.slot << " mm, at a "
+    os << "--min-tooth-depth " << options.min_depth << " mm is deeper than any box tooth in a " << h
+       << " mm sheet (at most " << deepest.tip - deepest.slot << " mm, at a "
        << std::lround(kMaxJointFold * 180 / M_PI) << " degree fold): no border would get one";
     throw InvalidInput(os.str());
   }

@@ -43,10 +43,10 @@ struct JointOptions {
                                  ///< by half of it is empty; ResolveOptions::min_part_width) [mm],
                                  ///< >= 0
   // Paper (thickness 0): glue tabs instead of teeth (joints/glue_tabs.h).
-  double glue_tab = 6.0;         ///< height of a glue tab, root to edge [mm], >= 0; 0: no glue
-                                 ///< tabs (plain borders, the paper's emulation)
-  bool score_rulings = false;    ///< paper: the rulings that bend by a degree or more are fold
-                                 ///< lines too (the strip folds there instead of curving)
+  double glue_tab = 6.0;       ///< height of a glue tab, root to edge [mm], >= 0; 0: no glue
+                               ///< tabs (plain borders, the paper's emulation)
+  bool score_rulings = false;  ///< paper: the rulings that bend by a degree or more are fold
+                               ///< lines too (the strip folds there instead of curving)
 };
 
 /// What holds an interval of a border.
@@ -68,9 +68,9 @@ struct JointInterval {
   double s0 = 0, s1 = 0;  ///< arc length along the piece from its common end [mm]
   int owner = -1;         ///< side (0 or 1) that has the tooth; -1: no tooth (both cut plain)
   JointKind kind = JointKind::kNone;  ///< kind of the tooth (kNone exactly when owner < 0)
-  double fold = 0;        ///< fold angle at the interval's middle [rad]
-  ToothOffsets offsets;   ///< tip and slot for that fold
-  double plain = 0;       ///< offset of both sides where there is no tooth [mm]
+  double fold = 0;                    ///< fold angle at the interval's middle [rad]
+  ToothOffsets offsets;               ///< tip and slot for that fold
+  double plain = 0;                   ///< offset of both sides where there is no tooth [mm]
 };
 
 struct BorderJoint {
@@ -148,15 +148,15 @@ struct PartOutline {
 
 struct Joints {
   std::vector<BorderJoint> borders;
-  std::vector<PartOutline> parts;  ///< per patch
+  std::vector<PartOutline> parts;             ///< per patch
   std::vector<std::vector<TabFlare>> flares;  ///< per border: its leaning boundaries
-  int teeth = 0;              ///< box teeth and tabs
-  int tabs = 0;               ///< of which dovetail tabs
-  int glue_tabs = 0;          ///< paper: glue tabs
-  double border_length = 0;   ///< total length of shared borders [mm]
-  double toothed_length = 0;  ///< of which covered by teeth, tabs or glue tabs [mm]
-  double tab_length = 0;      ///< of which by tabs [mm]
-  double glue_length = 0;     ///< of which by glue tabs (their roots) [mm]
+  int teeth = 0;                              ///< box teeth and tabs
+  int tabs = 0;                               ///< of which dovetail tabs
+  int glue_tabs = 0;                          ///< paper: glue tabs
+  double border_length = 0;                   ///< total length of shared borders [mm]
+  double toothed_length = 0;                  ///< of which covered by teeth, tabs or glue tabs [mm]
+  double tab_length = 0;                      ///< of which by tabs [mm]
+  double glue_length = 0;                     ///< of which by glue tabs (their roots) [mm]
   int borders_without_joint = 0;    ///< border pieces with no tooth, tab or glue tab and not
                                     ///< joined at a corner either (kind() "none")
   int stubs_joined_at_corners = 0;  ///< stubs without a joint of their own that their parts'

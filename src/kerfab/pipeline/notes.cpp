@@ -71,8 +71,7 @@ StageNotes notes(const QuadMeshResult& q) {
     w << q.size.reason << " makes quads of " << q.size.size << " mm, narrower than the "
       << q.size.kerf_size << " mm strips this material needs to bend at this model's curvature "
       << "(docs/quad-meshing.md, Size): expect many critical regions, resolved by smaller parts "
-      << "or left; --quad-size "
-      << q.size.kerf_size << " (about "
+      << "or left; --quad-size " << q.size.kerf_size << " (about "
       << static_cast<long>(std::lround(q.size.area / (q.size.kerf_size * q.size.kerf_size)))
       << " quads) or a larger --size avoids that";
     n.warnings.push_back(w.str());
@@ -100,8 +99,8 @@ StageNotes notes(const CoarsenResult& c) {
     return n;
   }
   os << c.quads_before << " quads given, " << c.quads_after << " kept: " << c.rows_collapsed
-     << " rows collapsed where the strips beside them were too narrow to bend ("
-     << c.rows_refused << " more could not go), cross edges with a row too narrow for its bend "
+     << " rows collapsed where the strips beside them were too narrow to bend (" << c.rows_refused
+     << " more could not go), cross edges with a row too narrow for its bend "
      << 100 * c.narrow_before << "% -> " << 100 * c.narrow_after
      << "%; the mesh used is model/quads.obj (--no-coarsen: as given)";
   n.lines.push_back(os.str());
@@ -285,8 +284,8 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
   const int changed = static_cast<int>(r.changes.size()) - actions["unresolved"];
   if (r.time_limited) {
     Line w(3);
-    w << "the resolve step stopped at its time limit after " << r.seconds << " s and "
-      << r.rounds << " rebuilds (--resolve-time-limit); what it had not reached is listed as "
+    w << "the resolve step stopped at its time limit after " << r.seconds << " s and " << r.rounds
+      << " rebuilds (--resolve-time-limit); what it had not reached is listed as "
       << "unresolved (resolve.changes)";
     n.warnings.push_back(w.str());
   }

@@ -147,52 +147,52 @@ Curvatures principal_curvatures(const Surface& s, double radius, int stride) {
   const int threads = hardware_threads(), blocks = 4 * threads;
   const int block_size = (n + blocks - 1) / blocks;
   for_each_index(blocks, threads, [&](int block) {
-  std::vector<int> mark(n, -1);
-  std::vector<int> ball;
-  for (int i = block * block_size; i < std::min(n, (block + 1) * block_size); ++i) {
-    if (i % stride != 0) continue;
-    // The vertices within radius of i, reached over edges.
-    ball.assign(1, i);
-    mark[i] = i;
-    for (std::size_t k = 0; k < ball.size(); ++k)
-      for (int j : s.neighbours[ball[k]])
-        if (mark[j] != i && (m.vertices[j] - m.vertices[i]).norm() <= radius) {
-          mark[j] = i;
-          ball.push_back(j);
-        }
-    Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
-    double area = 0;
-    for (int v : ball) {
-      area += s.areas[v];
-      for (int e : vertex_edges[v]) {
-        const int other = edges[e].a == v ? edges[e].b : edges[e].a;
-        // Each edge inside the ball once (from its smaller end); edges leaving it by half.
-        if (mark[other] == i) {
-          if (v < other) tensor += edges[e].tensor;
-        } else {
-          tensor += 0.5 * edges[e].tensor;
+    std::vector<int> mark(n, -1);
+    std::vector<int> ball;
+    for (int i = block * block_size; i < std::min(n, (block + 1) * block_size); ++i) {
+      if (i % stride != 0) continue;
+      // The vertices within radius of i, reached over edges.
+      ball.assign(1, i);
+      mark[i] = i;
+      for (std::size_t k = 0; k < ball.size(); ++k)
+        for (int j : s.neighbours[ball[k]])
+          if (mark[j] != i && (m.vertices[j] - m.vertices[i]).norm() <= radius) {
+            mark[j] = i;
+            ball.push_back(j);
+          }
+      Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+      double area = 0;
+      for (int v : ball) {
+        area += s.areas[v];
+        for (int e : vertex_edges[v]) {
+          const int other = edges[e].a == v ? edges[e].b : edges[e].a;
+          // Each edge inside the ball once (from its smaller end); edges leaving it by half.
+          if (mark[other] == i) {
+            if (v < other) tensor += edges[e].tensor;
+          } else {
+            tensor += 0.5 * edges[e].tensor;
+          }
         }
       }
+      if (!(area > 0)) continue;
+      tensor /= area;
+      const Vec3 nrm = s.normals[i];
+      const Eigen::Matrix3d proj = Eigen::Matrix3d::Identity() - nrm * nrm.transpose();
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(proj * tensor * proj);
+      // The eigenvector closest to the normal is dropped; of the other two, the one with the
+      // larger |eigenvalue| runs along the weaker curvature (the normal cycle swaps them).
+      int drop = 0;
+      for (int k = 1; k < 3; ++k)
+        if (std::abs(eig.eigenvectors().col(k).dot(nrm)) >
+            std::abs(eig.eigenvectors().col(drop).dot(nrm)))
+          drop = k;
+      const int a = (drop + 1) % 3, b = (drop + 2) % 3;
+      const double la = std::abs(eig.eigenvalues()[a]), lb = std::abs(eig.eigenvalues()[b]);
+      const int strong = la >= lb ? a : b;
+      c.larger[i] = std::max(la, lb);
+      c.smaller[i] = std::min(la, lb);
+      c.weak_direction[i] = tangent(eig.eigenvectors().col(strong), nrm).normalized();
     }
-    if (!(area > 0)) continue;
-    tensor /= area;
-    const Vec3 nrm = s.normals[i];
-    const Eigen::Matrix3d proj = Eigen::Matrix3d::Identity() - nrm * nrm.transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(proj * tensor * proj);
-    // The eigenvector closest to the normal is dropped; of the other two, the one with the
-    // larger |eigenvalue| runs along the weaker curvature (the normal cycle swaps them).
-    int drop = 0;
-    for (int k = 1; k < 3; ++k)
-      if (std::abs(eig.eigenvectors().col(k).dot(nrm)) >
-          std::abs(eig.eigenvectors().col(drop).dot(nrm)))
-        drop = k;
-    const int a = (drop + 1) % 3, b = (drop + 2) % 3;
-    const double la = std::abs(eig.eigenvalues()[a]), lb = std::abs(eig.eigenvalues()[b]);
-    const int strong = la >= lb ? a : b;
-    c.larger[i] = std::max(la, lb);
-    c.smaller[i] = std::min(la, lb);
-    c.weak_direction[i] = tangent(eig.eigenvectors().col(strong), nrm).normalized();
-  }
   });
   return c;
 }
@@ -272,8 +272,8 @@ Vec3 aligned_cross(const Vec3& reference, const Vec3& q, const Vec3& n) {
   return candidates[aligned_turns(reference, q, n)];
 }
 
-std::vector<Vec3> position_field(const Surface& s, const std::vector<Vec3>& cross,
-                                 double spacing, int iterations) {
+std::vector<Vec3> position_field(const Surface& s, const std::vector<Vec3>& cross, double spacing,
+                                 int iterations) {
   const auto& m = *s.mesh;
   const int n = static_cast<int>(m.vertices.size());
   std::vector<Vec3> o(m.vertices);

@@ -14,8 +14,8 @@ namespace kerfab::quads {
 /// A triangle surface with what the fields need per vertex.
 struct Surface {
   const TriangleMesh* mesh = nullptr;
-  std::vector<Vec3> normals;                ///< unit, area weighted
-  std::vector<double> areas;                ///< a third of the adjacent triangles' area [mm^2]
+  std::vector<Vec3> normals;                 ///< unit, area weighted
+  std::vector<double> areas;                 ///< a third of the adjacent triangles' area [mm^2]
   std::vector<std::vector<int>> neighbours;  ///< one-ring vertices
 };
 
@@ -23,8 +23,8 @@ Surface make_surface(const TriangleMesh& mesh);
 
 /// Principal curvatures at every vertex over a ball of radius \p radius [mm].
 struct Curvatures {
-  std::vector<double> larger;    ///< |kappa| of the stronger principal curvature [1/mm]
-  std::vector<double> smaller;   ///< |kappa| of the weaker one [1/mm]
+  std::vector<double> larger;        ///< |kappa| of the stronger principal curvature [1/mm]
+  std::vector<double> smaller;       ///< |kappa| of the weaker one [1/mm]
   std::vector<Vec3> weak_direction;  ///< unit tangent of the weaker curvature (ruling direction)
 };
 

@@ -192,7 +192,8 @@ QuadSizeRule choose_size(const TriangleMesh& target, double diagonal, const Mate
   const double tol = o.tolerance * diagonal;
   rule.fidelity_size = rule.ruling_curvature > 0 ? std::sqrt(8 * tol / rule.ruling_curvature)
                                                  : std::numeric_limits<double>::infinity();
-  const double s_min = std::sqrt(rule.area / o.max_quads), s_max = std::sqrt(rule.area / o.min_quads);
+  const double s_min = std::sqrt(rule.area / o.max_quads),
+               s_max = std::sqrt(rule.area / o.min_quads);
   if (o.quad_size) {
     rule.size = *o.quad_size;
     rule.reason = "--quad-size";
@@ -205,7 +206,8 @@ QuadSizeRule choose_size(const TriangleMesh& target, double diagonal, const Mate
   } else {
     // Between the two bounds: the widest strips that are still faithful (fewest parts).
     rule.size = std::clamp(rule.fidelity_size, s_min, s_max);
-    rule.reason = rule.size == rule.fidelity_size ? "fidelity (rulings within tolerance)" : "quad count";
+    rule.reason =
+        rule.size == rule.fidelity_size ? "fidelity (rulings within tolerance)" : "quad count";
   }
   return rule;
 }
@@ -374,7 +376,8 @@ double feature_length_on_edges(const PolyMesh& q, const FeatureTriangleMesh& rem
       const Vec3 e0 = to_eigen(q.point(q.from_vertex_handle(q.halfedge_handle(e, 0))));
       const Vec3 e1 = to_eigen(q.point(q.to_vertex_handle(q.halfedge_handle(e, 0))));
       const Vec3 d = e1 - e0;
-      if ((mid - e0).squaredNorm() > d.squaredNorm() + 1 && (mid - e1).squaredNorm() > d.squaredNorm() + 1)
+      if ((mid - e0).squaredNorm() > d.squaredNorm() + 1 &&
+          (mid - e1).squaredNorm() > d.squaredNorm() + 1)
         continue;
       const double t = std::clamp((mid - e0).dot(d) / d.squaredNorm(), 0.0, 1.0);
       if ((e0 + t * d - mid).norm() < 0.02 * size &&
@@ -405,8 +408,9 @@ double target_gap(const PolyMesh& q, const TriangleMesh& mesh) {
   double gap = 0;
   for (const Vec3& p : mesh.vertices) gap = std::max(gap, quads.closest(p).distance);
   for (const auto& t : mesh.triangles)
-    gap = std::max(gap, quads.closest((mesh.vertices[t[0]] + mesh.vertices[t[1]] +
-                                       mesh.vertices[t[2]]) / 3.0).distance);
+    gap = std::max(
+        gap, quads.closest((mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3.0)
+                 .distance);
   return gap;
 }
 
@@ -485,8 +489,8 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
                        "this model: pass a smaller --quad-size");
   // What comes next takes seconds per lattice on a large mesh (a 1M-triangle target: about 10).
   if (progress)
-    progress("quad size " + fmt(r.size.size) + " mm (" + r.size.reason + "), about " +
-             fmt(count) + " quads; remeshing the " + std::to_string(mesh.triangles.size()) +
+    progress("quad size " + fmt(r.size.size) + " mm (" + r.size.reason + "), about " + fmt(count) +
+             " quads; remeshing the " + std::to_string(mesh.triangles.size()) +
              " triangles and fitting the fields for each lattice tried");
 
   // First the lattice at the quad size, every triangle paired; where some triangle finds no
@@ -504,9 +508,9 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
     Mode mode;
     double spacing, edge;  // lattice spacing and remeshing edge, per quad size
   };
-  const Attempt attempts[] = {{Mode::kPure, 1.0, 1.0 / 3.5},      {Mode::kSplit, 2.0, 2.0 / 3.5},
-                              {Mode::kSplit, 1.4, 1.4 / 3.5},      {Mode::kTriangles, 2.0, 1.6},
-                              {Mode::kTriangles, 2.0, 1.1},        {Mode::kTriangles, 2.0, 0.8},
+  const Attempt attempts[] = {{Mode::kPure, 1.0, 1.0 / 3.5},  {Mode::kSplit, 2.0, 2.0 / 3.5},
+                              {Mode::kSplit, 1.4, 1.4 / 3.5}, {Mode::kTriangles, 2.0, 1.6},
+                              {Mode::kTriangles, 2.0, 1.1},   {Mode::kTriangles, 2.0, 0.8},
                               {Mode::kTriangles, 2.0, 0.4}};
   // A sound pure lattice competes with the split one of twice the spacing (its quads are as
   // large): on smooth closed shapes the coarser lattice has fewer dislocations (sphere 44
