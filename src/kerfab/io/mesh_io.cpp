@@ -65,20 +65,29 @@ class OpenMeshLogCapture {
   std::ostringstream& log_;
 };
 
-/// Whether the STL file at \p path is binary, as OpenMesh's reader decides: its size is what the
-/// triangle count after the 80-byte header makes it (84 + 50 n bytes), or it does not start with
-/// "solid". (Exporters write binary files whose header starts with "solid"; read as ASCII here,
-/// their nan corners went unseen.)
+/// The triangle count in a binary STL's first 84 bytes \p head (after the 80-byte header).
+std::uint32_t stl_count(const char* head) {
+  std::uint32_t n = 0;
+  std::memcpy(&n, head + 80, 4);
+  return n;
+}
+
+/// Whether an STL file of \p size bytes starting with \p head (its first 84 bytes) is binary, as
+/// OpenMesh's reader decides: its size is what the triangle count after the 80-byte header makes
+/// it (84 + 50 n bytes), or it does not start with "solid". (Exporters write binary files whose
+/// header starts with "solid"; read as ASCII here, their nan corners went unseen.)
+bool binary_stl(const char* head, std::uintmax_t size) {
+  return 84ULL + 50ULL * stl_count(head) == size || std::string(head, 5) != "solid";
+}
+
+/// binary_stl() for the file at \p path; false where it is shorter than 84 bytes.
 bool binary_stl(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   char head[84];
   if (!in.read(head, 84)) return false;
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
-  std::uint32_t n = 0;
-  std::memcpy(&n, head + 80, 4);
-  if (!ec && 84ULL + 50ULL * n == size) return true;
-  return std::string(head, 5) != "solid";
+  return ec ? std::string(head, 5) != "solid" : binary_stl(head, size);
 }
 
 /// The element counts an OFF or PLY header promises, and binary STL's triangle count, checked
@@ -101,9 +110,8 @@ void check_header_counts(const std::filesystem::path& path, const std::string& e
   if (ext == ".stl") {
     char head[84];
     if (!in.read(head, 84)) return;
-    if (!binary_stl(path)) return;  // ASCII: no count
-    std::uint32_t n = 0;
-    std::memcpy(&n, head + 80, 4);
+    if (!binary_stl(head, size)) return;  // ASCII: no count
+    const std::uint32_t n = stl_count(head);
     if (84ULL + 50ULL * n > size) refuse("triangles", n);
     // A triangle with a nan or inf corner is dropped by the reader without a word (a closed
     // tetrahedron came out open, and was cut so): named here instead.
