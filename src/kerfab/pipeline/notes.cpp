@@ -208,12 +208,12 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness)
     int apart = 0, too_shallow = 0, crowded = 0;
     double length = 0;  // [mm]
     std::vector<std::string> where;
+    const auto fell = [&](int p) {
+      return p >= 0 && p < static_cast<int>(j.parts.size()) && j.parts[p].repaired;
+    };
     for (const BorderJoint& b : j.borders) {
       if (b.kind() != "none") continue;
       length += b.length;
-      const auto fell = [&](int p) {
-        return p >= 0 && p < static_cast<int>(j.parts.size()) && j.parts[p].repaired;
-      };
       if (fell(b.patches[0]) || fell(b.patches[1]))
         ++apart;
       else if (b.shallow > 0 && b.blocked == 0)
