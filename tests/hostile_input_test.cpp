@@ -311,10 +311,13 @@ TEST(HostileInput, JointOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
        "mm sheet (at most 17.28 mm, at a 170 degree fold)"},
       {"--tooth-width 1e6", "--tooth-width must be at most 100 mm"}};
   int k = 0;
-  for (const auto& [option, message] : cases) {
+  auto next_out = [&] {      // o0, o1, ...: a fresh --out per run
     std::string name = "o";  // built in place: GCC 12 warns falsely on "o" + a temporary
     name += std::to_string(k++);
-    const fs::path out = scratch / name;
+    return scratch / name;
+  };
+  for (const auto& [option, message] : cases) {
+    const fs::path out = next_out();
     const auto r = test::run_cli(run + out.string() + " " + option, scratch);
     EXPECT_EQ(r.exit_code, 1) << option << ": " << r.err;
     EXPECT_NE(r.err.find("kerfab: error: " + message), std::string::npos)
@@ -329,9 +332,7 @@ TEST(HostileInput, JointOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
         std::string("--protrusion 3 --tab-misfit 3 --min-tooth-depth 17 --stop-after prepare"),
         std::string(
             "--material paper --tab-misfit 5 --min-tooth-depth 100 --stop-after prepare")}) {
-    std::string name = "o";  // built in place: GCC 12 warns falsely on "o" + a temporary
-    name += std::to_string(k++);
-    const fs::path out = scratch / name;
+    const fs::path out = next_out();
     const auto r = test::run_cli(run + out.string() + " --quiet " + option, scratch);
     EXPECT_EQ(r.exit_code, 0) << option << ": " << r.err;
   }
