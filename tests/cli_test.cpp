@@ -1151,21 +1151,28 @@ TEST(Cli, APartCutAwayByItsJointsNamesTheSizeAtWhichItHolds) {
   const auto report = read_report(scratch / "a");
   const double size = report["resolve"]["small_parts_min_size_mm"].get<double>();
   ASSERT_GT(size, 60.0);
-  EXPECT_NE(
-      small.err.find("would hold at --size " + std::to_string(static_cast<int>(std::ceil(size)))),
-      std::string::npos)
+  // The faces their joints cut away entirely are missing from the sheets either way: they are
+  // left out, so their neighbours are neither cut back for them nor left with borders that
+  // have no joint, and the run names the size that keeps them.
+  const std::string at_size = std::to_string(static_cast<int>(std::ceil(size)));
+  EXPECT_NE(small.err.find("nothing left once their joints were cut, which --size " + at_size +
+                           " would keep"),
+            std::string::npos)
       << small.err;
   int cut_away = 0;
   for (const auto& c : report["resolve"]["changes"]) {
-    if (c["action"] != "unresolved") continue;
+    if (c["action"] != "omit" && c["action"] != "unresolved") continue;
     ++cut_away;
     EXPECT_GT(c["size_factor"].get<double>(), 1.0);
     EXPECT_LE(c["size_factor"].get<double>() * 60, size + 1e-6);
-    EXPECT_NE(c["reason"].get<std::string>().find("its joints cut it back up to"),
-              std::string::npos)
+    EXPECT_NE(c["reason"].get<std::string>().find("cut it back up to"), std::string::npos)
         << c["reason"];
   }
   EXPECT_GT(cut_away, 0);
+  EXPECT_EQ(report["resolve"]["gone_parts"].get<int>(), cut_away);
+  EXPECT_NEAR(report["resolve"]["gone_parts_min_size_mm"].get<double>(), size, 1e-6);
+  EXPECT_EQ(report["joints"]["borders_without_joint"], 0);  // 12 of 17 when they were kept
+  EXPECT_TRUE(report["layout"]["empty"].empty()) << report["layout"]["empty"];
   const int at = static_cast<int>(std::ceil(1.02 * size));
   const CliRun large = run_cli("run --target " + wedge.string() + width + " --size " +
                                    std::to_string(at) + " --out " + (scratch / "b").string(),

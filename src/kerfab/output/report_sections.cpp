@@ -390,6 +390,8 @@ json resolve_section(const ResolveResult& r, const ResolveOptions& options) {
           {"size_mm", r.current_size_mm},
           {"min_size_mm", r.min_size_mm},
           {"small_parts_min_size_mm", r.small_parts_size_mm},
+          {"gone_parts", r.gone_parts},
+          {"gone_parts_min_size_mm", r.gone_parts_size_mm},
           {"materials", materials},
           {"added",
            {{"stiff_edges", r.added.edges.size()},

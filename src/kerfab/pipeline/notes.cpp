@@ -295,9 +295,16 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
       if (c.action == "omit") farthest = std::max(farthest, c.local_distance);
     Line w(3);
     w << actions["omit"] << " parts were left out (resolve.changes, \"omit\"): faces folded back "
-      << "thinner than the sheets, or slivers narrower than --min-part-width; the surface there "
-      << "lies within " << farthest << " mm of the parts kept, whose borders with them are free "
-      << "edges";
+      << "thinner than the sheets, slivers narrower than --min-part-width, or parts of which "
+      << "their joints left nothing; the surface there lies within " << farthest
+      << " mm of the parts kept, whose borders with them are free edges";
+    if (r.gone_parts > 0) {
+      w << "; " << r.gone_parts << " had nothing left once their joints were cut";
+      if (r.gone_parts_size_mm > kLargestSize)
+        w << ", which no --size up to " << kLargestSize / 1000 << " m would keep";
+      else if (r.gone_parts_size_mm > r.current_size_mm + 0.5)
+        w << ", which --size " << whole_mm(r.gone_parts_size_mm) << " would keep";
+    }
     n.warnings.push_back(w.str());
   }
   if (r.critical_after > 0 || changed > 0 || r.small_parts_after > 0) {

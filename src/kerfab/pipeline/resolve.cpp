@@ -393,9 +393,8 @@ class Resolver {
       const Region r = region_of(build_.flat.strips, build_.flat.flattening, c);
       record(r, "unresolved");
       out_.changes.back().reason =
-          out_.time_limited
-              ? "left when the loop reached its time limit (--resolve-time-limit)"
-              : "the bend overstresses the beams even at the minimum spacing";
+          out_.time_limited ? "left when the loop reached its time limit (--resolve-time-limit)"
+                            : "the bend overstresses the beams even at the minimum spacing";
     }
     const double max_angle = o_.flatten.max_angle_error;
     for (int p : small) {
@@ -425,7 +424,7 @@ class Resolver {
         const CutBack cut = deepest_cut_back(p);
         const double across = inscribed_radius(flat_outline(strips(), build_.flat.flattening, p));
         if (cut.depth > 0 && across > 0) {
-          const double hold = (cut.depth + 0.5 * r_.min_part_width) / across;
+          const double hold = hold_factor(cut, across);
           why << "; its joints cut it back up to " << cut.depth << " mm (beside part " << cut.other
               << ") and it is " << 2 * across << " mm across";
           if (cut.fold > 5 * M_PI / 6)
@@ -489,42 +488,62 @@ class Resolver {
     return out;
   }
 
+  /// The factor on the model's size at which a part cut back by \p cut holds: its joints' cut-back
+  /// does not grow with the model, the part does. It holds where it is that deep plus half the
+  /// narrowest part a maker can handle across (\p radius: its inscribed circle's, as flattened
+  /// [mm]). 0 where either is unknown.
+  double hold_factor(const CutBack& cut, double radius) const {
+    return cut.depth > 0 && radius > 0 ? (cut.depth + 0.5 * r_.min_part_width) / radius : 0.0;
+  }
+
+  /// True when part \p p has nothing left to cut once its joints are cut (under a square
+  /// millimetre, or fallen apart into pieces of which the largest is under --min-part-area):
+  /// it is missing from the sheets whether it is left out or not.
+  bool nothing_left(int p) const {
+    const Polygon2& outline = build_.joints.parts[p].designed;
+    const double area = outline.size() < 3 ? 0.0 : std::abs(polygon_area(outline));
+    return area < 1.0 || (build_.joints.parts[p].repaired && area < r_.min_part_area);
+  }
+
   /// Parts still too small to handle that no size or plate cures are left out where their
   /// neighbours hold the surface: one folded back onto a neighbour by more than 150 deg (the
-  /// shape is thinner there than the sheets: the neighbour's sheet stands where it was, a bust's
-  /// ears and a horse's once had nothing left once cut and their neighbours kept joints to
-  /// nothing), or one narrower across than --min-part-width (a sliver: the slit it leaves is
-  /// narrower than the part was). Their neighbours' borders with them become free edges. Kept
-  /// only where the build has fewer defects (critical regions and parts too small) after it:
-  /// returns whether it was. \p small: small_now(), updated.
+  /// shape is thinner there than the sheets: the neighbour's sheet stands where it was), or one
+  /// narrower across than --min-part-width (a sliver: the slit it leaves is narrower than the
+  /// part was). A part of which its joints left nothing (nothing_left()) is left out wherever it
+  /// is: it is missing from the sheets either way, but kept, its neighbours are cut back for a
+  /// part that is not there and their borders with it have no joint (the bunny's ear tips at
+  /// 250 mm: 12 such borders, and mitres 17 mm deep beside nothing). Their neighbours' borders
+  /// with them become free edges. Kept only where the build has fewer defects (critical regions
+  /// and parts too small), or as many and fewer borders without a joint, after it: returns
+  /// whether it was. \p small: small_now(), updated.
   bool omit_thin_parts(std::vector<int>& small) {
+    enum class Why { kGone, kFolded, kSliver };
     struct Omitted {
       int part;
-      std::string reason;
+      Why why;
+      CutBack cut;
+      double across;        // twice the radius of the largest circle in it, as flattened [mm]
+      bool gone;            // nothing_left()
       double distance = 0;  // of its surface from the parts kept [mm]
     };
     std::vector<Omitted> omitted;
     for (int p : small) {
-      if (bent_facet(build_, p, o_.flatten.max_angle_error)) continue;
+      const bool gone = nothing_left(p);
+      if (!gone && bent_facet(build_, p, o_.flatten.max_angle_error)) continue;
       const CutBack cut = deepest_cut_back(p);
       const double across = 2 * inscribed_radius(flat_outline(strips(), build_.flat.flattening, p));
-      std::ostringstream why;
-      why << "part " << p << " left out: ";
       if (cut.fold > 5 * M_PI / 6)
-        why << "folded back " << std::lround(cut.fold * 180 / M_PI) << " deg onto part "
-            << cut.other << ", the shape is thinner there than the sheets";
+        omitted.push_back({p, Why::kFolded, cut, across, gone});
       else if (across < r_.min_part_width)
-        why << "a sliver " << across << " mm across, narrower than --min-part-width";
-      else
-        continue;
-      why << "; its neighbours' borders with it are free edges";
-      omitted.push_back({p, why.str()});
+        omitted.push_back({p, Why::kSliver, cut, across, gone});
+      else if (gone)
+        omitted.push_back({p, Why::kGone, cut, across, gone});
     }
     if (omitted.empty()) return false;
     // How far the surface that was there lies from the parts kept, sampled on a 4 x 4 grid in
     // each of its sub-quads: left out only where the sheets a maker builds stand within a
     // sheet's thickness of it (leaving one out can only bring the others' distances down when it
-    // is kept instead).
+    // is kept instead), or where nothing of it was left anyway.
     std::vector<char> out(strips().patches.size(), 0);
     for (const Omitted& o : omitted) out[o.part] = 1;
     TriangleMesh kept;
@@ -553,7 +572,7 @@ class Resolver {
                                                u * v * x[q[2]] + (1 - u) * v * x[q[3]])
                                       .distance);
       }
-      if (o.distance > o_.material.thickness) continue;
+      if (o.distance > o_.material.thickness && !o.gone) continue;
       for (int q : patch.all_quads()) trial.guidance.omit.push_back(q);
       left.push_back(std::move(o));
     }
@@ -568,15 +587,54 @@ class Resolver {
     } catch (const InvalidInput&) {
       return false;
     }
-    if (defects(tried) >= defects(build_)) return false;
+    const auto score = [&](const PartsBuild& b) {
+      return std::pair(defects(b), b.joints.borders_without_joint);
+    };
+    if (score(tried) >= score(build_)) return false;
     ++out_.rounds;
     build_ = std::move(tried);
     accepted_ = std::move(trial);
     small = small_now();
+    // The reasons name the neighbours by their numbers on the sheets (of the build without the
+    // parts left out).
+    std::vector<int> gone_before;
+    for (const Omitted& o : left) gone_before.push_back(o.part);
+    std::sort(gone_before.begin(), gone_before.end());
+    const auto part = [&](int p) {
+      const auto at = std::lower_bound(gone_before.begin(), gone_before.end(), p);
+      if (at != gone_before.end() && *at == p) return std::string("another part left out");
+      return "part " + std::to_string(p - static_cast<int>(at - gone_before.begin()));
+    };
     for (std::size_t k = 0; k < left.size(); ++k) {
+      const Omitted& o = left[k];
       record(regions[k], "omit");
-      out_.changes.back().local_distance = left[k].distance;
-      out_.changes.back().reason = left[k].reason;
+      RegionChange& c = out_.changes.back();
+      c.local_distance = o.distance;
+      std::ostringstream why;
+      why << "a part left out: ";
+      switch (o.why) {
+        case Why::kGone:
+          // Missing from the sheets either way; left out, its neighbours are not cut back for
+          // it. It holds at the size its joints leave it a handle's width.
+          c.size_factor = hold_factor(o.cut, 0.5 * o.across);
+          out_.gone_parts_size_mm =
+              std::max(out_.gone_parts_size_mm, c.size_factor * out_.current_size_mm);
+          out_.small_parts_size_mm = std::max(out_.small_parts_size_mm, out_.gone_parts_size_mm);
+          ++out_.gone_parts;
+          why << "nothing of it was left once its joints were cut (it is " << o.across
+              << " mm across and they cut it back up to " << o.cut.depth << " mm beside "
+              << part(o.cut.other) << ")";
+          break;
+        case Why::kFolded:
+          why << "folded back " << std::lround(o.cut.fold * 180 / M_PI) << " deg onto "
+              << part(o.cut.other) << ", the shape is thinner there than the sheets";
+          break;
+        case Why::kSliver:
+          why << "a sliver " << o.across << " mm across, narrower than --min-part-width";
+          break;
+      }
+      why << "; its neighbours' borders with it are free edges";
+      c.reason = why.str();
     }
     return true;
   }
@@ -697,8 +755,7 @@ class Resolver {
       const Region r = region_of(b.flat.strips, b.flat.flattening, c);
       out.insert(r.quads.begin(), r.quads.end());
     }
-    for (int p : small_parts(b, r_.min_part_area, r_.min_part_width,
-                             o_.flatten.max_angle_error)) {
+    for (int p : small_parts(b, r_.min_part_area, r_.min_part_width, o_.flatten.max_angle_error)) {
       const auto quads = b.flat.strips.patches[p].all_quads();
       out.insert(quads.begin(), quads.end());
     }

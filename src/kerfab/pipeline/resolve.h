@@ -97,9 +97,13 @@ struct ResolveResult {
   Guidance added;              ///< the guidance the loop added (stiff edges, splits, merges)
   double current_size_mm = 0;  ///< the model's largest bbox side as run [mm]
   double min_size_mm = 0;      ///< smallest size at which no region would need a change [mm]
-  /// Smallest size at which every part left too small or narrow would be one a maker can
-  /// handle, as far as known (the largest of their size factors) [mm]; 0: none, or unknown.
+  /// Smallest size at which every part left too small or narrow, or left out with nothing of it
+  /// left once cut, would be one a maker can handle, as far as known (the largest of their size
+  /// factors) [mm]; 0: none, or unknown.
   double small_parts_size_mm = 0;
+  int gone_parts = 0;  ///< parts left out ("omit") because their joints left nothing of them
+  /// Smallest size at which those would hold, as far as known [mm]; 0: none, or unknown.
+  double gone_parts_size_mm = 0;
   std::vector<MaterialSize> materials;  ///< the same per material preset, thinnest first
 };
 
@@ -108,7 +112,7 @@ struct PartsOptions {
   BendingOptions bending;
   StripsOptions strips;
   FlattenOptions flatten;
-  LayoutOptions usable;              ///< the sheet less its margins (parts must fit)
+  LayoutOptions usable;  ///< the sheet less its margins (parts must fit)
   Material material;
   Machine machine;
   JointOptions joints;
