@@ -291,8 +291,10 @@ TEST(HostileInput, RunawayWorkIsRefusedBeforeItStarts) {
 // the sheet sets. Each ran every stage before and ended with exit 0 (or, --thickness 200, with
 // "every part has nothing left" after 34 s): --min-tooth-depth 1e6 left all 443 of Spot's
 // borders without a joint, --protrusion 1e6 let teeth stand out of the surface, --thickness 40
-// inverted 54 quads in the flattening after 107 s.
-TEST(HostileInput, JointOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
+// inverted 54 quads in the flattening after 107 s. So is a minimum spacing of kerf cuts no wider
+// than the laser's kerf: Spot's control mesh at 250 mm with --min-cut-spacing 0.1 ran to the end
+// with exit 0 and cuts 0.43 mm apart (0.28 mm of MDF between two 0.15 mm kerfs).
+TEST(HostileInput, JointAndKerfOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
   const fs::path scratch = test::fresh_dir();
   const fs::path target = scratch / "plane.obj";
   write_mesh(test::quad_plane(100, 4).quads, target);
@@ -309,7 +311,12 @@ TEST(HostileInput, JointOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
       {"--min-tooth-depth 1e6",
        "--min-tooth-depth 1e+06 mm is deeper than any box tooth in a 3 "
        "mm sheet (at most 17.28 mm, at a 170 degree fold)"},
-      {"--tooth-width 1e6", "--tooth-width must be at most 100 mm"}};
+      {"--tooth-width 1e6", "--tooth-width must be at most 100 mm"},
+      {"--min-cut-spacing 0.15",
+       "--min-cut-spacing 0.15 mm is no wider than the laser's kerf (--kerf-width 0.15 mm): "
+       "neighbouring cuts would overlap"},
+      {"--kerf-width 0.5 --min-cut-spacing 0.4",
+       "--min-cut-spacing 0.4 mm is no wider than the laser's kerf (--kerf-width 0.5 mm)"}};
   int k = 0;
   auto next_out = [&] {      // o0, o1, ...: a fresh --out per run
     std::string name = "o";  // built in place: GCC 12 warns falsely on "o" + a temporary
@@ -330,6 +337,8 @@ TEST(HostileInput, JointOptionsTheSheetCannotTakeAreRefusedBeforeAnyStage) {
   for (const std::string& option :
        {std::string("--thickness 25 --stop-after prepare"),
         std::string("--protrusion 3 --tab-misfit 3 --min-tooth-depth 17 --stop-after prepare"),
+        std::string("--min-cut-spacing 0.16 --stop-after prepare"),
+        std::string("--material paper --min-cut-spacing 0.1 --stop-after prepare"),
         std::string(
             "--material paper --tab-misfit 5 --min-tooth-depth 100 --stop-after prepare")}) {
     const fs::path out = next_out();

@@ -261,7 +261,7 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->check(CLI::Range(0.0, 5.0));
   cmd.add_option("--min-cut-spacing", ko.min_cut_spacing,
                  "Kerf cuts closer than this are a critical region (reported, shown red in "
-                 "model/kerf_density.ply) [mm]")
+                 "model/kerf_density.ply) [mm, more than --kerf-width]")
       ->capture_default_str()
       ->check(kPositive);
   cmd.add_option("--min-cut-length", ko.min_cut_length,

@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <unordered_map>
 
 #include "kerfab/core/errors.h"
@@ -551,9 +552,7 @@ double beams_needed(double angle, double width, double length, double thickness,
   return std::sqrt(z);
 }
 
-KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const Joints& joints,
-                           const Material& m, const Machine& machine, const KerfOptions& options,
-                           KerfMemo* memo) {
+void check_kerf_options(const Material& m, const Machine& machine, const KerfOptions& options) {
   if (!(m.thickness >= 0) || !std::isfinite(m.thickness))
     throw InvalidInput("--thickness must be >= 0 mm");
   if (!(m.shear_modulus > 0)) throw InvalidInput("--shear-modulus must be > 0 MPa");
@@ -567,6 +566,19 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
     throw InvalidInput("--bridge and --kerf-margin must be >= 0 mm");
   if (options.constant_cuts_per_quad && *options.constant_cuts_per_quad < 0)
     throw InvalidInput("--constant-density must be >= 0 cuts per quad");
+  if (m.thickness > 0 && !(options.min_cut_spacing > machine.kerf_width)) {
+    std::ostringstream why;
+    why << "--min-cut-spacing " << options.min_cut_spacing << " mm is no wider than the laser's "
+        << "kerf (--kerf-width " << machine.kerf_width << " mm): neighbouring cuts would overlap "
+        << "and burn away the beam between them";
+    throw InvalidInput(why.str());
+  }
+}
+
+KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const Joints& joints,
+                           const Material& m, const Machine& machine, const KerfOptions& options,
+                           KerfMemo* memo) {
+  check_kerf_options(m, machine, options);
   if (joints.parts.size() != strips.patches.size() || flat.patches.size() != strips.patches.size())
     throw InvalidInput("kerf: flattening or joints do not belong to these strips");
   KerfResult r;

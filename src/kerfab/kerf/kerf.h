@@ -142,6 +142,13 @@ class KerfMemo : public Memo<PatchPlacement> {
   explicit KerfMemo(std::size_t max_bytes = std::size_t{32} << 20) : Memo(max_bytes) {}
 };
 
+/// Refuses kerf options no cut can be made with: out of range, or a minimum spacing of cuts no
+/// wider than the laser's kerf (\p machine: neighbouring cuts would overlap and burn away the
+/// beam between them; paper, with no cuts, is not held to it). place_kerf_cuts checks them; a
+/// pipeline calls this before any stage runs. \throw InvalidInput naming the option.
+void check_kerf_options(const Material& material, const Machine& machine,
+                        const KerfOptions& options);
+
 /// Places the kerf cuts of every patch in \p material and estimates the cutting time on
 /// \p machine. With a \p memo, patches placed by earlier calls are reused where they are the
 /// same (KerfMemo). \throw InvalidInput options or material out of range.

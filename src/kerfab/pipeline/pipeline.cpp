@@ -113,6 +113,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   joints.min_part_area = o.resolve.min_part_area;
   joints.min_part_width = o.resolve.min_part_width;
   check_joint_options(o.material, o.machine, joints);  // before any work, as the sheets
+  check_kerf_options(o.material, o.machine, o.kerf);
   // The flattening's 3D check: how finely it samples the strips' move [mm].
   auto deformation_spacing = [&] {
     return kDeformationSpacing * o.quality_sample_spacing * diag();
