@@ -1089,6 +1089,49 @@ TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
   EXPECT_EQ(notes(r, KerfOptions{}).warnings.at(0).find("--quad"), std::string::npos);
 }
 
+// Kerf options that leave no room for the cuts a bend needs are named. A ring of radius 44 mm,
+// 30 mm high, bends in one strip: 57 cuts at the defaults. --bridge 30 leaves none of them room
+// (30 mm less two 1 mm margins and a 30 mm bridge), and the resolve stage then cut the ring as
+// 24 flat facets with only "1 regions were changed" to say why; the cuts the options took are
+// now counted against the defaults (kerf.skipped_by_options) and the options named with them.
+TEST(Cli, KerfOptionsThatLeaveNoRoomForCutsAreNamed) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path ring = scratch / "ring.obj";
+  write_mesh(test::open_cylinder(44, 30, 24, 3, 1).quads, ring);
+  const std::string run = "run --target " + ring.string() + " --out ";
+  const CliRun plain = run_cli(run + (scratch / "d").string(), scratch);
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  const auto defaults = read_report(scratch / "d");
+  const int planned = defaults["kerf"]["cuts"].get<int>();
+  ASSERT_GT(planned, 20);
+  EXPECT_EQ(defaults["kerf"]["skipped_cuts"], 0);
+  EXPECT_EQ(defaults["kerf"]["skipped_by_options"], 0);
+  EXPECT_EQ(plain.err.find("found no room"), std::string::npos) << plain.err;
+  const std::string named = " of the " + std::to_string(planned) +
+                            " kerf cuts the bends asked for found no room in their parts with "
+                            "--bridge 30 mm (default 2) but would with the defaults";
+  // As built: every cut the bend asked for is left out, each for the options alone.
+  const CliRun kept =
+      run_cli(run + (scratch / "k").string() + " --bridge 30 --no-resolve", scratch);
+  ASSERT_EQ(kept.exit_code, 0) << kept.err;
+  const auto bare = read_report(scratch / "k");
+  EXPECT_EQ(bare["kerf"]["cuts"], 0);
+  EXPECT_EQ(bare["kerf"]["skipped_cuts"].get<int>(), planned);
+  EXPECT_EQ(bare["kerf"]["skipped_by_options"].get<int>(), planned);
+  EXPECT_NE(kept.err.find(std::to_string(planned) + named), std::string::npos) << kept.err;
+  // Resolved into flat facets, the warning of the first build is kept.
+  const CliRun resolved = run_cli(run + (scratch / "r").string() + " --bridge 30", scratch);
+  ASSERT_EQ(resolved.exit_code, 0) << resolved.err;
+  EXPECT_NE(resolved.err.find("at first, " + std::to_string(planned) + named), std::string::npos)
+      << resolved.err;
+  // A margin that takes the room does the same; the shape alone takes none at the defaults.
+  const CliRun margin =
+      run_cli(run + (scratch / "m").string() + " --kerf-margin 14 --no-resolve", scratch);
+  ASSERT_EQ(margin.exit_code, 0) << margin.err;
+  EXPECT_EQ(read_report(scratch / "m")["kerf"]["skipped_by_options"].get<int>(), planned);
+  EXPECT_NE(margin.err.find("--kerf-margin 14 mm (default 1)"), std::string::npos) << margin.err;
+}
+
 // Issue 14, item 3: a part that its joints cut away is reported with the size at which it would
 // hold, and that size is checked by running there. A thin wedge 60 mm long, its faces opening
 // 4 degrees from an edge 0.6 mm wide to a back 1.6 mm wide, 14 mm deep, as its own quad mesh:

@@ -158,8 +158,8 @@ class PatchKerfBuilder {
       : s_(s), patch_(s.patches[p]), x_(f.patches[p].points), m_(m), o_(o), p_(p) {
     // The region cuts may use: the part's body (the flattened patch, so no cut enters a
     // tooth) without its slots, shrunk by the margin.
-    region_ =
-        polygon_offset(polygon_intersection(j.parts[p].designed, flat_outline(s, f, p)), -o.margin);
+    body_ = polygon_intersection(j.parts[p].designed, flat_outline(s, f, p));
+    region_ = polygon_offset(body_, -o.margin);
     allowed_ = m.yield_strength / m.safety;
   }
 
@@ -210,8 +210,10 @@ class PatchKerfBuilder {
   const Material& m_;
   const KerfOptions& o_;
   int p_;
-  std::vector<Polygon2> region_;
-  double allowed_ = 0;           // tau_yield / safety [MPa]
+  std::vector<Polygon2> body_;                           // the part's body, before the margin
+  std::vector<Polygon2> region_;                         // what cuts may use
+  std::optional<std::vector<Polygon2>> default_region_;  // the same at the default margin
+  double allowed_ = 0;                                   // tau_yield / safety [MPa]
   std::vector<double> skipped_;  // positions where a planned cut did not fit the part
 
   /// Fold across each internal ruling: the largest sector-normal angle at any of its rail
@@ -349,6 +351,24 @@ class PatchKerfBuilder {
     return best;
   }
 
+  /// True when a cut on the line \p a0 - \p b0 (\p reach long, its middle on the cut's
+  /// line) that did not fit with the options asked would fit with the default --bridge,
+  /// --kerf-margin and --min-cut-length: the region the default margin leaves, crossed there,
+  /// is at least a default bridge and cut long. Always false with the default options.
+  bool fits_by_default(const Vec2& a0, const Vec2& b0, double reach) {
+    const KerfOptions d;
+    if (o_.bridge == d.bridge && o_.margin == d.margin && o_.min_cut_length == d.min_cut_length)
+      return false;
+    if (!default_region_)
+      default_region_ = o_.margin == d.margin ? region_ : polygon_offset(body_, -d.margin);
+    const auto t = crossings(a0, b0, *default_region_);
+    for (std::size_t i = 0; i + 1 < t.size(); ++i)
+      if (t[i] <= 0.5 && t[i + 1] >= 0.5 &&
+          inside(a0 + 0.5 * (t[i] + t[i + 1]) * (b0 - a0), *default_region_))
+        return (t[i + 1] - t[i]) * reach >= d.bridge + d.min_cut_length;
+    return false;
+  }
+
   void place(const std::vector<Plan>& plans, const StripFrame& frame, PatchKerf& out) {
     int index = 0;
     for (const Plan& plan : plans) {
@@ -367,6 +387,8 @@ class PatchKerfBuilder {
       }
       if (lo < 0) {  // the part is too narrow here for a cut
         skipped_.push_back(pos);
+        ++out.skipped;
+        out.skipped_by_options += fits_by_default(a0, b0, reach) ? 1 : 0;
         continue;
       }
       Vec2 ca = a0 + lo * (b0 - a0), cb = a0 + hi * (b0 - a0);
@@ -376,6 +398,8 @@ class PatchKerfBuilder {
         cb -= o_.bridge * d;
       if ((cb - ca).dot(d) < o_.min_cut_length) {  // too short to cut
         skipped_.push_back(pos);
+        ++out.skipped;
+        out.skipped_by_options += fits_by_default(a0, b0, reach) ? 1 : 0;
         continue;
       }
       ++index;
@@ -604,6 +628,8 @@ KerfResult place_kerf_cuts(const Strips& strips, const Flattening& flat, const J
   });
   for (auto& list : critical) r.critical.insert(r.critical.end(), list.begin(), list.end());
   for (std::size_t p = 0; p < strips.patches.size(); ++p) {
+    r.skipped += r.patches[p].skipped;
+    r.skipped_by_options += r.patches[p].skipped_by_options;
     for (const auto& c : r.patches[p].cuts) {
       ++r.cuts;
       r.cut_length += (c.b - c.a).norm();

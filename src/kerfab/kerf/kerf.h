@@ -92,6 +92,10 @@ struct PatchKerf {
   std::vector<double> face_density;  ///< cuts per mm at each sub-quad: 1 / spacing of the cuts
                                      ///< around its middle (0 outside the first and last cut)
   std::vector<char> face_critical;   ///< sub-quad holds a critical region
+  int skipped = 0;                   ///< planned cuts that did not fit the part (too narrow there)
+  /// Of those, the ones that would fit with the default --bridge, --kerf-margin and
+  /// --min-cut-length (KerfOptions{}): left out by the options asked, not by the shape
+  int skipped_by_options = 0;
 };
 
 /// What the laser has to do: the parts' outlines and the kerf cuts, and how long it takes.
@@ -109,8 +113,10 @@ struct KerfResult {
   std::vector<int> quad_cuts;  ///< cuts per coarse quad
   int max_cuts_per_quad = 0;   ///< the constant density that would match the tightest quad
   int cuts = 0;
-  double cut_length = 0;  ///< [mm]
-  double smoothing = 0;   ///< width of the smoothing kernel as used [mm]
+  int skipped = 0;             ///< planned cuts that did not fit their parts (PatchKerf::skipped)
+  int skipped_by_options = 0;  ///< of which the defaults would have fitted
+  double cut_length = 0;       ///< [mm]
+  double smoothing = 0;        ///< width of the smoothing kernel as used [mm]
   /// The tightest bend of all strips, as 2 l / kappa [mm^2] (0: nothing bends). Beams at
   /// spacing d hold in a material of thickness h and G / tau_eff = g where
   /// g d sqrt(h^2 + d^2) <= C; scaling the model by s scales C by s^2 (bend_scale()).

@@ -346,6 +346,8 @@ json kerf_section(const KerfResult& k, const KerfOptions& options) {
           {"cut_length_mm", k.cut_length},
           {"smoothing_mm", k.smoothing},
           {"critical_regions", k.critical.size()},
+          {"skipped_cuts", k.skipped},
+          {"skipped_by_options", k.skipped_by_options},
           {"critical", critical},
           {"mode", options.constant_cuts_per_quad ? "constant" : "adaptive"},
           {"max_cuts_per_quad", k.max_cuts_per_quad},

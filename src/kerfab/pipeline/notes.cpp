@@ -258,6 +258,27 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness)
   return n;
 }
 
+std::string skipped_cuts_warning(int by_options, int planned, const KerfOptions& options,
+                                 bool at_first) {
+  const KerfOptions d;
+  Line w(3);
+  w << (at_first ? "at first, " : "") << by_options << " of the " << planned
+    << " kerf cuts the bends asked for found no room in their parts with";
+  const char* sep = " ";
+  if (options.bridge != d.bridge)
+    w << sep << "--bridge " << options.bridge << " mm (default " << d.bridge << ")", sep = ", ";
+  if (options.margin != d.margin)
+    w << sep << "--kerf-margin " << options.margin << " mm (default " << d.margin << ")",
+        sep = ", ";
+  if (options.min_cut_length != d.min_cut_length)
+    w << sep << "--min-cut-length " << options.min_cut_length << " mm (default " << d.min_cut_length
+      << ")";
+  w << " but would with the defaults; where a bend needed them the parts were "
+    << (at_first ? "changed (resolve.changes: flat facets, splits)"
+                 : "left critical (kerf.skipped_by_options)");
+  return w.str();
+}
+
 StageNotes notes(const KerfResult& k, const KerfOptions& options) {
   StageNotes n;
   Line os;
@@ -265,6 +286,8 @@ StageNotes notes(const KerfResult& k, const KerfOptions& options) {
      << " critical regions (the bend needs cuts closer than " << options.min_cut_spacing
      << " mm, or no cut fits); estimated cutting time " << k.cutting.minutes << " min";
   n.lines.push_back(os.str());
+  if (k.skipped_by_options > 0)
+    n.warnings.push_back(skipped_cuts_warning(k.skipped_by_options, k.cuts + k.skipped, options));
   return n;
 }
 

@@ -29,6 +29,12 @@ StageNotes notes(const CuttablePatches& flat, double target_diagonal);
 /// borders, which are then no defect to warn of.
 StageNotes notes(const Joints& joints, const JointOptions& options, double thickness);
 StageNotes notes(const KerfResult& kerf, const KerfOptions& options);
+/// The warning for \p by_options of \p planned kerf cuts that found no room in their parts
+/// with the --bridge, --kerf-margin and --min-cut-length asked but would with the defaults
+/// (KerfResult::skipped_by_options); \p at_first: of the first build, which the resolve stage
+/// changed since.
+std::string skipped_cuts_warning(int by_options, int planned, const KerfOptions& options,
+                                 bool at_first = false);
 /// \p quads_made: kerfab made the quad mesh (no --quad); the sizes the warning names hold for
 /// these quads, and a run at another size from the triangles alone would make others.
 StageNotes notes(const ResolveResult& resolve, const KerfOptions& kerf, bool quads_made = false);

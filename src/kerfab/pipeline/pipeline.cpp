@@ -66,6 +66,10 @@ static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double 
                                 double deformation_spacing, const Progress& progress,
                                 PartsMemo& memo) {
   const PipelineOptions& o = r.options;
+  // Cuts the options left no room for in the first build: named even where the resolve stage
+  // then made those parts flat facets (--bridge 50 made all of Spot facets, with no word why).
+  const int first_skipped = r.kerf->skipped_by_options;
+  const int first_planned = r.kerf->cuts + r.kerf->skipped;
   PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
                    std::move(*r.joints), std::move(*r.kerf)};
   const auto round_done = [&](const std::string& line) {
@@ -87,6 +91,8 @@ static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double 
          {notes(*r.strips, r.baseline, o.strips), notes(*r.flat, diagonal),
           notes(*r.joints, o.joints, o.material.thickness), notes(*r.kerf, o.kerf)})
       held.insert(held.end(), rebuilt.warnings.begin(), rebuilt.warnings.end());
+    if (first_skipped > 0 && r.kerf->skipped_by_options == 0)
+      held.push_back(skipped_cuts_warning(first_skipped, first_planned, o.kerf, true));
     n.warnings.insert(n.warnings.begin(), held.begin(), held.end());
   }
   return n;
