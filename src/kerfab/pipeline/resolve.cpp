@@ -622,8 +622,11 @@ class Resolver {
           out_.small_parts_size_mm = std::max(out_.small_parts_size_mm, out_.gone_parts_size_mm);
           ++out_.gone_parts;
           why << "nothing of it was left once its joints were cut (it is " << o.across
-              << " mm across and they cut it back up to " << o.cut.depth << " mm beside "
-              << part(o.cut.other) << ")";
+              << " mm across";
+          if (o.cut.other >= 0)
+            why << " and they cut it back up to " << o.cut.depth << " mm beside "
+                << part(o.cut.other);
+          why << ")";
           break;
         case Why::kFolded:
           why << "folded back " << std::lround(o.cut.fold * 180 / M_PI) << " deg onto "
