@@ -361,12 +361,22 @@ class PatchKerfBuilder {
       return false;
     if (!default_region_)
       default_region_ = o_.margin == d.margin ? region_ : polygon_offset(body_, -d.margin);
-    const auto t = crossings(a0, b0, *default_region_);
-    for (std::size_t i = 0; i + 1 < t.size(); ++i)
-      if (t[i] <= 0.5 && t[i + 1] >= 0.5 &&
-          inside(a0 + 0.5 * (t[i] + t[i + 1]) * (b0 - a0), *default_region_))
-        return (t[i + 1] - t[i]) * reach >= d.bridge + d.min_cut_length;
-    return false;
+    const auto stretch = middle_stretch(a0, b0, *default_region_);
+    return stretch && (stretch->second - stretch->first) * reach >= d.bridge + d.min_cut_length;
+  }
+
+  /// The stretch [lo, hi] of the line \p a0 - \p b0 (as parameters along it) that lies inside
+  /// \p region and holds the line's middle; none where the middle is outside.
+  static std::optional<std::pair<double, double>> middle_stretch(
+      const Vec2& a0, const Vec2& b0, const std::vector<Polygon2>& region) {
+    const auto t = crossings(a0, b0, region);
+    std::optional<std::pair<double, double>> out;
+    for (std::size_t i = 0; i + 1 < t.size(); ++i) {
+      const double m = 0.5 * (t[i] + t[i + 1]);
+      if (!inside(a0 + m * (b0 - a0), region)) continue;
+      if (t[i] <= 0.5 && t[i + 1] >= 0.5) out = {t[i], t[i + 1]};
+    }
+    return out;
   }
 
   void place(const std::vector<Plan>& plans, const StripFrame& frame, PatchKerf& out) {
@@ -378,28 +388,25 @@ class PatchKerfBuilder {
       const Vec2 d = (b - a).normalized();
       const double reach = (b - a).norm() + 20.0;
       const Vec2 a0 = 0.5 * (a + b) - 0.5 * reach * d, b0 = 0.5 * (a + b) + 0.5 * reach * d;
-      const auto t = crossings(a0, b0, region_);
-      double lo = -1, hi = -1;
-      for (std::size_t i = 0; i + 1 < t.size(); ++i) {
-        const double m = 0.5 * (t[i] + t[i + 1]);
-        if (!inside(a0 + m * (b0 - a0), region_)) continue;
-        if (t[i] <= 0.5 && t[i + 1] >= 0.5) lo = t[i], hi = t[i + 1];
-      }
-      if (lo < 0) {  // the part is too narrow here for a cut
+      // A planned cut that does not fit the part: where, and whether the options took its room.
+      const auto skip = [&] {
         skipped_.push_back(pos);
         ++out.skipped;
         out.skipped_by_options += fits_by_default(a0, b0, reach) ? 1 : 0;
+      };
+      const auto stretch = middle_stretch(a0, b0, region_);
+      if (!stretch) {  // the part is too narrow here for a cut
+        skip();
         continue;
       }
+      const auto [lo, hi] = *stretch;
       Vec2 ca = a0 + lo * (b0 - a0), cb = a0 + hi * (b0 - a0);
       if (index % 2 == 0)
         ca += o_.bridge * d;
       else
         cb -= o_.bridge * d;
       if ((cb - ca).dot(d) < o_.min_cut_length) {  // too short to cut
-        skipped_.push_back(pos);
-        ++out.skipped;
-        out.skipped_by_options += fits_by_default(a0, b0, reach) ? 1 : 0;
+        skip();
         continue;
       }
       ++index;
