@@ -996,8 +996,8 @@ void expect_same_joints(const Joints& a, const Joints& b) {
 
 // An OutlineMemo changes nothing: on sheets folded by 90 degrees (box teeth) and 12 degrees
 // (dovetail tabs), make_joints gives the same outlines, spans and counts without a memo, with an
-// empty one (every outline drawn), with the same memo again (every outline reused), and with a
-// memo too small to keep anything (emptied on every insert).
+// empty one (every outline drawn and checked), with the same memo again (every outline and check
+// reused), and with a memo too small to keep anything (emptied on every insert).
 TEST(Joints, AMemoOfOutlinesChangesNothing) {
   for (double fold : {90.0, 12.0}) {
     SCOPED_TRACE(fold);
@@ -1011,13 +1011,18 @@ TEST(Joints, AMemoOfOutlinesChangesNothing) {
     expect_same_joints(plain, joints(&memo));
     const std::size_t drawn = memo.misses();
     EXPECT_GE(drawn, plain.parts.size());
+    const std::size_t checked = memo.checks.misses();
+    EXPECT_GE(checked, plain.parts.size());  // at least the hanging corners of each part
     expect_same_joints(plain, joints(&memo));
     EXPECT_EQ(memo.misses(), drawn);  // the second call drew nothing
     EXPECT_GE(memo.hits(), drawn);
+    EXPECT_EQ(memo.checks.misses(), checked);  // nor checked anything again
+    EXPECT_GE(memo.checks.hits(), checked);
     OutlineMemo tiny(1);
     expect_same_joints(plain, joints(&tiny));
     expect_same_joints(plain, joints(&tiny));
     EXPECT_EQ(tiny.hits(), 0u);
+    EXPECT_EQ(tiny.checks.hits(), 0u);
   }
 }
 

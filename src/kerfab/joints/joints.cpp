@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <map>
@@ -177,8 +178,16 @@ class Builder {
     // joint: the tooth would have hung on the neck the cut corner had shared).
     for_each_of(std::vector<int>(all.begin(), all.end()), [&](int p) {
       PartOutline& part = out_.parts[p];
-      Polygon2 trimmed = without_hanging_corners(part.designed, tooth_regions(part.spans),
-                                                 o_.min_feature, o_.tooth_width * o_.tooth_width);
+      const std::vector<Polygon2> teeth = tooth_regions(part.spans);
+      std::string key = options_key('H');
+      put_polygons(key, {part.designed});
+      put_polygons(key, teeth);
+      Polygon2 trimmed = std::move(
+          checked(key, [&] {
+            return OutlineCheck{{without_hanging_corners(part.designed, teeth, o_.min_feature,
+                                                         o_.tooth_width * o_.tooth_width)},
+                                {}};
+          }).polygons.front());
       if (trimmed != part.designed) set_outline(part, std::move(trimmed));
     });
     for (std::size_t p = 0; p < out_.parts.size(); ++p) {
@@ -724,8 +733,21 @@ class Builder {
   /// The teeth of part \p p (border, interval) that a cut-back of the part bites into by more
   /// than the fit tolerance (0.05 mm of the tooth's width).
   std::vector<std::pair<int, int>> bitten_teeth(int p) const {
-    std::vector<std::pair<int, int>> bitten;
     const Shapes sh = shapes(p);
+    // Keyed by the tooth regions and depths in order and the cut-backs: the positions of the
+    // bitten ones among the spans are the same wherever those are.
+    std::string key = options_key('B');
+    put_polygons(key, sh.cut);
+    for (const JointSpan& sp : sh.spans)
+      if (sp.tooth && sp.region.size() >= 3) put(key, sp.offset), put_polygons(key, {sp.region});
+    const OutlineCheck found = checked(key, [&] { return OutlineCheck{{}, bitten_spans(sh)}; });
+    std::vector<std::pair<int, int>> bitten;
+    for (int k : found.positions) bitten.emplace_back(sh.spans[k].border, sh.spans[k].interval);
+    return bitten;
+  }
+  /// bitten_teeth() of the shapes \p sh: the positions of the bitten teeth in sh.spans.
+  std::vector<int> bitten_spans(const auto& sh) const {  // auto: Shapes is declared below
+    std::vector<int> bitten;
     auto box_of = [](const Polygon2& poly) {
       std::array<double, 4> box = {1e300, 1e300, -1e300, -1e300};
       for (const Vec2& v : poly)
@@ -735,7 +757,8 @@ class Builder {
     };
     std::vector<std::array<double, 4>> cut_boxes;
     for (const auto& c : sh.cut) cut_boxes.push_back(box_of(c));
-    for (const JointSpan& sp : sh.spans) {
+    for (std::size_t k = 0; k < sh.spans.size(); ++k) {
+      const JointSpan& sp = sh.spans[k];
       if (!sp.tooth || sp.region.size() < 3) continue;
       double lost = 0;
       const auto box = box_of(sp.region);
@@ -745,7 +768,7 @@ class Builder {
         for (const auto& overlap : polygon_intersection(sp.region, sh.cut[c]))
           lost += std::abs(polygon_area(overlap));
       }
-      if (lost > 0.05 * std::abs(sp.offset)) bitten.emplace_back(sp.border, sp.interval);
+      if (lost > 0.05 * std::abs(sp.offset)) bitten.push_back(static_cast<int>(k));
     }
     return bitten;
   }
@@ -1048,6 +1071,14 @@ class Builder {
   std::vector<Polygon2> thin_necks(int p) const { return thin_necks(out_.parts[p].designed); }
   std::vector<Polygon2> thin_necks(const Polygon2& outline) const {
     if (outline.size() < 3) return {};
+    if (memo_) {
+      std::string key = options_key('N');
+      put_polygons(key, {outline});
+      return checked(key, [&] { return OutlineCheck{thin_necks_drawn(outline), {}}; }).polygons;
+    }
+    return thin_necks_drawn(outline);
+  }
+  std::vector<Polygon2> thin_necks_drawn(const Polygon2& outline) const {
     const std::vector<Polygon2> opened = opening({outline});
     if (opened.size() < 2) return {};
     std::vector<Polygon2> necks;
@@ -1273,25 +1304,41 @@ class Builder {
   /// teeth it adds, the cut-backs it takes away and the tooth regions it keeps (not the spans'
   /// border and interval numbers, which differ between calls).
   std::string outline_key(const Shapes& sh) const {
-    std::string key;
-    auto put = [&key](const auto& value) {
-      key.append(reinterpret_cast<const char*>(&value), sizeof(value));
-    };
-    auto put_polygons = [&](const std::vector<Polygon2>& polygons) {
-      put(polygons.size());
-      for (const Polygon2& poly : polygons) {
-        put(poly.size());
-        for (const Vec2& v : poly) put(v.x()), put(v.y());
-      }
-    };
-    put(o_.tooth_width), put(o_.min_depth), put(o_.min_feature), put(kerf_width_);
-    put_polygons(sh.add);
-    put_polygons(sh.cut);
+    std::string key = options_key('O');
+    put_polygons(key, sh.add);
+    put_polygons(key, sh.cut);
     std::vector<Polygon2> teeth;
     for (const JointSpan& sp : sh.spans)
       if (sp.tooth && sp.region.size() >= 3) teeth.push_back(sp.region);
-    put_polygons(teeth);
+    put_polygons(key, teeth);
     return key;
+  }
+
+  /// The start of a memo key: what it is for (\p kind) and the options every drawing and check
+  /// reads.
+  std::string options_key(char kind) const {
+    std::string key(1, kind);
+    for (double v : {o_.tooth_width, o_.min_depth, o_.min_feature, kerf_width_}) put(key, v);
+    return key;
+  }
+  static void put(std::string& key, const auto& value) {
+    key.append(reinterpret_cast<const char*>(&value), sizeof(value));
+  }
+  static void put_polygons(std::string& key, const std::vector<Polygon2>& polygons) {
+    put(key, polygons.size());
+    for (const Polygon2& poly : polygons) {
+      put(key, poly.size());
+      for (const Vec2& v : poly) put(key, v.x()), put(key, v.y());
+    }
+  }
+
+  /// \p compute()'s result, or the memo's where \p key was checked before (no memo: computed).
+  OutlineCheck checked(const std::string& key, const std::function<OutlineCheck()>& compute) const {
+    if (!memo_) return compute();
+    if (auto hit = memo_->checks.find(key)) return std::move(*hit);
+    OutlineCheck found = compute();
+    memo_->checks.insert(key, found);
+    return found;
   }
 
   PartOutline outline(int p) {
@@ -1593,6 +1640,12 @@ Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Poly
 
 double plain_offset(double fold, double thickness) {
   return -0.5 * thickness * std::tan(0.5 * std::min(std::abs(fold), kMaxJointFold));
+}
+
+std::size_t OutlineCheck::bytes() const {
+  std::size_t n = sizeof(OutlineCheck) + sizeof(int) * positions.size();
+  for (const Polygon2& poly : polygons) n += sizeof(Polygon2) + sizeof(Vec2) * poly.size();
+  return n;
 }
 
 std::size_t OutlineDrawing::bytes() const {

@@ -174,6 +174,14 @@ struct OutlineDrawing {
   std::size_t bytes() const;
 };
 
+/// What one check on a drawn part found: polygons (thin necks, an outline) or positions in a
+/// list (bitten teeth).
+struct OutlineCheck {
+  std::vector<Polygon2> polygons;
+  std::vector<int> positions;
+  std::size_t bytes() const;
+};
+
 /// Part outlines drawn by earlier make_joints calls, for calls on strips that share most parts
 /// (the resolve stage rebuilds the whole model many times, changing a few regions each time). A
 /// part's outline is drawn from its body, its teeth and its cut-backs alone (with the options
@@ -182,7 +190,12 @@ struct OutlineDrawing {
 /// of keys and drawings and is emptied when full; it may be shared between threads.
 class OutlineMemo : public Memo<OutlineDrawing> {
  public:
-  explicit OutlineMemo(std::size_t max_bytes = std::size_t{48} << 20) : Memo(max_bytes) {}
+  explicit OutlineMemo(std::size_t max_bytes = std::size_t{48} << 20)
+      : Memo(max_bytes), checks(max_bytes / 4) {}
+  /// What the checks on a drawn part found (its thin necks, the teeth its cut-backs bite, its
+  /// outline without hanging corners), keyed likewise by everything they read; hits() and
+  /// misses() above count the drawings alone.
+  Memo<OutlineCheck> checks;
 };
 
 /// The thickest sheet kerfab cuts: a laser cuts MDF and plywood up to about this [mm].
