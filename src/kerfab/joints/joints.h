@@ -162,6 +162,11 @@ struct Joints {
   int stubs_joined_at_corners = 0;  ///< stubs without a joint of their own that their parts'
                                     ///< joints at one of their ends hold (kind() "corner")
   int repaired_parts = 0;
+  /// Parts whose outline still narrows to less than JointOptions::min_feature between two of its
+  /// pieces (an opening by half that width falls in two there): what hangs on such a neck (a
+  /// tooth, a corner) breaks off or burns away. The thin-neck pass makes the joints there plain
+  /// where that leaves the parts better; these are the ones it could not mend.
+  std::vector<int> thin_neck_parts;
   double lost_area = 0;           ///< of the pieces the parts that fell apart lost [mm^2]
   double largest_lost_piece = 0;  ///< the largest such piece [mm^2]
 };

@@ -246,6 +246,16 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness)
       w << sep << crowded << " with no room for a tooth clear of the joints beside them";
     n.warnings.push_back(w.str());
   }
+  if (!j.thin_neck_parts.empty()) {
+    Line w;
+    w << j.thin_neck_parts.size() << " parts narrow to a neck under " << options.min_feature
+      << " mm between two of their pieces, where what hangs on it may break off or burn away "
+         "(joints.thin_neck_parts): parts ";
+    for (std::size_t k = 0; k < j.thin_neck_parts.size() && k < kBordersNamed; ++k)
+      w << (k ? ", " : "") << j.thin_neck_parts[k];
+    if (j.thin_neck_parts.size() > kBordersNamed) w << ", ...";
+    n.warnings.push_back(w.str());
+  }
   if (j.repaired_parts > 0) {
     Line w(3);
     w << j.repaired_parts
