@@ -1409,6 +1409,17 @@ TEST(Joints, PartsLeftWithAThinNeckAreNamed) {
     EXPECT_EQ(j.thin_neck_parts, necked);
     std::printf("smallest feature %.0f mm: %zu of %zu parts keep a thin neck\n", feature,
                 necked.size(), j.parts.size());
+    // The run says so, with the parts' numbers (the first few).
+    std::string said;
+    for (const std::string& w : notes(j, o, 3.0).warnings)
+      if (w.find("neck under") != std::string::npos) said = w;
+    EXPECT_EQ(said.empty(), necked.empty()) << said;
+    if (!necked.empty()) {
+      EXPECT_EQ(said.rfind(std::to_string(necked.size()) + " parts narrow to a neck under 3 mm", 0),
+                0u)
+          << said;
+      EXPECT_NE(said.find("parts " + std::to_string(necked.front())), std::string::npos) << said;
+    }
     if (feature == 3.0) {
       EXPECT_FALSE(necked.empty());
     }
