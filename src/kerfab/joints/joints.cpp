@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <iterator>
 #include <limits>
 #include <map>
@@ -179,15 +178,19 @@ class Builder {
     for_each_of(std::vector<int>(all.begin(), all.end()), [&](int p) {
       PartOutline& part = out_.parts[p];
       const std::vector<Polygon2> teeth = tooth_regions(part.spans);
-      std::string key = options_key('H');
-      put_polygons(key, {part.designed});
-      put_polygons(key, teeth);
       Polygon2 trimmed = std::move(
-          checked(key, [&] {
-            return OutlineCheck{{without_hanging_corners(part.designed, teeth, o_.min_feature,
-                                                         o_.tooth_width * o_.tooth_width)},
-                                {}};
-          }).polygons.front());
+          checked(
+              'H',
+              [&](std::string& key) {
+                put_polygons(key, {part.designed});
+                put_polygons(key, teeth);
+              },
+              [&] {
+                return OutlineCheck{{without_hanging_corners(part.designed, teeth, o_.min_feature,
+                                                             o_.tooth_width * o_.tooth_width)},
+                                    {}};
+              })
+              .polygons.front());
       if (trimmed != part.designed) set_outline(part, std::move(trimmed));
     });
     // What the thin-neck pass could not mend, said (stanford-bunny from its triangles at 250
@@ -743,11 +746,17 @@ class Builder {
     const Shapes sh = shapes(p);
     // Keyed by the tooth regions and depths in order and the cut-backs: the positions of the
     // bitten ones among the spans are the same wherever those are.
-    std::string key = options_key('B');
-    put_polygons(key, sh.cut);
-    for (const JointSpan& sp : sh.spans)
-      if (sp.tooth && sp.region.size() >= 3) put(key, sp.offset), put_polygons(key, {sp.region});
-    const OutlineCheck found = checked(key, [&] { return OutlineCheck{{}, bitten_spans(sh)}; });
+    const OutlineCheck found = checked(
+        'B',
+        [&](std::string& key) {
+          put_polygons(key, sh.cut);
+          for (const JointSpan& sp : sh.spans)
+            if (sp.tooth && sp.region.size() >= 3)
+              put(key, sp.offset), put_polygons(key, {sp.region});
+        },
+        [&] {
+          return OutlineCheck{{}, bitten_spans(sh)};
+        });
     std::vector<std::pair<int, int>> bitten;
     for (int k : found.positions) bitten.emplace_back(sh.spans[k].border, sh.spans[k].interval);
     return bitten;
@@ -1078,12 +1087,12 @@ class Builder {
   std::vector<Polygon2> thin_necks(int p) const { return thin_necks(out_.parts[p].designed); }
   std::vector<Polygon2> thin_necks(const Polygon2& outline) const {
     if (outline.size() < 3) return {};
-    if (memo_) {
-      std::string key = options_key('N');
-      put_polygons(key, {outline});
-      return checked(key, [&] { return OutlineCheck{thin_necks_drawn(outline), {}}; }).polygons;
-    }
-    return thin_necks_drawn(outline);
+    return checked(
+               'N', [&](std::string& key) { put_polygons(key, {outline}); },
+               [&] {
+                 return OutlineCheck{thin_necks_drawn(outline), {}};
+               })
+        .polygons;
   }
   std::vector<Polygon2> thin_necks_drawn(const Polygon2& outline) const {
     const std::vector<Polygon2> opened = opening({outline});
@@ -1339,9 +1348,12 @@ class Builder {
     }
   }
 
-  /// \p compute()'s result, or the memo's where \p key was checked before (no memo: computed).
-  OutlineCheck checked(const std::string& key, const std::function<OutlineCheck()>& compute) const {
+  /// \p compute()'s result, or the memo's where the same check (\p kind, the options and what
+  /// \p put_inputs appends to the key) was made before. Without a memo no key is built.
+  OutlineCheck checked(char kind, const auto& put_inputs, const auto& compute) const {
     if (!memo_) return compute();
+    std::string key = options_key(kind);
+    put_inputs(key);
     if (auto hit = memo_->checks.find(key)) return std::move(*hit);
     OutlineCheck found = compute();
     memo_->checks.insert(key, found);
