@@ -203,6 +203,7 @@ class Builder {
     for (std::size_t p = 0; p < out_.parts.size(); ++p) {
       if (!out_.parts[p].repaired) continue;
       ++out_.repaired_parts;
+      out_.parts[p].lost = lost_[p];
       for (const Polygon2& piece : lost_[p]) {
         const double area = std::abs(polygon_area(piece));
         out_.lost_area += area;

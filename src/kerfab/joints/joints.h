@@ -143,6 +143,7 @@ struct PartOutline {
                                  ///< edges gives two spans)
   bool repaired = false;  ///< the Booleans or the removal of thin features split the part: only
                           ///< its largest piece is here (the resolve stage rebuilds such parts)
+  std::vector<Polygon2> lost;   ///< of a repaired part: the pieces it lost, in the same frame [mm]
   std::vector<FoldLine> folds;  ///< paper: glue-tab roots, and rulings when asked
 };
 

@@ -32,6 +32,10 @@ struct Region {
   double spacing = 0, stress_ratio = 0;
   CriticalCause cause = CriticalCause::kTooDense;
   bool small_part = false;  // a whole part too small or too narrow to handle, not a bend
+  // Of a small part that fell apart into pieces a maker could handle each on its own: the
+  // columns at whose first ruling it is split so that each becomes a part (columns_apart).
+  std::vector<int> apart_at;
+  double area_kept = 0, area_lost = 0;  // of that part: its piece kept and those lost [mm^2]
 };
 
 /// True when the flattening \p flat (of patch \p p of \p b) has an inverted quad, crosses
@@ -122,6 +126,53 @@ Region part_region(const Strips& s, int p) {
   for (int v : vertices) r.centre += s.vertices[v];
   r.centre /= std::max<std::size_t>(1, vertices.size());
   return r;
+}
+
+/// Where part \p p of \p b fell apart when cut into the piece kept and a lost piece of at least
+/// \p min_area (one a maker can handle on its own; parts fall apart where the mitres of two
+/// sharp folds meet across a strip, which no joint cures): the columns at whose first ruling the
+/// strip is split so that each such piece becomes a part of its own, one where the columns change
+/// from the kept piece to a lost one along the strip (between two, in the middle of the columns
+/// that lie mostly in neither: the neck). Empty where there is none.
+std::vector<int> columns_apart(const PartsBuild& b, int p, double min_area) {
+  const PartOutline& part = b.joints.parts[p];
+  const Patch& patch = b.flat.strips.patches[p];
+  if (!part.repaired || patch.flat || patch.quads.size() < 2) return {};
+  std::vector<Polygon2> large;
+  for (const Polygon2& piece : part.lost)
+    if (std::abs(polygon_area(piece)) >= min_area) large.push_back(piece);
+  if (large.empty()) return {};
+  const std::vector<Vec2>& x = b.flat.flattening.patches[p].points;
+  const auto starts = column_starts(b.flat.strips, patch);
+  const auto area_in = [](const Polygon2& a, const Polygon2& piece) {
+    double area = 0;
+    for (const Polygon2& c : polygon_intersection(a, piece)) area += std::abs(polygon_area(c));
+    return area;
+  };
+  // Per column: 1 where it lies mostly in the piece kept, -1 in a large lost one, else 0.
+  const int columns = static_cast<int>(patch.quads.size());
+  std::vector<int> side(static_cast<std::size_t>(columns), 0);
+  for (int col = 0; col < columns; ++col) {
+    Polygon2 quad;  // rail 0 along the column, the last rail back
+    for (int i = starts[col]; i <= starts[col + 1]; ++i) quad.push_back(x[2 * i]);
+    for (int i = starts[col + 1]; i >= starts[col]; --i) quad.push_back(x[2 * i + 1]);
+    make_counter_clockwise(quad);
+    const double whole = std::abs(polygon_area(quad)), kept = area_in(quad, part.designed);
+    double lost = 0;
+    for (const Polygon2& piece : large) lost += area_in(quad, piece);
+    if (kept >= 0.5 * whole)
+      side[col] = 1;
+    else if (lost >= 0.5 * whole)
+      side[col] = -1;
+  }
+  std::vector<int> at;
+  int last = kNone;  // the last column in either piece
+  for (int col = 0; col < columns; ++col) {
+    if (side[col] == 0) continue;
+    if (last != kNone && side[col] != side[last]) at.push_back((last + 1 + col + 1) / 2);
+    last = col;
+  }
+  return at;
 }
 
 /// Largest fold across ruling \p i of patch \p p, over its rows' rail vertices [rad].
@@ -295,14 +346,32 @@ class Resolver {
           std::size_t kept = 0;
           for (const auto& [region, own, remedy] : applied) {
             bool resolved = true;
-            for (int q : region.quads)
-              for (int n : with_neighbours(q)) resolved = resolved && !still.count(n);
+            const bool apart = region.small_part && remedy == Remedy::kSplit;
+            if (apart) {
+              // A part split where it fell apart: kept where its pieces now are parts (their
+              // neighbours may be ones the loop changes next, as the folded-back part whose
+              // mitre cut it through).
+              std::set<int> parts;
+              for (int q : region.quads) parts.insert(tried->flat.strips.quad_patch[q]);
+              double area = 0;
+              for (int q : parts)
+                if (q >= 0 && tried->joints.parts[q].designed.size() >= 3)
+                  area += std::abs(polygon_area(tried->joints.parts[q].designed));
+              resolved = area >= region.area_kept + 0.5 * region.area_lost;
+            } else {
+              for (int q : region.quads)
+                for (int n : with_neighbours(q)) resolved = resolved && !still.count(n);
+            }
             if (!resolved) {
               cheap_failed.insert(region.quads.begin(), region.quads.end());
               continue;
             }
             merge_into(accepted_, own);
             record(region, remedy_name(remedy));
+            if (apart)
+              out_.changes.back().reason =
+                  "split where the part fell apart when cut: the piece it lost is a part of its "
+                  "own";
             ++kept;
           }
           if (kept == applied.size()) {
@@ -746,7 +815,13 @@ class Resolver {
         for (int q : patch.all_quads()) bent_.insert(q);
       bool tried = patch.flat;
       for (int q : patch.all_quads()) tried = tried && stuck_.count(q);
-      if (!tried) out.push_back(part_region(build_.flat.strips, p));
+      if (tried) continue;
+      out.push_back(part_region(build_.flat.strips, p));
+      Region& r = out.back();
+      r.apart_at = columns_apart(build_, p, r_.min_part_area);
+      const PartOutline& part = build_.joints.parts[p];
+      r.area_kept = part.designed.size() < 3 ? 0.0 : std::abs(polygon_area(part.designed));
+      for (const Polygon2& piece : part.lost) r.area_lost += std::abs(polygon_area(piece));
     }
     return out;
   }
@@ -795,7 +870,8 @@ class Resolver {
   /// Adds remedy \p remedy for region \p r to \p state (and, alone, to \p own); false where it
   /// does not apply.
   bool apply(Remedy remedy, const Region& r, Added& state, Added& own) const {
-    if (r.small_part && remedy == Remedy::kSplit) return false;
+    if (r.small_part && remedy == Remedy::kSplit)
+      return !r.apart_at.empty() && split_apart(r, state, own);
     if (strips().patches[r.patch].flat && remedy != Remedy::kFacets) return false;  // no strip
     switch (remedy) {
       case Remedy::kSplit:
@@ -827,6 +903,25 @@ class Resolver {
       return false;
     add_edge(m_, edge, state.split, own.split, state.guidance.split);
     own.guidance.split.push_back(ends(m_, edge));
+    return true;
+  }
+
+  /// Splits at the columns of \p r.apart_at (columns_apart): each piece the part fell into
+  /// becomes a part of its own.
+  bool split_apart(const Region& r, Added& state, Added& own) const {
+    const Patch& p = strips().patches[r.patch];
+    const auto starts = column_starts(strips(), p);
+    std::vector<int> edges;
+    for (int col : r.apart_at) {
+      const int edge = p.ruling_edges[starts[col]];
+      if (edge < 0 || state.merge.count(edge) || user_merge_.count(edge) || state.split.count(edge))
+        return false;
+      edges.push_back(edge);
+    }
+    for (int edge : edges) {
+      add_edge(m_, edge, state.split, own.split, state.guidance.split);
+      own.guidance.split.push_back(ends(m_, edge));
+    }
     return true;
   }
 

@@ -4,7 +4,9 @@
 /// are, then rebuilding. The paper leaves these to the user (its limitation 4.1); here each
 /// region escalates through the least costly changes that apply, in this order:
 ///   1. split the strip at the sharpest fold between two of its quads there: a joint takes that
-///      fold (one more part, no loss of fidelity);
+///      fold (one more part, no loss of fidelity); a part that fell apart when cut (the mitres of
+///      two sharp folds meeting across it) is split where it came apart, so that a piece it lost
+///      that a maker could handle becomes a part of its own;
 ///   2. merge the strip sideways with an aligned neighbour (paper Sec. 3.5): longer beams need
 ///      fewer cuts; the inner rail moves onto the straight rulings (fidelity loss measured first
 ///      and bounded);
