@@ -57,10 +57,39 @@ Case folded_sheet(double fold_deg, const JointOptions& options = {},
   return c;
 }
 
-// Border \p i of \p j is held at a corner, checked in 3D from the pieces: its chain runs from
-// one of its parts to the other, each step over a border with a tooth, tab or glue tab that
-// ends, in 3D, at one of the border's own ends (the same end for every step) and has that joint
-// within two tooth widths of it; the border itself has none and is at most two tooth widths.
+// True where \p chain runs from one part of border \p i of \p j to the other, each step over a
+// border with a tooth, tab or glue tab that ends, in 3D, at \p corner and has that joint within
+// two tooth widths of it: checked in 3D from the pieces.
+bool chain_holds_at(const Strips& s, const border::Pieces& pieces, const Joints& j, int i,
+                    const std::vector<int>& chain, const Vec3& corner) {
+  const double reach = 2 * JointOptions{}.tooth_width;
+  const BorderJoint& stub = j.borders[i];
+  if (chain.size() < 2 || chain.front() != stub.patches[0] || chain.back() != stub.patches[1])
+    return false;
+  for (std::size_t k = 0; k + 1 < chain.size(); ++k) {
+    bool step = false;
+    for (std::size_t b = 0; b < j.borders.size() && !step; ++b) {
+      const BorderJoint& by = j.borders[b];
+      const std::array<int, 2> pair{chain[k], chain[k + 1]};
+      if (static_cast<int>(b) == i ||
+          (by.patches != pair && by.patches != std::array{pair[1], pair[0]}))
+        continue;
+      const auto e = border::piece_ends(s, pieces, static_cast<int>(b));
+      for (int end = 0; end < 2; ++end) {
+        if ((e[end] - corner).norm() > 1e-3) continue;
+        for (const JointInterval& in : by.intervals)
+          if (in.owner >= 0 && (end == 0 ? in.s0 : by.length - in.s1) <= reach) step = true;
+      }
+    }
+    if (!step) return false;
+  }
+  return true;
+}
+
+// Border \p i of \p j is held at a corner, checked in 3D from the pieces: its chain
+// (chain_holds_at) at one of its ends, the border itself without a joint and at most two tooth
+// widths; or, up to four tooth widths, its two chains at its two ends (every point of it within
+// two tooth widths of a place where both parts are held).
 void expect_held_at_corner(const Strips& s, const Flattening& f, const Joints& j, int i) {
   SCOPED_TRACE("border " + std::to_string(i));
   const BorderJoint& stub = j.borders[i];
@@ -68,35 +97,18 @@ void expect_held_at_corner(const Strips& s, const Flattening& f, const Joints& j
   const double reach = 2 * JointOptions{}.tooth_width;
   ASSERT_EQ(stub.kind(), "corner");
   EXPECT_EQ(stub.teeth + stub.glue, 0);
-  EXPECT_LE(stub.length, reach + 1e-9);
-  const std::vector<int>& chain = stub.joined_through;
-  ASSERT_GE(chain.size(), 2u);  // two: another border of the same two parts, with a joint
-  EXPECT_EQ(chain.front(), stub.patches[0]);
-  EXPECT_EQ(chain.back(), stub.patches[1]);
-  const auto stub_ends = border::piece_ends(s, pieces, i);
-  bool held = false;
-  for (const Vec3& corner : stub_ends) {
-    bool all = true;
-    for (std::size_t k = 0; k + 1 < chain.size() && all; ++k) {
-      bool step = false;
-      for (std::size_t b = 0; b < j.borders.size() && !step; ++b) {
-        const BorderJoint& by = j.borders[b];
-        const std::array<int, 2> pair{chain[k], chain[k + 1]};
-        if (static_cast<int>(b) == i ||
-            (by.patches != pair && by.patches != std::array{pair[1], pair[0]}))
-          continue;
-        const auto e = border::piece_ends(s, pieces, static_cast<int>(b));
-        for (int end = 0; end < 2; ++end) {
-          if ((e[end] - corner).norm() > 1e-3) continue;
-          for (const JointInterval& in : by.intervals)
-            if (in.owner >= 0 && (end == 0 ? in.s0 : by.length - in.s1) <= reach) step = true;
-        }
-      }
-      all = step;
-    }
-    held |= all;
+  const auto ends = border::piece_ends(s, pieces, i);
+  if (stub.joined_through_far.empty()) {
+    EXPECT_LE(stub.length, reach + 1e-9);
+    EXPECT_TRUE(chain_holds_at(s, pieces, j, i, stub.joined_through, ends[0]) ||
+                chain_holds_at(s, pieces, j, i, stub.joined_through, ends[1]))
+        << "no corner of the stub joins its parts";
+  } else {
+    EXPECT_GT(stub.length, reach);
+    EXPECT_LE(stub.length, 2 * reach + 1e-9);
+    EXPECT_TRUE(chain_holds_at(s, pieces, j, i, stub.joined_through, ends[0]));
+    EXPECT_TRUE(chain_holds_at(s, pieces, j, i, stub.joined_through_far, ends[1]));
   }
-  EXPECT_TRUE(held) << "no corner of the stub joins its parts";
 }
 
 std::vector<int> ring(std::size_t n) {
@@ -669,6 +681,27 @@ TEST(Joints, ShortBordersWithoutRoomGetAToothCheckedIn3D) {
   expect_short_borders_jointed(33, 90.0);
 }
 
+// The fold borders of a folded_sheet, in order along the fold.
+std::vector<int> fold_borders(const Case& c, const border::Pieces& pieces) {
+  std::vector<std::pair<double, int>> folds;  // (x of its middle, border)
+  for (std::size_t b = 0; b < c.joints.borders.size(); ++b)
+    if (c.joints.borders[b].intervals.front().fold > 1e-6) {
+      const auto e = border::piece_ends(c.strips, pieces, static_cast<int>(b));
+      folds.push_back({0.5 * (e[0] + e[1]).x(), static_cast<int>(b)});
+    }
+  std::sort(folds.begin(), folds.end());
+  std::vector<int> out;
+  for (const auto& f : folds) out.push_back(f.second);
+  return out;
+}
+
+// Border \p b without its teeth (it had some).
+void take_joint_away(BorderJoint& b) {
+  EXPECT_GT(b.teeth, 0);
+  b.teeth = b.tabs = 0;
+  for (JointInterval& in : b.intervals) in.owner = -1, in.kind = JointKind::kNone;
+}
+
 // A stub with no joint of its own (taken away here from 5 mm fold borders of a sheet folded by
 // 90 degrees in 20 strips) is held where its two parts are joined through the parts at one of
 // its corners: four parts meet at each, so through the neighbouring strip's two halves and the
@@ -677,21 +710,10 @@ TEST(Joints, ShortBordersWithoutRoomGetAToothCheckedIn3D) {
 TEST(Joints, AStubWithoutAJointIsHeldThroughThePartsAtItsCorner) {
   Case c = folded_sheet(90, {}, kMdf, 20);
   const border::Pieces pieces = border::make_pieces(c.strips, c.flat);
-  std::vector<std::pair<double, int>> folds;  // (x of its middle, border)
-  for (std::size_t b = 0; b < c.joints.borders.size(); ++b)
-    if (c.joints.borders[b].intervals.front().fold > 1e-6) {
-      const auto e = border::piece_ends(c.strips, pieces, static_cast<int>(b));
-      folds.push_back({0.5 * (e[0] + e[1]).x(), static_cast<int>(b)});
-    }
+  const std::vector<int> folds = fold_borders(c, pieces);
   ASSERT_EQ(folds.size(), 20u);
-  std::sort(folds.begin(), folds.end());
-  auto take_joint = [&](int b) {
-    BorderJoint& by = c.joints.borders[b];
-    EXPECT_GT(by.teeth, 0);
-    by.teeth = by.tabs = 0;
-    for (JointInterval& in : by.intervals) in.owner = -1, in.kind = JointKind::kNone;
-  };
-  const int mid = folds[10].second, left = folds[9].second, right = folds[11].second;
+  auto take_joint = [&](int b) { take_joint_away(c.joints.borders[b]); };
+  const int mid = folds[10], left = folds[9], right = folds[11];
   const double reach = kStubAtCorner * JointOptions{}.tooth_width;
   take_joint(mid);
   join_stubs_at_corners(c.joints, c.strips, pieces, reach);
@@ -710,6 +732,37 @@ TEST(Joints, AStubWithoutAJointIsHeldThroughThePartsAtItsCorner) {
   join_stubs_at_corners(c.joints, c.strips, pieces, 4.9);
   EXPECT_EQ(c.joints.borders_without_joint, 3);
   EXPECT_EQ(c.joints.stubs_joined_at_corners, 0);
+}
+
+// A border of two to four tooth widths with no joint of its own (taken away here from the
+// 10 mm fold borders of a sheet folded by 90 degrees in 10 strips) is held where its two parts
+// are joined through the parts at both of its corners: no point of it is then farther than two
+// tooth widths from a place where both parts are held, as a stub held at one corner. With the
+// joint of the neighbour at one of its corners taken away too, it is held at one end only, and
+// is a border without a joint.
+TEST(Joints, AShortBorderWithoutAJointIsHeldAtBothItsCorners) {
+  Case c = folded_sheet(90, {}, kMdf, 10);
+  const border::Pieces pieces = border::make_pieces(c.strips, c.flat);
+  const std::vector<int> folds = fold_borders(c, pieces);
+  ASSERT_EQ(folds.size(), 10u);
+  auto take_joint = [&](int b) { take_joint_away(c.joints.borders[b]); };
+  const int mid = folds[5], left = folds[4];
+  const double reach = kStubAtCorner * JointOptions{}.tooth_width;
+  EXPECT_NEAR(c.joints.borders[mid].length, 10.0, 1e-6);
+  take_joint(mid);
+  join_stubs_at_corners(c.joints, c.strips, pieces, reach);
+  EXPECT_EQ(c.joints.borders_without_joint, 0);
+  EXPECT_EQ(c.joints.stubs_joined_at_corners, 1);
+  EXPECT_FALSE(c.joints.borders[mid].joined_through_far.empty());
+  expect_held_at_corner(c.strips, c.flat, c.joints, mid);
+  // Shorter allowed reach: 10 mm is more than twice 4.9 mm.
+  join_stubs_at_corners(c.joints, c.strips, pieces, 4.9);
+  EXPECT_EQ(c.joints.borders[mid].kind(), "none");
+  take_joint(left);
+  join_stubs_at_corners(c.joints, c.strips, pieces, reach);
+  EXPECT_EQ(c.joints.borders[mid].kind(), "none");
+  EXPECT_EQ(c.joints.borders[left].kind(), "none");
+  EXPECT_EQ(c.joints.borders_without_joint, 2);
 }
 
 // Dovetail tabs lock in the plane (the head is wider than the neck) and the mate's socket has

@@ -59,23 +59,34 @@ void join_stubs_at_corners(Joints& joints, const Strips& strips, const border::P
   for (int i = 0; i < n; ++i) {
     BorderJoint& stub = joints.borders[i];
     stub.joined_through.clear();
-    if (has_joint(stub) || stub.length > max_length || stub.patches[0] == stub.patches[1]) continue;
-    for (const Vec3& corner : ends[i]) {
+    stub.joined_through_far.clear();
+    if (has_joint(stub) || stub.length > 2 * max_length || stub.patches[0] == stub.patches[1])
+      continue;
+    std::array<std::vector<int>, 2> chains;  // at each of its ends
+    for (int end = 0; end < 2; ++end) {
       // The borders with a joint that end at this corner link the parts around it.
       std::vector<std::array<int, 2>> links;
       for (int k = 0; k < n; ++k) {
         const BorderJoint& b = joints.borders[k];
         if (k == i || !has_joint(b) || b.patches[0] == b.patches[1]) continue;
-        for (int end = 0; end < 2; ++end)
-          if ((ends[k][end] - corner).norm() < kSameCorner && nearest_joint(b, end) <= max_length) {
+        for (int at = 0; at < 2; ++at)
+          if ((ends[k][at] - ends[i][end]).norm() < kSameCorner &&
+              nearest_joint(b, at) <= max_length) {
             links.push_back(b.patches);
             break;
           }
       }
-      std::vector<int> chain = chain_between(stub.patches[0], stub.patches[1], links);
-      if (!chain.empty() &&
-          (stub.joined_through.empty() || chain.size() < stub.joined_through.size()))
-        stub.joined_through = std::move(chain);
+      chains[end] = chain_between(stub.patches[0], stub.patches[1], links);
+    }
+    if (stub.length <= max_length) {
+      // Held at one end: the shorter chain.
+      const int end =
+          chains[0].empty() || (!chains[1].empty() && chains[1].size() < chains[0].size());
+      stub.joined_through = std::move(chains[end]);
+    } else if (!chains[0].empty() && !chains[1].empty()) {
+      // Held at both ends: no point of it farther than max_length from either.
+      stub.joined_through = std::move(chains[0]);
+      stub.joined_through_far = std::move(chains[1]);
     }
   }
   joints.borders_without_joint = joints.stubs_joined_at_corners = 0;

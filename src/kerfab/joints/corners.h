@@ -17,7 +17,10 @@ inline constexpr double kStubAtCorner = 2.0;
 /// Sets BorderJoint::joined_through on every border of \p joints with no tooth, tab or glue tab
 /// and at most \p max_length long [mm] whose two parts are joined to each other, at one of its
 /// ends, through the parts there (a shortest chain of borders with a joint that end at that
-/// corner; the chain's parts from one side's to the other's), and recounts
+/// corner, each with its joint within \p max_length of it; the chain's parts from one side's to
+/// the other's); on one up to twice as long where they are so joined at both its ends (no point
+/// of it farther from a place where both parts are held), also BorderJoint::joined_through_far
+/// (the chain at its other end); and recounts
 /// Joints::borders_without_joint and Joints::stubs_joined_at_corners. \pre \p pieces are the pieces
 /// \p joints was built on (one border per piece, same order).
 void join_stubs_at_corners(Joints& joints, const Strips& strips, const border::Pieces& pieces,

@@ -93,8 +93,13 @@ struct BorderJoint {
   /// to each other at one of its ends by the joints of the parts there: that chain of parts,
   /// from patches[0] to patches[1] (join_stubs_at_corners, joints/corners.h); else empty
   std::vector<int> joined_through;
+  /// A border of two to four tooth widths with no joint of its own, whose two parts are so
+  /// joined at both of its ends (every point of it within two tooth widths of one): the chain at
+  /// its second end (border::piece_ends), joined_through the one at its first; else empty
+  std::vector<int> joined_through_far;
   /// "box", "tab", "box+tab", "glue", "corner" (a stub located and held by its parts' joints at
-  /// one of its ends, joined_through) or "none" (nothing locates or holds the two parts)
+  /// one of its ends, or a short border at both, joined_through) or "none" (nothing locates or
+  /// holds the two parts)
   std::string kind() const;
 };
 

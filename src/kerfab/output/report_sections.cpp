@@ -300,6 +300,7 @@ json joints_section(const Joints& jt, const Material& material) {
                        {"dovetail_sides", flares}});
     if (b.kind() == "none" && b.free_room >= 0) borders.back()["free_room_mm"] = b.free_room;
     if (!b.joined_through.empty()) borders.back()["joined_through"] = b.joined_through;
+    if (!b.joined_through_far.empty()) borders.back()["joined_through_far"] = b.joined_through_far;
   }
   return {{"thickness_mm", material.thickness},
           {"teeth", jt.teeth - jt.tabs},
