@@ -352,6 +352,23 @@ TEST(Joints, BordersWithoutAJointAreWarnedOfWithWhereAndWhy) {
       << w;
   EXPECT_NE(w.find("--tab-misfit 0"), std::string::npos) << w;
   EXPECT_EQ(w.find("fell apart"), std::string::npos) << w;
+  // Beside a part the resolve stage left unresolved, that is said first: the border is bare
+  // because of that part.
+  const std::vector<int> unresolved = {std::min(first.patches[0], first.patches[1])};
+  int beside = 0;
+  for (const BorderJoint& b : c.joints.borders)
+    beside +=
+        b.kind() == "none" && (b.patches[0] == unresolved[0] || b.patches[1] == unresolved[0]);
+  ASSERT_GT(beside, 0);
+  const std::string u = warning(notes(c.joints, o, 3.0, unresolved));
+  EXPECT_NE(u.find(": " + std::to_string(beside) + " beside a part left too small, narrow or " +
+                   "distorted to handle (resolve.unresolved_parts"),
+            std::string::npos)
+      << u;
+  if (beside < n) {
+    EXPECT_NE(u.find("; " + std::to_string(n - beside) + " folded too shallow"), std::string::npos)
+        << u;
+  }
   // Plain borders asked for in paper are no defect; with the default tabs nothing is left bare.
   JointOptions plain = o;
   plain.glue_tab = 0;

@@ -387,6 +387,7 @@ json resolve_section(const ResolveResult& r, const ResolveOptions& options) {
           {"critical_before", r.critical_before},
           {"critical_after", r.critical_after},
           {"small_parts_after", r.small_parts_after},
+          {"unresolved_parts", r.unresolved_parts},
           {"parts_before", r.parts_before},
           {"parts_after", r.parts_after},
           {"minutes_before", r.minutes_before},

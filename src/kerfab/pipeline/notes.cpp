@@ -1,5 +1,6 @@
 #include "kerfab/pipeline/notes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -187,7 +188,8 @@ StageNotes notes(const CuttablePatches& c, double diagonal) {
   return n;
 }
 
-StageNotes notes(const Joints& j, const JointOptions& options, double thickness) {
+StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
+                 const std::vector<int>& unresolved) {
   StageNotes n;
   int blocked = 0, shallow = 0;
   for (const auto& b : j.borders) blocked += b.blocked, shallow += b.shallow;
@@ -205,7 +207,7 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness)
   // borders.)
   const bool plain_asked = thickness == 0 && options.glue_tab == 0;
   if (j.borders_without_joint > 0 && !plain_asked) {
-    int apart = 0, too_shallow = 0, crowded = 0;
+    int left = 0, apart = 0, too_shallow = 0, crowded = 0;
     double length = 0;  // [mm]
     std::vector<std::string> where;
     const auto fell = [&](int p) {
@@ -214,7 +216,10 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness)
     for (const BorderJoint& b : j.borders) {
       if (b.kind() != "none") continue;
       length += b.length;
-      if (fell(b.patches[0]) || fell(b.patches[1]))
+      if (std::binary_search(unresolved.begin(), unresolved.end(), b.patches[0]) ||
+          std::binary_search(unresolved.begin(), unresolved.end(), b.patches[1]))
+        ++left;
+      else if (fell(b.patches[0]) || fell(b.patches[1]))
         ++apart;
       else if (b.shallow > 0 && b.blocked == 0)
         ++too_shallow;
@@ -231,6 +236,13 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness)
     if (j.borders_without_joint > static_cast<int>(where.size())) w << ", ...";
     w << ":";
     const char* sep = " ";
+    if (left > 0) {
+      w << sep << left
+        << " beside a part left too small, narrow or distorted to handle "
+           "(resolve.unresolved_parts; "
+           "the resolve warning names the size at which it would hold)";
+      sep = "; ";
+    }
     if (apart > 0) {
       w << sep << apart << " beside a part that fell apart when its joints were cut";
       sep = "; ";

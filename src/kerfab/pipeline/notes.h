@@ -26,8 +26,11 @@ StageNotes notes(const Strips& strips, const std::optional<RowBaseline>& baselin
                  const StripsOptions& options);
 StageNotes notes(const CuttablePatches& flat, double target_diagonal);
 /// \p thickness: the sheet's [mm]; 0 (paper) with JointOptions::glue_tab 0 asks for plain
-/// borders, which are then no defect to warn of.
-StageNotes notes(const Joints& joints, const JointOptions& options, double thickness);
+/// borders, which are then no defect to warn of. \p unresolved: the parts the resolve stage left
+/// too small, narrow or distorted to handle (ResolveResult::unresolved_parts), ascending: a
+/// border without a joint beside one is said to be there first.
+StageNotes notes(const Joints& joints, const JointOptions& options, double thickness,
+                 const std::vector<int>& unresolved = {});
 StageNotes notes(const KerfResult& kerf, const KerfOptions& options);
 /// The warning for \p by_options of \p planned kerf cuts that found no room in their parts
 /// with the --bridge, --kerf-margin and --min-cut-length asked but would with the defaults

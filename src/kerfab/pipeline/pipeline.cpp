@@ -89,7 +89,8 @@ static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double 
     std::vector<std::string> held;
     for (const StageNotes& rebuilt :
          {notes(*r.strips, r.baseline, o.strips), notes(*r.flat, diagonal),
-          notes(*r.joints, o.joints, o.material.thickness), notes(*r.kerf, o.kerf)})
+          notes(*r.joints, o.joints, o.material.thickness, r.resolve->unresolved_parts),
+          notes(*r.kerf, o.kerf)})
       held.insert(held.end(), rebuilt.warnings.begin(), rebuilt.warnings.end());
     if (first_skipped > 0 && r.kerf->skipped_by_options == 0)
       held.push_back(skipped_cuts_warning(first_skipped, first_planned, o.kerf, true));

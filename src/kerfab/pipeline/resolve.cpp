@@ -468,6 +468,7 @@ class Resolver {
     const double max_angle = o_.flatten.max_angle_error;
     for (int p : small) {
       record(part_region(build_.flat.strips, p), "unresolved");
+      out_.unresolved_parts.push_back(p);
       const Polygon2& outline = build_.joints.parts[p].designed;
       const double area = outline.size() < 3 ? 0.0 : std::abs(polygon_area(outline));
       RegionChange& c = out_.changes.back();
@@ -510,6 +511,7 @@ class Resolver {
           std::max(out_.small_parts_size_mm, size_factor * out_.current_size_mm);
       ++out_.small_parts_after;
     }
+    std::sort(out_.unresolved_parts.begin(), out_.unresolved_parts.end());
     out_.seconds = elapsed();
     finish();
     return std::move(out_);
