@@ -239,8 +239,8 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
     if (left > 0) {
       w << sep << left
         << " beside a part left too small, narrow or distorted to handle "
-           "(resolve.unresolved_parts; "
-           "the resolve warning names the size at which it would hold)";
+           "(resolve.unresolved_parts; the resolve warning says what would make it hold, where "
+           "known)";
       sep = "; ";
     }
     if (apart > 0) {
