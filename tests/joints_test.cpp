@@ -729,17 +729,16 @@ TEST(Joints, AStubWithoutAJointIsHeldThroughThePartsAtItsCorner) {
   const border::Pieces pieces = border::make_pieces(c.strips, c.flat);
   const std::vector<int> folds = fold_borders(c, pieces);
   ASSERT_EQ(folds.size(), 20u);
-  auto take_joint = [&](int b) { take_joint_away(c.joints.borders[b]); };
   const int mid = folds[10], left = folds[9], right = folds[11];
   const double reach = kStubAtCorner * JointOptions{}.tooth_width;
-  take_joint(mid);
+  take_joint_away(c.joints.borders[mid]);
   join_stubs_at_corners(c.joints, c.strips, pieces, reach);
   EXPECT_EQ(c.joints.borders_without_joint, 0);
   EXPECT_EQ(c.joints.stubs_joined_at_corners, 1);
   expect_held_at_corner(c.strips, c.flat, c.joints, mid);
   EXPECT_EQ(c.joints.borders[mid].joined_through.size(), 4u);  // both halves of a neighbour
-  take_joint(left);
-  take_joint(right);
+  take_joint_away(c.joints.borders[left]);
+  take_joint_away(c.joints.borders[right]);
   join_stubs_at_corners(c.joints, c.strips, pieces, reach);
   EXPECT_EQ(c.joints.borders[mid].kind(), "none");
   EXPECT_EQ(c.joints.borders_without_joint, 1);
@@ -762,11 +761,10 @@ TEST(Joints, AShortBorderWithoutAJointIsHeldAtBothItsCorners) {
   const border::Pieces pieces = border::make_pieces(c.strips, c.flat);
   const std::vector<int> folds = fold_borders(c, pieces);
   ASSERT_EQ(folds.size(), 10u);
-  auto take_joint = [&](int b) { take_joint_away(c.joints.borders[b]); };
   const int mid = folds[5], left = folds[4];
   const double reach = kStubAtCorner * JointOptions{}.tooth_width;
   EXPECT_NEAR(c.joints.borders[mid].length, 10.0, 1e-6);
-  take_joint(mid);
+  take_joint_away(c.joints.borders[mid]);
   join_stubs_at_corners(c.joints, c.strips, pieces, reach);
   EXPECT_EQ(c.joints.borders_without_joint, 0);
   EXPECT_EQ(c.joints.stubs_joined_at_corners, 1);
@@ -775,7 +773,7 @@ TEST(Joints, AShortBorderWithoutAJointIsHeldAtBothItsCorners) {
   // Shorter allowed reach: 10 mm is more than twice 4.9 mm.
   join_stubs_at_corners(c.joints, c.strips, pieces, 4.9);
   EXPECT_EQ(c.joints.borders[mid].kind(), "none");
-  take_joint(left);
+  take_joint_away(c.joints.borders[left]);
   join_stubs_at_corners(c.joints, c.strips, pieces, reach);
   EXPECT_EQ(c.joints.borders[mid].kind(), "none");
   EXPECT_EQ(c.joints.borders[left].kind(), "none");

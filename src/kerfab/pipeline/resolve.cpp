@@ -35,8 +35,12 @@ struct Region {
   // Of a small part that fell apart into pieces a maker could handle each on its own: the
   // columns at whose first ruling it is split so that each becomes a part (columns_apart).
   std::vector<int> apart_at;
-  double area_kept = 0, area_lost = 0;  // of that part: its piece kept and those lost [mm^2]
 };
+
+/// Area of \p part as cut; 0 where its outline has nothing left [mm^2].
+double area_as_cut(const PartOutline& part) {
+  return part.designed.size() < 3 ? 0.0 : std::abs(polygon_area(part.designed));
+}
 
 /// True when the flattening \p flat (of patch \p p of \p b) has an inverted quad, crosses
 /// itself, or has a corner angle off by the flattening's limit or more: a part that does not
@@ -348,16 +352,19 @@ class Resolver {
             bool resolved = true;
             const bool apart = region.small_part && remedy == Remedy::kSplit;
             if (apart) {
-              // A part split where it fell apart: kept where its pieces now are parts (their
-              // neighbours may be ones the loop changes next, as the folded-back part whose
-              // mitre cut it through).
+              // A part split where it fell apart: kept where its pieces now are parts, holding
+              // its piece kept and half what it lost (their neighbours may be ones the loop
+              // changes next, as the folded-back part whose mitre cut it through). build_ is
+              // still the build the region was found in.
+              const PartOutline& was = build_.joints.parts[region.patch];
+              double lost = 0;
+              for (const Polygon2& piece : was.lost) lost += std::abs(polygon_area(piece));
               std::set<int> parts;
               for (int q : region.quads) parts.insert(tried->flat.strips.quad_patch[q]);
               double area = 0;
               for (int q : parts)
-                if (q >= 0 && tried->joints.parts[q].designed.size() >= 3)
-                  area += std::abs(polygon_area(tried->joints.parts[q].designed));
-              resolved = area >= region.area_kept + 0.5 * region.area_lost;
+                if (q >= 0) area += area_as_cut(tried->joints.parts[q]);
+              resolved = area >= area_as_cut(was) + 0.5 * lost;
             } else {
               for (int q : region.quads)
                 for (int n : with_neighbours(q)) resolved = resolved && !still.count(n);
@@ -469,8 +476,7 @@ class Resolver {
     for (int p : small) {
       record(part_region(build_.flat.strips, p), "unresolved");
       out_.unresolved_parts.push_back(p);
-      const Polygon2& outline = build_.joints.parts[p].designed;
-      const double area = outline.size() < 3 ? 0.0 : std::abs(polygon_area(outline));
+      const double area = area_as_cut(build_.joints.parts[p]);
       RegionChange& c = out_.changes.back();
       std::ostringstream why;
       const PatchFlattening& flat = build_.flat.flattening.patches[p];
@@ -571,8 +577,7 @@ class Resolver {
   /// millimetre, or fallen apart into pieces of which the largest is under --min-part-area):
   /// it is missing from the sheets whether it is left out or not.
   bool nothing_left(int p) const {
-    const Polygon2& outline = build_.joints.parts[p].designed;
-    const double area = outline.size() < 3 ? 0.0 : std::abs(polygon_area(outline));
+    const double area = area_as_cut(build_.joints.parts[p]);
     return area < 1.0 || (build_.joints.parts[p].repaired && area < r_.min_part_area);
   }
 
@@ -819,11 +824,7 @@ class Resolver {
       for (int q : patch.all_quads()) tried = tried && stuck_.count(q);
       if (tried) continue;
       out.push_back(part_region(build_.flat.strips, p));
-      Region& r = out.back();
-      r.apart_at = columns_apart(build_, p, r_.min_part_area);
-      const PartOutline& part = build_.joints.parts[p];
-      r.area_kept = part.designed.size() < 3 ? 0.0 : std::abs(polygon_area(part.designed));
-      for (const Polygon2& piece : part.lost) r.area_lost += std::abs(polygon_area(piece));
+      out.back().apart_at = columns_apart(build_, p, r_.min_part_area);
     }
     return out;
   }
@@ -901,11 +902,22 @@ class Resolver {
     }
     if (at == kNone) return false;
     const int edge = p.ruling_edges[starts[at]];
-    if (edge < 0 || state.merge.count(edge) || user_merge_.count(edge) || state.split.count(edge))
-      return false;
+    if (!splittable(edge, state)) return false;
+    add_split(edge, state, own);
+    return true;
+  }
+
+  /// True where coarse edge \p edge (-1: a ruling inside a quad) may become a strip border: no
+  /// merge, the user's or the loop's, runs across it, and it is not one already.
+  bool splittable(int edge, const Added& state) const {
+    return edge >= 0 && !state.merge.count(edge) && !user_merge_.count(edge) &&
+           !state.split.count(edge);
+  }
+
+  /// Adds a strip border at coarse edge \p edge to \p state (and, alone, to \p own).
+  void add_split(int edge, Added& state, Added& own) const {
     add_edge(m_, edge, state.split, own.split, state.guidance.split);
     own.guidance.split.push_back(ends(m_, edge));
-    return true;
   }
 
   /// Splits at the columns of \p r.apart_at (columns_apart): each piece the part fell into
@@ -916,14 +928,10 @@ class Resolver {
     std::vector<int> edges;
     for (int col : r.apart_at) {
       const int edge = p.ruling_edges[starts[col]];
-      if (edge < 0 || state.merge.count(edge) || user_merge_.count(edge) || state.split.count(edge))
-        return false;
+      if (!splittable(edge, state)) return false;
       edges.push_back(edge);
     }
-    for (int edge : edges) {
-      add_edge(m_, edge, state.split, own.split, state.guidance.split);
-      own.guidance.split.push_back(ends(m_, edge));
-    }
+    for (int edge : edges) add_split(edge, state, own);
     return true;
   }
 
