@@ -432,7 +432,7 @@ class Builder {
   /// The borders are tried in waves of borders that share no part, each wave in parallel:
   /// trying one border changes only it and its two parts, so a border waits for the earlier
   /// ones that share a part with it. It also reads the outlines of third parts near it in 3D
-  /// (reach_into_others): those of a part another border of the wave changes are read as they
+  /// (reach_into): those of a part another border of the wave changes are read as they
   /// were when the wave began (wave_outlines_), so the outcome does not depend on timing.
   void give_stubs_a_tooth(const std::vector<std::vector<std::array<double, 2>>>& forbidden,
                           const std::set<int>* only = nullptr) {
@@ -617,7 +617,8 @@ class Builder {
       std::vector<Zone> zones;
       if (in_bands) {
         zones = tooth_zones(i, in, owner);
-        if (reach_into_others(b.patches[owner], i, in, zones, nullptr, true)[0] > kThirdPartReach)
+        if (reach_into(b.patches[owner], i, in, zones, nullptr, Into::kThirdParts,
+                       kThirdPartReach) > kThirdPartReach)
           continue;
       }
       b.intervals = with;
@@ -656,8 +657,8 @@ class Builder {
       }
       // Into its mate, as both are now drawn (the slot cut).
       if (sound && in_bands)
-        sound = reach_into_others(b.patches[owner], i, in, zones,
-                                  &out_.parts[b.patches[owner]].designed, false)[1] <= kMateReach;
+        sound = reach_into(b.patches[owner], i, in, zones, &out_.parts[b.patches[owner]].designed,
+                           Into::kMate, kMateReach) <= kMateReach;
       if (sound) {
         b.free_room = -1;
         ++b.teeth, ++t.teeth;
@@ -694,15 +695,19 @@ class Builder {
     return zones;
   }
 
+  /// Which plates reach_into() looks into: those of the parts other than the border's two, or
+  /// the tooth's mate's.
+  enum class Into { kThirdParts, kMate };
+
   /// How deep the material a tooth adds to part \p p (the \p zones of interval \p in of border
-  /// \p i; only where \p within holds it, if given) reaches into the plates of the other parts in
-  /// the assembled position [mm], {into third parts, into its mate}; <= 0: clear. Sampled on a
-  /// 0.1 mm grid from the plain cut-back out to the tip, at three heights through the plate.
-  std::array<double, 2> reach_into_others(int p, int i, const JointInterval& in,
-                                          const std::vector<Zone>& zones, const Polygon2* within,
-                                          bool third_only) const {
-    std::array<double, 2> deepest = {-std::numeric_limits<double>::infinity(),
-                                     -std::numeric_limits<double>::infinity()};
+  /// \p i; only where \p within holds it, if given) reaches into the plates of the parts \p into
+  /// names in the assembled position [mm]; <= 0: clear. Sampled on a 0.1 mm grid from the plain
+  /// cut-back out to the tip, at three heights through the plate. Once a part's plate is reached
+  /// deeper than \p enough [mm], the rest are not looked at (the depth returned is then over
+  /// \p enough, not necessarily the deepest).
+  double reach_into(int p, int i, const JointInterval& in, const std::vector<Zone>& zones,
+                    const Polygon2* within, Into into, double enough) const {
+    double deepest = -std::numeric_limits<double>::infinity();
     std::vector<Vec3> points;
     Vec3 bmin = Vec3::Constant(1e300), bmax = Vec3::Constant(-1e300);
     const double lo = std::min(in.plain, 0.0), hi = in.offsets.tip;
@@ -728,15 +733,16 @@ class Builder {
     if (points.empty()) return deepest;
     const BorderJoint& b = out_.borders[i];
     for (int o : plates_.near(bmin, bmax)) {
-      const int k = o == b.patches[0] || o == b.patches[1] ? 1 : 0;
-      if (o == p || (third_only && k == 1)) continue;
+      const bool mate = o == b.patches[0] || o == b.patches[1];
+      if (o == p || mate != (into == Into::kMate)) continue;
       const border::Plates::Window w = plates_.window(o, bmin, bmax);
       if (w.frames.empty()) continue;
-      const auto frozen = k == 0 ? wave_outlines_.find(o) : wave_outlines_.end();
-      deepest[k] = std::max(
-          deepest[k],
+      const auto frozen = mate ? wave_outlines_.end() : wave_outlines_.find(o);
+      deepest = std::max(
+          deepest,
           plates_.deepest_in(
               w, points, frozen != wave_outlines_.end() ? frozen->second : out_.parts[o].designed));
+      if (deepest > enough) break;
     }
     return deepest;
   }

@@ -75,8 +75,10 @@ Plates::Window Plates::window(int p, const Vec3& lo, const Vec3& hi) const {
     const Frame& f = frames_[p][i];
     const Vec3 grow = Vec3::Constant(f.radius + thickness_);
     if (((lo - grow).array() <= f.centre3.array()).all() &&
-        (f.centre3.array() <= (hi + grow).array()).all())
+        (f.centre3.array() <= (hi + grow).array()).all()) {
       w.frames.push_back(static_cast<int>(i));
+      w.centres.push_back(f.centre3);
+    }
   }
   return w;
 }
@@ -86,11 +88,10 @@ Vec3 Plates::local(const Window& w, const Vec3& q) const {
   // coordinates in its own frame (a bent part's frames differ by the bend between sub-quads).
   std::array<std::pair<double, const Frame*>, 4> nearest;
   nearest.fill({std::numeric_limits<double>::infinity(), nullptr});
-  for (int i : w.frames) {
-    const Frame& f = frames_[w.part][i];
-    const double d = (f.centre3 - q).squaredNorm();
+  for (std::size_t k = 0; k < w.centres.size(); ++k) {
+    const double d = (w.centres[k] - q).squaredNorm();
     if (d >= nearest.back().first) continue;
-    nearest.back() = {d, &f};
+    nearest.back() = {d, &frames_[w.part][w.frames[k]]};
     std::sort(nearest.begin(), nearest.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
   }

@@ -28,6 +28,7 @@ class Plates {
   struct Window {
     int part = -1;
     std::vector<int> frames;
+    std::vector<Vec3> centres;  ///< per frame, its 3D centre (local() scans these in a row)
   };
   Window window(int p, const Vec3& lo, const Vec3& hi) const;
   /// 3D point \p q in the flat frame of the window's part: (x, y, height off the mid-surface)
