@@ -750,6 +750,40 @@ TEST(Joints, AStubWithoutAJointIsHeldThroughThePartsAtItsCorner) {
   EXPECT_EQ(c.joints.stubs_joined_at_corners, 0);
 }
 
+// The resolve loop's rebuilds draft the joints without the short borders' stub teeth
+// (JointOptions::stub_teeth false: drawing both parts for each candidate tooth is the costliest
+// step); the parts a run cuts are never such a draft. Their joints are what the joints stage
+// gives the final parts with every option, outline for outline, and stub teeth among them.
+// A sphere too tight at 30 mm for 3 mm MDF, so that the loop rebuilds, and the end-to-end
+// shapes, most of which it does not.
+TEST(Joints, TheRunCutsTheFinalJointsNotTheResolveLoopsDraft) {
+  std::vector<std::pair<test::Shape, double>> shapes = {{test::sphere(40, 4), 30.0}};
+  for (auto& shape : test::end_to_end_shapes()) shapes.push_back({shape, 0.0});
+  int rebuilt = 0, stubs = 0;
+  for (const auto& [shape, size] : shapes) {
+    SCOPED_TRACE(shape.name);
+    PipelineOptions o;
+    if (size > 0) o.input.size = size;
+    const RunResult run = test::run_shape(shape, o, test::fresh_dir(shape.name));
+    ASSERT_TRUE(run.joints && run.resolve && run.flat);
+    rebuilt += run.resolve->rounds > 0;
+    EXPECT_FALSE(run.joints->draft);
+    JointOptions full = o.joints;
+    full.min_part_area = o.resolve.min_part_area;
+    full.min_part_width = o.resolve.min_part_width;
+    const Joints again =
+        make_joints(run.flat->strips, run.flat->flattening, o.material, o.machine, full);
+    ASSERT_EQ(again.parts.size(), run.joints->parts.size());
+    for (std::size_t p = 0; p < again.parts.size(); ++p)
+      EXPECT_EQ(again.parts[p].designed, run.joints->parts[p].designed) << "part " << p;
+    EXPECT_EQ(again.teeth, run.joints->teeth);
+    EXPECT_EQ(again.borders_without_joint, run.joints->borders_without_joint);
+    for (const BorderJoint& b : run.joints->borders) stubs += b.free_room < 0;
+  }
+  EXPECT_GE(rebuilt, 1);
+  EXPECT_GE(stubs, 1);
+}
+
 // A border of two to four tooth widths with no joint of its own (taken away here from the
 // 10 mm fold borders of a sheet folded by 90 degrees in 10 strips) is held where its two parts
 // are joined through the parts at both of its corners: no point of it is then farther than two

@@ -100,6 +100,7 @@ class Builder {
         lost_(rings_.size()) {}
 
   Joints run() {
+    out_.draft = !o_.stub_teeth;
     std::vector<std::vector<std::array<double, 2>>> forbidden(pieces_.size() * 2);
     for (std::size_t p = 0; p < rings_.size(); ++p)
       restrict_by_bands(static_cast<int>(p), forbidden);
@@ -436,6 +437,7 @@ class Builder {
   /// were when the wave began (wave_outlines_), so the outcome does not depend on timing.
   void give_stubs_a_tooth(const std::vector<std::vector<std::array<double, 2>>>& forbidden,
                           const std::set<int>* only = nullptr) {
+    if (!o_.stub_teeth) return;
     std::vector<int> pending;
     for (std::size_t i = 0; i < out_.borders.size(); ++i)
       if (out_.borders[i].teeth == 0 && (!only || only->contains(static_cast<int>(i))))

@@ -42,6 +42,11 @@ struct JointOptions {
   double min_part_width = 3;     ///< so does a part nowhere this wide as drawn (its outline shrunk
                                  ///< by half of it is empty; ResolveOptions::min_part_width) [mm],
                                  ///< >= 0
+  /// Short borders between corners that the usual teeth leave bare get a stub tooth checked in
+  /// 3D, both parts drawn for each candidate (the costliest step of the stage). False: left
+  /// bare; the resolve loop's rebuilds, which look for critical regions and parts too small,
+  /// leave them to its final build.
+  bool stub_teeth = true;
   // Paper (thickness 0): glue tabs instead of teeth (joints/glue_tabs.h).
   double glue_tab = 6.0;       ///< height of a glue tab, root to edge [mm], >= 0; 0: no glue
                                ///< tabs (plain borders, the paper's emulation)
@@ -175,6 +180,9 @@ struct Joints {
   std::vector<int> thin_neck_parts;
   double lost_area = 0;           ///< of the pieces the parts that fell apart lost [mm^2]
   double largest_lost_piece = 0;  ///< the largest such piece [mm^2]
+  /// Made without stub teeth (JointOptions::stub_teeth false): a draft the resolve loop looks
+  /// at, not the joints to cut.
+  bool draft = false;
 };
 
 /// What drawing an outline gave, apart from its spans (which name that call's borders).

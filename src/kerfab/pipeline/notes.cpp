@@ -201,7 +201,11 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
      << " stubs held by the joints at their corners); intervals without teeth: " << shallow
      << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
      << " in collision regions";
+  if (j.draft)
+    os << " (a draft for the resolve stage: short borders between corners get their stub teeth "
+          "in its final build)";
   n.lines.push_back(os.str());
+  if (j.draft) return n;  // its warnings come with the final build
   // A border with nothing that locates its two parts or holds them while the glue sets is a
   // defect of the build: said, with where and why. (Paper with --glue-tab 0 asks for plain
   // borders.)

@@ -72,6 +72,9 @@ static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double 
   const int first_planned = r.kerf->cuts + r.kerf->skipped;
   PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
                    std::move(*r.joints), std::move(*r.kerf)};
+  // Joints drafted without stub teeth: the loop's final build has them even where it changed
+  // nothing else, and the joints and kerf stages' notes were of the draft.
+  const bool drafted = build.joints.draft;
   const auto round_done = [&](const std::string& line) {
     if (progress) progress("  " + line);
   };
@@ -84,7 +87,7 @@ static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double 
   if (r.resolve->rounds > 0 && o.flatten.mimic_3d)
     r.flat->deformation = flat_metric_deformation(*r.flat, deformation_spacing);
   StageNotes n = notes(*r.resolve, o.kerf, r.quads.has_value());
-  if (r.resolve->rounds > 0) {
+  if (r.resolve->rounds > 0 || drafted) {
     n.supersedes = {Stage::kStrips, Stage::kFlatten, Stage::kJoints, Stage::kKerf};
     std::vector<std::string> held;
     for (const StageNotes& rebuilt :
@@ -139,6 +142,10 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   // Part outlines drawn by the joints stage and patches' cuts placed by the kerf stage, reused
   // by the resolve stage's rebuilds.
   PartsMemo memo;
+  // Whether the resolve loop runs on the parts the joints and kerf stages cut.
+  const bool resolve_follows =
+      o.resolve.enabled &&
+      (!o.stop_after || (*o.stop_after != "joints" && *o.stop_after != "kerf"));
   // The stages in order; each stores its result in r and returns what it tells the user.
   const std::vector<std::pair<Stage, std::function<StageNotes()>>> stages = {
       {Stage::kLoad,
@@ -202,9 +209,13 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kJoints,
        [&] {
-         r.joints = make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, joints,
+         // Where the resolve stage follows, a draft without the short borders' stub teeth: it
+         // looks for critical regions and parts too small, and its final build gets them.
+         JointOptions first = joints;
+         first.stub_teeth = !resolve_follows;
+         r.joints = make_joints(r.flat->strips, r.flat->flattening, o.material, o.machine, first,
                                 &memo.outlines);
-         return notes(*r.joints, joints, o.material.thickness);
+         return notes(*r.joints, first, o.material.thickness);
        }},
       {Stage::kKerf,
        [&] {

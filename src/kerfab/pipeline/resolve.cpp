@@ -252,7 +252,10 @@ class Resolver {
         o_(options),
         r_(resolve),
         progress_(progress),
-        memo_(memo ? *memo : own_memo_) {}
+        memo_(memo ? *memo : own_memo_) {
+    draft_options_ = o_;
+    draft_options_.joints.stub_teeth = false;
+  }
 
   ResolveResult run() {
     out_.critical_before = static_cast<int>(build_.kerf.critical.size());
@@ -302,159 +305,186 @@ class Resolver {
       return State{accepted_.stiff, accepted_.merge, accepted_.split, accepted_.facet_quads,
                    facets,          cheap_failed,    stuck_};
     };
-    for (int round = 0; r_.enabled && round < r_.max_rounds; ++round) {
-      const std::vector<int> small = small_now();
-      keep_if_best(small);
-      if (!seen.insert(state()).second) break;
-      std::vector<Region> pending = current_regions(small);
-      if (!pending.empty() && elapsed() >= r_.time_limit) {
-        out_.time_limited = true;
-        break;
-      }
-      if (progress_) {
-        std::ostringstream line;
-        line << "round " << round + 1 << ": " << build_.kerf.critical.size()
-             << " critical regions, " << small.size() << " parts too small to handle, "
-             << build_.flat.strips.patches.size() << " parts";
-        progress_(line.str());
-      }
-      if (pending.empty()) break;
-      // 1. Crease splits and merges, tried together and kept where they resolve their region.
-      Added trial = accepted_;
-      std::vector<std::tuple<Region, Added, Remedy>> applied;
-      for (const Region& region : pending) {
-        bool failed = false;
-        for (int q : region.quads) failed = failed || cheap_failed.count(q);
-        if (failed) continue;
-        for (Remedy remedy : {Remedy::kSplit, Remedy::kMerge}) {
-          Added own;
-          if (apply(remedy, region, trial, own)) {
-            applied.push_back({region, own, remedy});
-            break;
-          }
-        }
-      }
-      if (!applied.empty()) {
-        std::optional<PartsBuild> tried;
-        try {
-          tried = rebuild(trial);
-          ++out_.rounds;
-        } catch (const InvalidInput&) {  // the strips refused a merge (a branch or a tube)
-          for (const auto& a : applied)
-            cheap_failed.insert(std::get<0>(a).quads.begin(), std::get<0>(a).quads.end());
-        }
-        if (tried) {
-          const std::set<int> still = critical_quads(*tried);
-          const Added before = accepted_;
-          const std::size_t recorded = out_.changes.size();
-          std::size_t kept = 0;
-          for (const auto& [region, own, remedy] : applied) {
-            bool resolved = true;
-            const bool apart = region.small_part && remedy == Remedy::kSplit;
-            if (apart) {
-              // A part split where it fell apart: kept where its pieces now are parts, holding
-              // its piece kept and half what it lost (their neighbours may be ones the loop
-              // changes next, as the folded-back part whose mitre cut it through). build_ is
-              // still the build the region was found in.
-              const PartOutline& was = build_.joints.parts[region.patch];
-              double lost = 0;
-              for (const Polygon2& piece : was.lost) lost += std::abs(polygon_area(piece));
-              std::set<int> parts;
-              for (int q : region.quads) parts.insert(tried->flat.strips.quad_patch[q]);
-              double area = 0;
-              for (int q : parts)
-                if (q >= 0) area += area_as_cut(tried->joints.parts[q]);
-              resolved = area >= area_as_cut(was) + 0.5 * lost;
-            } else {
-              for (int q : region.quads)
-                for (int n : with_neighbours(q)) resolved = resolved && !still.count(n);
-            }
-            if (!resolved) {
-              cheap_failed.insert(region.quads.begin(), region.quads.end());
-              continue;
-            }
-            merge_into(accepted_, own);
-            record(region, remedy_name(remedy));
-            if (apart)
-              out_.changes.back().reason =
-                  "split where the part fell apart when cut: the piece it lost is a part of its "
-                  "own";
-            ++kept;
-          }
-          if (kept == applied.size()) {
-            build_ = std::move(*tried);
-          } else if (kept > 0) {
-            try {
-              build_ = rebuild(accepted_);
-              ++out_.rounds;
-            } catch (const InvalidInput&) {  // the kept ones contradict each other alone
-              accepted_ = before;
-              out_.changes.resize(recorded);
-              for (const auto& a : applied)
-                cheap_failed.insert(std::get<0>(a).quads.begin(), std::get<0>(a).quads.end());
-            }
-          }
-        }
-        pending = current_regions(small_now());
-      }
-      // 2. Facets where nothing cheaper applies or it did not help: no region's once the time
-      // is up (a region's facets, and the rebuild after them, take seconds each on a large mesh,
-      // and a round of them was once 117 s). The regions left are then left to the next round's
-      // start, which ends the loop, or, where this round changed nothing, to this one's end.
-      const Added before = accepted_;
-      const std::size_t recorded = out_.changes.size();
-      std::set<int> tried;
-      int made = 0;
-      bool out_of_time = false;
-      for (const Region& region : pending) {
-        if (elapsed() >= r_.time_limit) {
-          out_of_time = true;
+    // The rebuilds leave the short borders' stub teeth out (drawing both parts for each
+    // candidate tooth is most of the joints stage's time, and a stub tooth decides neither the
+    // critical regions nor the parts too small, but for a rare few): the build the loop keeps
+    // then gets them, and the rounds go on, with them, where that left a defect on quads the
+    // draft had none on (a part that falls apart at a stub tooth's slot). The rounds are
+    // counted across both.
+    int round = 0;
+    std::vector<int> small;
+    for (const bool draft : {true, false}) {
+      draft_ = draft;
+      if (!draft) {
+        if (!build_.joints.draft) break;
+        // The quads of the draft's critical regions and parts too small.
+        const std::set<int> found = critical_quads(build_);
+        build_.joints = make_joints(strips(), build_.flat.flattening, o_.material, o_.machine,
+                                    o_.joints, &memo_.outlines);
+        build_.kerf = place_kerf_cuts(strips(), build_.flat.flattening, build_.joints, o_.material,
+                                      o_.machine, o_.kerf, &memo_.kerf);
+        const std::set<int> now = critical_quads(build_);
+        if (std::includes(found.begin(), found.end(), now.begin(), now.end())) {
+          small = small_now();
           break;
         }
-        bool failed = false;
-        for (int q : region.quads) failed = failed || cheap_failed.count(q);
-        Added scratch = accepted_, ignore;
-        const bool cheap = apply(Remedy::kSplit, region, scratch, ignore) ||
-                           apply(Remedy::kMerge, region, scratch, ignore);
-        if (cheap && !failed) continue;  // its cheap remedy comes first, next round
-        bool given_up = true;
-        for (int q : region.quads) given_up = given_up && stuck_.count(q);
-        if (given_up) continue;
-        Added own;
-        tried.insert(region.quads.begin(), region.quads.end());
-        if (!facets(region, accepted_, own)) continue;
-        record(region, remedy_name(Remedy::kFacets));
-        ++made;
+        seen.clear();
+        best.reset();
       }
-      if (made == 0 && applied.empty()) {
-        out_.time_limited = out_of_time;
-        break;
-      }
-      if (made > 0) {
-        consolidate_facets();
-        try {
-          build_ = rebuild(accepted_);
-          ++out_.rounds;
-        } catch (const InvalidInput&) {
-          // The facets cut an earlier merge or split apart (the strips refuse the mix): this
-          // round's facets are taken back and their regions not tried again.
-          accepted_ = before;
-          out_.changes.resize(recorded);
-          stuck_.insert(tried.begin(), tried.end());
-          cheap_failed.insert(tried.begin(), tried.end());
+      for (; r_.enabled && round < r_.max_rounds; ++round) {
+        small = small_now();
+        keep_if_best(small);
+        if (!seen.insert(state()).second) break;
+        std::vector<Region> pending = current_regions(small);
+        if (!pending.empty() && elapsed() >= r_.time_limit) {
+          out_.time_limited = true;
+          break;
+        }
+        if (progress_) {
+          std::ostringstream line;
+          line << "round " << round + 1 << ": " << build_.kerf.critical.size()
+               << " critical regions, " << small.size() << " parts too small to handle, "
+               << build_.flat.strips.patches.size() << " parts";
+          progress_(line.str());
+        }
+        if (pending.empty()) break;
+        // 1. Crease splits and merges, tried together and kept where they resolve their region.
+        Added trial = accepted_;
+        std::vector<std::tuple<Region, Added, Remedy>> applied;
+        for (const Region& region : pending) {
+          bool failed = false;
+          for (int q : region.quads) failed = failed || cheap_failed.count(q);
+          if (failed) continue;
+          for (Remedy remedy : {Remedy::kSplit, Remedy::kMerge}) {
+            Added own;
+            if (apply(remedy, region, trial, own)) {
+              applied.push_back({region, own, remedy});
+              break;
+            }
+          }
+        }
+        if (!applied.empty()) {
+          std::optional<PartsBuild> tried;
+          try {
+            tried = rebuild(trial);
+            ++out_.rounds;
+          } catch (const InvalidInput&) {  // the strips refused a merge (a branch or a tube)
+            for (const auto& a : applied)
+              cheap_failed.insert(std::get<0>(a).quads.begin(), std::get<0>(a).quads.end());
+          }
+          if (tried) {
+            const std::set<int> still = critical_quads(*tried);
+            const Added before = accepted_;
+            const std::size_t recorded = out_.changes.size();
+            std::size_t kept = 0;
+            for (const auto& [region, own, remedy] : applied) {
+              bool resolved = true;
+              const bool apart = region.small_part && remedy == Remedy::kSplit;
+              if (apart) {
+                // A part split where it fell apart: kept where its pieces now are parts, holding
+                // its piece kept and half what it lost (their neighbours may be ones the loop
+                // changes next, as the folded-back part whose mitre cut it through). build_ is
+                // still the build the region was found in.
+                const PartOutline& was = build_.joints.parts[region.patch];
+                double lost = 0;
+                for (const Polygon2& piece : was.lost) lost += std::abs(polygon_area(piece));
+                std::set<int> parts;
+                for (int q : region.quads) parts.insert(tried->flat.strips.quad_patch[q]);
+                double area = 0;
+                for (int q : parts)
+                  if (q >= 0) area += area_as_cut(tried->joints.parts[q]);
+                resolved = area >= area_as_cut(was) + 0.5 * lost;
+              } else {
+                for (int q : region.quads)
+                  for (int n : with_neighbours(q)) resolved = resolved && !still.count(n);
+              }
+              if (!resolved) {
+                cheap_failed.insert(region.quads.begin(), region.quads.end());
+                continue;
+              }
+              merge_into(accepted_, own);
+              record(region, remedy_name(remedy));
+              if (apart)
+                out_.changes.back().reason =
+                    "split where the part fell apart when cut: the piece it lost is a part of its "
+                    "own";
+              ++kept;
+            }
+            if (kept == applied.size()) {
+              build_ = std::move(*tried);
+            } else if (kept > 0) {
+              try {
+                build_ = rebuild(accepted_);
+                ++out_.rounds;
+              } catch (const InvalidInput&) {  // the kept ones contradict each other alone
+                accepted_ = before;
+                out_.changes.resize(recorded);
+                for (const auto& a : applied)
+                  cheap_failed.insert(std::get<0>(a).quads.begin(), std::get<0>(a).quads.end());
+              }
+            }
+          }
+          pending = current_regions(small_now());
+        }
+        // 2. Facets where nothing cheaper applies or it did not help: no region's once the time
+        // is up (a region's facets, and the rebuild after them, take seconds each on a large mesh,
+        // and a round of them was once 117 s). The regions left are then left to the next round's
+        // start, which ends the loop, or, where this round changed nothing, to this one's end.
+        const Added before = accepted_;
+        const std::size_t recorded = out_.changes.size();
+        std::set<int> tried;
+        int made = 0;
+        bool out_of_time = false;
+        for (const Region& region : pending) {
+          if (elapsed() >= r_.time_limit) {
+            out_of_time = true;
+            break;
+          }
+          bool failed = false;
+          for (int q : region.quads) failed = failed || cheap_failed.count(q);
+          Added scratch = accepted_, ignore;
+          const bool cheap = apply(Remedy::kSplit, region, scratch, ignore) ||
+                             apply(Remedy::kMerge, region, scratch, ignore);
+          if (cheap && !failed) continue;  // its cheap remedy comes first, next round
+          bool given_up = true;
+          for (int q : region.quads) given_up = given_up && stuck_.count(q);
+          if (given_up) continue;
+          Added own;
+          tried.insert(region.quads.begin(), region.quads.end());
+          if (!facets(region, accepted_, own)) continue;
+          record(region, remedy_name(Remedy::kFacets));
+          ++made;
+        }
+        if (made == 0 && applied.empty()) {
+          out_.time_limited = out_of_time;
+          break;
+        }
+        if (made > 0) {
+          consolidate_facets();
+          try {
+            build_ = rebuild(accepted_);
+            ++out_.rounds;
+          } catch (const InvalidInput&) {
+            // The facets cut an earlier merge or split apart (the strips refuse the mix): this
+            // round's facets are taken back and their regions not tried again.
+            accepted_ = before;
+            out_.changes.resize(recorded);
+            stuck_.insert(tried.begin(), tried.end());
+            cheap_failed.insert(tried.begin(), tried.end());
+          }
         }
       }
-    }
-    std::vector<int> small = small_now();
-    if (best) {
-      const Best earlier = *best;  // the final build competes with the best one seen
-      best.reset();
-      keep_if_best(small);
-      if (earlier.score < best->score) {
-        build_ = earlier.build;
-        accepted_ = earlier.accepted;
-        out_.changes.resize(earlier.changes);
-        small = small_now();
+      small = small_now();
+      if (best) {
+        const Best earlier = *best;  // the final build competes with the best one seen
+        best.reset();
+        keep_if_best(small);
+        if (earlier.score < best->score) {
+          build_ = earlier.build;
+          accepted_ = earlier.accepted;
+          out_.changes.resize(earlier.changes);
+          small = small_now();
+        }
       }
     }
     if (r_.enabled) cut_bent_facets_by_outline(small);
@@ -529,6 +559,9 @@ class Resolver {
   const PolyMesh& m_;
   const PartsOptions& o_;
   const ResolveOptions& r_;
+  /// The loop's rebuilds are drafts (draft_options_: no stub teeth) until its last rounds.
+  PartsOptions draft_options_;
+  bool draft_ = false;
   const ResolveProgress& progress_;
   ResolveResult out_;
   Added accepted_;
@@ -784,7 +817,7 @@ class Resolver {
 
   PartsBuild rebuild(const Added& a) {
     return build_parts(
-        in_, o_, a.guidance,
+        in_, draft_ ? draft_options_ : o_, a.guidance,
         a.stiff == accepted_.stiff && a.guidance.edges.size() == accepted_.guidance.edges.size()
             ? &build_.bending
             : nullptr,
