@@ -16,6 +16,7 @@
 #include "kerfab/joints/glue_tabs.h"
 #include "kerfab/joints/plates.h"
 #include "kerfab/pipeline/notes.h"
+#include "kerfab/pipeline/resolve.h"
 #include "polygon_probe.h"
 #include "shapes.h"
 #include "test_util.h"
@@ -782,6 +783,47 @@ TEST(Joints, TheRunCutsTheFinalJointsNotTheResolveLoopsDraft) {
   }
   EXPECT_GE(rebuilt, 1);
   EXPECT_GE(stubs, 1);
+}
+
+// Where the build the loop keeps, given its stub teeth, has a defect on quads its draft had
+// none on, the rounds go on with complete rebuilds until it is resolved. Forced here: the draft
+// handed to the loop claims no critical region (a sphere too tight at 30 mm for 3 mm MDF, its
+// critical regions cleared, and no part small enough to count as too small), so the loop has
+// nothing to do with the draft, and the final build's critical regions are all new to it.
+TEST(Joints, DefectsThatComeWithTheStubTeethAreResolvedInMoreRounds) {
+  const auto shape = test::sphere(40, 4);
+  InputOptions io;
+  io.size = 30;
+  const PreparedInput in = prepare_input(test::poly_mesh(shape.target), shape.quads, io);
+  ResolveOptions r;
+  r.min_part_area = r.min_part_width = 1e-3;
+  PartsOptions o;
+  o.joints.min_part_area = o.joints.min_part_width = 1e-3;
+  PartsOptions draft = o;
+  draft.joints.stub_teeth = false;
+  PartsBuild b = build_parts(in, draft, {});
+  ASSERT_TRUE(b.joints.draft);
+  const std::size_t critical = b.kerf.critical.size();
+  ASSERT_GT(critical, 10u);
+  b.kerf.critical.clear();
+  std::vector<std::string> lines;
+  const ResolveResult done = resolve_critical_regions(
+      b, in, o, r, [&](const std::string& line) { lines.push_back(line); });
+  EXPECT_FALSE(b.joints.draft);
+  EXPECT_EQ(done.critical_before, 0);
+  EXPECT_EQ(done.critical_after, 0);
+  EXPECT_GT(done.rounds, 0);
+  int said = 0, rounds = 0;
+  for (const std::string& line : lines) {
+    said += line.starts_with("with the stub teeth, ") ? 1 : 0;
+    rounds += line.starts_with("round ") ? 1 : 0;
+  }
+  EXPECT_EQ(said, 1);
+  EXPECT_GE(rounds, 2);  // the draft's, then at least one with the stub teeth
+  ASSERT_FALSE(lines.empty());
+  EXPECT_NE(lines.back().find(" 0 critical regions"), std::string::npos) << lines.back();
+  // Numbered on from the draft's rounds.
+  EXPECT_TRUE(lines.back().starts_with("round " + std::to_string(rounds) + ":")) << lines.back();
 }
 
 // A border of two to four tooth widths with no joint of its own (taken away here from the

@@ -328,8 +328,19 @@ class Resolver {
           small = small_now();
           break;
         }
+        if (progress_) {
+          std::ostringstream line;
+          std::vector<int> more;
+          std::set_difference(now.begin(), now.end(), found.begin(), found.end(),
+                              std::back_inserter(more));
+          line << "with the stub teeth, " << more.size()
+               << " quads are critical or in a part too small that were not in the draft: "
+                  "the rounds go on";
+          progress_(line.str());
+        }
         seen.clear();
         best.reset();
+        ++round;  // the draft's last round was one
       }
       for (; r_.enabled && round < r_.max_rounds; ++round) {
         small = small_now();
