@@ -266,35 +266,44 @@ class PatchKerfBuilder {
   std::array<Vec2, 2> line(const StripFrame& frame, const Plan& c) const {
     const auto [r0, r1] = frame.section(c.at);
     const Vec2 mid = 0.5 * (r0 + r1);
-    const Vec2 d = Eigen::Rotation2Dd(c.turn) * Vec2((r1 - r0).normalized());
-    const double half = 0.5 * (r1 - r0).norm() / std::cos(c.turn);
+    // Along the ruling itself (most cuts): no turn to apply, the same numbers.
+    const Vec2 along = (r1 - r0).normalized();
+    const Vec2 d = c.turn == 0 ? along : Vec2(Eigen::Rotation2Dd(c.turn) * along);
+    const double half = 0.5 * (r1 - r0).norm() / (c.turn == 0 ? 1.0 : std::cos(c.turn));
     return {mid - half * d, mid + half * d};
   }
 
-  double gap(const StripFrame& frame, const Plan& a, const Plan& b) const {
-    const auto u = line(frame, a), v = line(frame, b);
+  /// The gap between the cut on \p u (a line()) and the cut \p b.
+  double gap(const StripFrame& frame, const std::array<Vec2, 2>& u, const Plan& b) const {
+    const auto v = line(frame, b);
     return segment_distance(u[0], u[1], v[0], v[1]);
   }
 
-  /// A cut at \p at at least the minimum spacing from \p prev: along its ruling if that keeps
-  /// the spacing, else turned (at most kMaxTurn) as little as keeps it; none if no turn does.
-  std::optional<Plan> spaced_at(const StripFrame& frame, const Plan& prev, double at) const {
+  /// A cut at \p at at least the minimum spacing from \p prev (its line \p prev_line): along
+  /// its ruling if that keeps the spacing, else turned (at most kMaxTurn) as little as keeps
+  /// it; none if no turn does.
+  std::optional<Plan> spaced_at(const StripFrame& frame, const Plan& prev,
+                                const std::array<Vec2, 2>& prev_line, double at) const {
     if (at - prev.at < o_.min_cut_spacing) return std::nullopt;
     Plan c{at, 0.0};
-    if (gap(frame, prev, c) >= o_.min_cut_spacing) return c;
+    if (gap(frame, prev_line, c) >= o_.min_cut_spacing) return c;
     // Turning towards the previous cut's direction opens a fan's narrow end.
-    const auto [p0, p1] = line(frame, prev);
+    const auto [p0, p1] = prev_line;
     const auto [r0, r1] = frame.section(at);
     const Vec2 dp = (p1 - p0).normalized(), dr = (r1 - r0).normalized();
     const double parallel = std::atan2(cross2(dr, dp), dr.dot(dp));
     const double limit = std::clamp(parallel, -kMaxTurn, kMaxTurn);
-    if (gap(frame, prev, {at, limit}) < o_.min_cut_spacing) return std::nullopt;
+    if (gap(frame, prev_line, {at, limit}) < o_.min_cut_spacing) return std::nullopt;
     double lo = 0, hi = 1;  // fraction of the limit
     while (hi - lo > 1e-3) {
       const double mid = 0.5 * (lo + hi);
-      (gap(frame, prev, {at, mid * limit}) >= o_.min_cut_spacing ? hi : lo) = mid;
+      (gap(frame, prev_line, {at, mid * limit}) >= o_.min_cut_spacing ? hi : lo) = mid;
     }
     return Plan{at, hi * limit};
+  }
+  std::optional<Plan> spaced_at(const StripFrame& frame, const Plan& prev, double at) const {
+    if (at - prev.at < o_.min_cut_spacing) return std::nullopt;
+    return spaced_at(frame, prev, line(frame, prev), at);
   }
 
   /// The nearest cut at or after \p from that keeps the minimum spacing from \p prev, or none
@@ -303,14 +312,15 @@ class PatchKerfBuilder {
     const double end = frame.s.back();
     from = std::max(from, prev.at + o_.min_cut_spacing);
     if (from >= end) return std::nullopt;
-    if (auto c = spaced_at(frame, prev, from)) return c;
-    if (!spaced_at(frame, prev, end)) return std::nullopt;
+    const auto prev_line = line(frame, prev);
+    if (auto c = spaced_at(frame, prev, prev_line, from)) return c;
+    if (!spaced_at(frame, prev, prev_line, end)) return std::nullopt;
     double lo = from, hi = end;
     while (hi - lo > 1e-4) {
       const double mid = 0.5 * (lo + hi);
-      (spaced_at(frame, prev, mid) ? hi : lo) = mid;
+      (spaced_at(frame, prev, prev_line, mid) ? hi : lo) = mid;
     }
-    return spaced_at(frame, prev, hi);
+    return spaced_at(frame, prev, prev_line, hi);
   }
 
   /// Cuts from the start of the strip, each as far from the last as a beam within \p limit
