@@ -319,10 +319,7 @@ class Resolver {
         if (!build_.joints.draft) break;
         // The quads of the draft's critical regions and parts too small.
         const std::set<int> found = critical_quads(build_);
-        build_.joints = make_joints(strips(), build_.flat.flattening, o_.material, o_.machine,
-                                    o_.joints, &memo_.outlines);
-        build_.kerf = place_kerf_cuts(strips(), build_.flat.flattening, build_.joints, o_.material,
-                                      o_.machine, o_.kerf, &memo_.kerf);
+        cut_parts(build_, {}, o_, &memo_);  // nothing left out during the loop
         const std::set<int> now = critical_quads(build_);
         if (std::includes(found.begin(), found.end(), now.begin(), now.end())) {
           small = small_now();
