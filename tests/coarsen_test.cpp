@@ -231,8 +231,150 @@ TEST(Coarsen, SpotsFineQuadMeshKeepsItsTopology) {
   expect_convex_quads_on(c.quads, in.surface);
   const CoarsenResult again = coarsen_quads(in.quads, in.surface, material_preset("mdf"), {});
   ASSERT_EQ(again.quads.n_vertices(), c.quads.n_vertices());
-  for (auto v : c.quads.vertices())
-    EXPECT_EQ(again.quads.point(v), c.quads.point(v));
+  for (auto v : c.quads.vertices()) EXPECT_EQ(again.quads.point(v), c.quads.point(v));
+}
+
+/// Interior vertex valence -> count.
+std::map<int, int> valences(const PolyMesh& m) {
+  std::map<int, int> out;
+  for (auto v : m.vertices())
+    if (!m.is_isolated(v)) ++out[static_cast<int>(m.valence(v)) + (m.is_boundary(v) ? 100 : 0)];
+  return out;
+}
+
+/// Checks that \p coarse is \p fine one level of subdivision back: every corner one of fine's
+/// vertices, every edge a path of two fine edges through a vertex of valence 4 (3 on the
+/// border: the edge point), every quad's diagonal corners on fine quads that share an inner
+/// vertex of valence 4 (the face point), and subdividing it again gives fine's counts and
+/// valences.
+void expect_one_level_back(const PolyMesh& coarse, const PolyMesh& fine) {
+  std::map<std::array<double, 3>, OpenMesh::VertexHandle> at;
+  for (auto v : fine.vertices()) at[{fine.point(v)[0], fine.point(v)[1], fine.point(v)[2]}] = v;
+  auto in_fine = [&](OpenMesh::VertexHandle v) {
+    const auto it = at.find({coarse.point(v)[0], coarse.point(v)[1], coarse.point(v)[2]});
+    EXPECT_NE(it, at.end()) << "corner " << v.idx() << " is no vertex of the finer mesh";
+    return it == at.end() ? OpenMesh::VertexHandle() : it->second;
+  };
+  auto between = [&](OpenMesh::VertexHandle a, OpenMesh::VertexHandle b) {  // common neighbours
+    std::set<int> na, both;
+    for (auto w : fine.vv_range(a)) na.insert(w.idx());
+    for (auto w : fine.vv_range(b))
+      if (na.count(w.idx())) both.insert(w.idx());
+    return both;
+  };
+  for (auto e : coarse.edges()) {
+    const auto h = coarse.halfedge_handle(e, 0);
+    const auto a = in_fine(coarse.from_vertex_handle(h)), b = in_fine(coarse.to_vertex_handle(h));
+    if (!a.is_valid() || !b.is_valid()) continue;
+    bool edge_point = false;
+    for (int m : between(a, b)) {
+      const auto v = fine.vertex_handle(m);
+      edge_point = edge_point || fine.valence(v) == (fine.is_boundary(v) ? 3u : 4u);
+    }
+    EXPECT_TRUE(edge_point) << "edge " << e.idx();
+  }
+  for (auto f : coarse.faces()) {
+    const auto c = quad_vertices(coarse, f);
+    const auto a = in_fine(coarse.vertex_handle(c[0])), b = in_fine(coarse.vertex_handle(c[2]));
+    if (!a.is_valid() || !b.is_valid()) continue;
+    auto on_faces_at = [&](OpenMesh::VertexHandle x) {  // corners of the fine quads at x
+      std::set<int> out;
+      for (auto g : fine.vf_range(x))
+        for (auto w : g.vertices()) out.insert(w.idx());
+      return out;
+    };
+    const std::set<int> at_a = on_faces_at(a);
+    bool face_point = false;  // a corner of a fine quad at both diagonal corners
+    for (int m : on_faces_at(b)) {
+      const auto v = fine.vertex_handle(m);
+      face_point = face_point || (at_a.count(m) && !fine.is_boundary(v) && fine.valence(v) == 4u);
+    }
+    EXPECT_TRUE(face_point) << "face " << f.idx();
+  }
+  const PolyMesh again = catmull_clark(coarse, 1);
+  EXPECT_EQ(again.n_faces(), fine.n_faces());
+  EXPECT_EQ(again.n_vertices(), fine.n_vertices());
+  EXPECT_EQ(valences(again), valences(fine));
+}
+
+// Issue 18: a mesh some Catmull-Clark levels finer than its cage is taken back level by level:
+// each level is the one before it (its corners the old vertices, its edges and quads through
+// the edge and face points), down to the cage, which is no subdivision; a cube grid with an odd
+// count per side is none either. Closed (a cube) and open (a square).
+TEST(Coarsen, SubdivisionLevelsAreTakenBackExactly) {
+  const PolyMesh cube = test::cube_grid_mesh(1, [](const Vec3& p) { return Vec3(50 * p); });
+  const PolyMesh square = test::quad_plane(100, 1).quads;
+  for (const PolyMesh* cage : {&cube, &square}) {
+    PolyMesh fine = catmull_clark(*cage, 3);
+    for (int level = 3; level > 0; --level) {
+      const auto back = take_back_subdivision(fine);
+      ASSERT_TRUE(back) << level;
+      EXPECT_EQ(back->n_faces(), catmull_clark(*cage, level - 1).n_faces());
+      EXPECT_EQ(topo(*back).euler, topo(*cage).euler);
+      EXPECT_EQ(topo(*back).borders, topo(*cage).borders);
+      expect_one_level_back(*back, fine);
+      fine = *back;
+    }
+    EXPECT_EQ(fine.n_faces(), cage->n_faces());
+    EXPECT_FALSE(take_back_subdivision(fine));
+  }
+  EXPECT_FALSE(take_back_subdivision(test::cube_grid_mesh(3, [](const Vec3& p) { return p; })));
+  // Spot's cage has triangles: its first subdivision is as far back as quads go.
+  const PolyMesh spot = catmull_clark(read_mesh(test::real_mesh("spot_control_mesh.obj")), 2);
+  const auto once = take_back_subdivision(spot);
+  ASSERT_TRUE(once);
+  EXPECT_EQ(once->n_faces(), 732u);
+  EXPECT_FALSE(take_back_subdivision(*once));
+}
+
+// Spot's cage with three Catmull-Clark steps (11,712 quads) at 500 mm: its rows wind round the
+// model and cross themselves, so few of them can be collapsed one by one; levels of it are taken
+// back instead, as long as every quad stays convex on the target and the middles of its edges
+// and quads stay within the tolerance of it (a straight ruling across a row twice as wide).
+TEST(Coarsen, ASubdividedCageIsTakenBackWhileItKeepsFaith) {
+  InputOptions io;
+  io.size = 500;
+  io.subdivide = 3;
+  const PreparedInput in = prepare_input(read_mesh(test::real_mesh("spot_triangulated.obj")),
+                                         read_mesh(test::real_mesh("spot_control_mesh.obj")), io);
+  const CoarsenOptions o;
+  const CoarsenResult c = coarsen_quads(in.quads, in.surface, material_preset("mdf"), o);
+  EXPECT_EQ(c.quads_before, 11712);
+  EXPECT_GE(c.levels_taken_back, 1);
+  EXPECT_LE(c.quads_after, 2928);
+  EXPECT_LT(c.narrow_after, 0.35);
+  EXPECT_LT(c.narrow_after, c.narrow_before - 0.3);
+  EXPECT_EQ(topo(c.quads).euler, 2);
+  EXPECT_EQ(topo(c.quads).borders, 0);
+  expect_convex_quads_on(c.quads, in.surface);
+  // The levels taken back keep faith: the middles of their edges and quads lie within the
+  // tolerance of the target (the rows collapsed after them follow their own rule).
+  const double tolerance = o.tolerance * bounding_box(in.surface.mesh()).diagonal();
+  PolyMesh level = in.quads;
+  for (int k = 0; k < c.levels_taken_back; ++k) {
+    const auto back = take_back_subdivision(level);
+    ASSERT_TRUE(back);
+    level = *back;
+  }
+  EXPECT_EQ(level.n_faces(), 11712u >> (2 * c.levels_taken_back));
+  for (auto v : level.vertices())
+    level.set_point(v, to_openmesh(in.surface.closest(to_eigen(level.point(v))).point));
+  for (auto e : level.edges()) {
+    const auto h = level.halfedge_handle(e, 0);
+    const Vec3 mid = 0.5 * (to_eigen(level.point(level.from_vertex_handle(h))) +
+                            to_eigen(level.point(level.to_vertex_handle(h))));
+    EXPECT_LE(in.surface.closest(mid).distance, tolerance) << "edge " << e.idx();
+  }
+  for (auto f : level.faces()) {
+    Vec3 centre = Vec3::Zero();
+    for (auto v : f.vertices()) centre += 0.25 * to_eigen(level.point(v));
+    EXPECT_LE(in.surface.closest(centre).distance, tolerance) << "face " << f.idx();
+  }
+  // Too tight a tolerance for the cage's levels: none is taken back.
+  CoarsenOptions tight;
+  tight.tolerance = 1e-4;
+  EXPECT_EQ(coarsen_quads(in.quads, in.surface, material_preset("mdf"), tight).levels_taken_back,
+            0);
 }
 
 }  // namespace

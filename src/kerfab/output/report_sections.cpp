@@ -80,8 +80,9 @@ json quads_section(const QuadMeshResult& q) {
 
 json coarsen_section(const CoarsenResult& c) {
   return {{"quads", c.quads_after},
-          {"method", c.rows_collapsed > 0 ? "given, coarsened" : "given"},
+          {"method", c.changed() ? "given, coarsened" : "given"},
           {"given_quads", c.quads_before},
+          {"levels_taken_back", c.levels_taken_back},
           {"rows_collapsed", c.rows_collapsed},
           {"rows_refused", c.rows_refused},
           {"narrow_fraction_before", c.narrow_before},

@@ -283,7 +283,7 @@ void write_run(const RunResult& run, const OutputOptions& output, const fs::path
   // The quad mesh kerfab made, to inspect, edit and feed back with --quad.
   // In the frame and units of the target file as given, so that it pairs with that file and
   // the same --size when fed back with --quad (model/target.obj is scaled, in mm).
-  if (run.quads || (run.coarsened && run.coarsened->rows_collapsed > 0)) {
+  if (run.quads || (run.coarsened && run.coarsened->changed())) {
     PolyMesh quads = run.input->quads;
     for (auto v : quads.vertices()) quads.set_point(v, quads.point(v) / run.input->scale);
     write_mesh(quads, dir / "model" / "quads.obj");

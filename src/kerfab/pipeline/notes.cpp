@@ -89,7 +89,7 @@ StageNotes notes(const QuadMeshResult& q) {
 StageNotes notes(const CoarsenResult& c) {
   StageNotes n;
   Line os;
-  if (c.rows_collapsed == 0) {
+  if (!c.changed()) {
     os << "quad mesh used as given (" << c.quads_before << " quads): ";
     if (c.narrow_before == 0)
       os << "its strips are wide enough everywhere for their bends";
@@ -99,9 +99,12 @@ StageNotes notes(const CoarsenResult& c) {
     n.lines.push_back(os.str());
     return n;
   }
-  os << c.quads_before << " quads given, " << c.quads_after << " kept: " << c.rows_collapsed
-     << " rows collapsed where the strips beside them were too narrow to bend (" << c.rows_refused
-     << " more could not go), cross edges with a row too narrow for its bend "
+  os << c.quads_before << " quads given, " << c.quads_after << " kept: ";
+  if (c.levels_taken_back > 0)
+    os << c.levels_taken_back << " level" << (c.levels_taken_back > 1 ? "s" : "")
+       << " of subdivision taken back (each doubles every row's width), ";
+  os << c.rows_collapsed << " rows collapsed where the strips beside them were too narrow to bend ("
+     << c.rows_refused << " more could not go), cross edges with a row too narrow for its bend "
      << 100 * c.narrow_before << "% -> " << 100 * c.narrow_after
      << "%; the mesh used is model/quads.obj (--no-coarsen: as given)";
   n.lines.push_back(os.str());

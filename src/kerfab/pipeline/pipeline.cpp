@@ -176,7 +176,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
            co.min_cut_spacing = o.kerf.min_cut_spacing;
            co.feature_angle = o.quads.feature_angle;
            r.coarsened = coarsen_quads(r.input->quads, r.input->surface, o.material, co);
-           if (r.coarsened->rows_collapsed > 0) attach_quads(*r.input, r.coarsened->quads, o.input);
+           if (r.coarsened->changed()) attach_quads(*r.input, r.coarsened->quads, o.input);
            return notes(*r.coarsened);
          }
          QuadMeshOptions qo = o.quads;

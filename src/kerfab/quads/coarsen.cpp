@@ -85,7 +85,8 @@ QuadList to_list(const PolyMesh& m) {
   QuadList q;
   for (auto v : m.vertices()) q.points.push_back(to_eigen(m.point(v)));
   for (auto f : m.faces()) {
-    if (m.valence(f) != 4) throw InvalidInput("coarsening: the quad mesh has a face that is not a quad");
+    if (m.valence(f) != 4)
+      throw InvalidInput("coarsening: the quad mesh has a face that is not a quad");
     q.faces.push_back(quad_vertices(m, f));
   }
   q.index();
@@ -118,6 +119,133 @@ Shape shape_of(const PolyMesh& m) {
           boundary_loop_count(m)};
 }
 
+/// take_back_subdivision on plain lists: the coarser list (indexed, the V vertices only, in the
+/// order the coarser faces first use them), or nothing. \p from, if set: per coarser face the
+/// four finer ones it is made of.
+std::optional<QuadList> taken_back(const QuadList& q,
+                                   std::vector<std::array<int, 4>>* from = nullptr) {
+  enum Class : signed char { kUnknown = -1, kV = 0, kE = 1, kF = 2 };
+  static constexpr std::array<signed char, 4> kPattern = {kV, kE, kF, kE};  // round every quad
+  const int nv = static_cast<int>(q.points.size());
+  std::vector<std::vector<int>> faces_at(nv);
+  for (std::size_t f = 0; f < q.faces.size(); ++f)
+    for (int v : q.faces[f]) faces_at[v].push_back(static_cast<int>(f));
+  std::vector<signed char> cls(nv, kUnknown);
+  std::vector<char> done(q.faces.size(), 0);
+  // The turn r of the pattern that quad \p c's known corners follow (class of corner k =
+  // pattern[(k + r) % 4]): -1 where none does, -2 where more than one would.
+  auto turn_of = [&](const Quad& c) {
+    int found = -1;
+    for (int r = 0; r < 4; ++r) {
+      bool fits = true;
+      for (int k = 0; k < 4; ++k)
+        fits = fits && (cls[c[k]] == kUnknown || cls[c[k]] == kPattern[(k + r) % 4]);
+      if (!fits) continue;
+      if (found >= 0) return -2;
+      found = r;
+    }
+    return found;
+  };
+  // Each vertex's place: every F inside, among four quads, and every E among four (two on the
+  // border).
+  auto placed = [&](int v) {
+    bool border = false;
+    for (int e : q.edges_at[v]) border = border || q.boundary(e);
+    const std::size_t around = faces_at[v].size();
+    if (cls[v] == kF) return !border && around == 4;
+    if (cls[v] == kE) return around == (border ? 2u : 4u);
+    return true;
+  };
+  // Each piece of the mesh: its first quad takes each of the four turns until one carries over
+  // every quad joined to it across an edge and puts every vertex in its place (V and F swapped
+  // fit every quad as well: the pattern turned by two).
+  for (std::size_t seed = 0; seed < q.faces.size(); ++seed) {
+    if (done[seed]) continue;
+    bool fits = false;
+    for (int r = 0; r < 4 && !fits; ++r) {
+      std::vector<int> assigned, queue;
+      auto assign = [&](int f, int turn) {
+        done[f] = 1;
+        queue.push_back(f);
+        for (int k = 0; k < 4; ++k) {
+          const int v = q.faces[f][k];
+          const signed char want = kPattern[(k + turn) % 4];
+          if (cls[v] == kUnknown) {
+            cls[v] = want;
+            assigned.push_back(v);
+          } else if (cls[v] != want) {
+            return false;
+          }
+        }
+        return true;
+      };
+      fits = assign(static_cast<int>(seed), r);
+      for (std::size_t i = 0; fits && i < queue.size(); ++i)
+        for (int k = 0; fits && k < 4; ++k)
+          for (const auto& [g, kg] : q.faces_of[q.face_edges[queue[i]][k]]) {
+            if (done[g]) continue;
+            const int turn = turn_of(q.faces[g]);
+            fits = turn >= 0 && assign(g, turn);
+            if (!fits) break;
+          }
+      for (std::size_t i = 0; fits && i < assigned.size(); ++i) fits = placed(assigned[i]);
+      if (!fits) {
+        for (int v : assigned) cls[v] = kUnknown;
+        for (int f : queue) done[f] = 0;
+      }
+    }
+    if (!fits) return std::nullopt;
+  }
+  // Round each F, quad by quad (F, E, V, E' and on across F-E' to the next), the V corners.
+  QuadList out;
+  std::vector<int> id(nv, -1);
+  std::vector<int> used(q.faces.size(), 0);
+  if (from) from->clear();
+  for (int fv = 0; fv < nv; ++fv) {
+    if (cls[fv] != kF || faces_at[fv].empty()) continue;
+    Quad coarse;
+    std::array<int, 4> finer;
+    int at = faces_at[fv].front();
+    for (int k = 0; k < 4; ++k) {
+      const Quad& c = q.faces[at];
+      ++used[at];
+      finer[k] = at;
+      const int j = static_cast<int>(std::find(c.begin(), c.end(), fv) - c.begin());
+      const int v = c[(j + 2) % 4], next_e = c[(j + 3) % 4];
+      if (id[v] < 0) {
+        id[v] = static_cast<int>(out.points.size());
+        out.points.push_back(q.points[v]);
+      }
+      coarse[k] = id[v];
+      int next = -1;
+      for (int g : faces_at[fv])
+        if (g != at && std::find(q.faces[g].begin(), q.faces[g].end(), next_e) != q.faces[g].end())
+          next = g;
+      if (next < 0) return std::nullopt;
+      at = next;
+    }
+    if (at != faces_at[fv].front()) return std::nullopt;
+    out.faces.push_back(coarse);
+    if (from) from->push_back(finer);
+  }
+  for (int n : used)
+    if (n != 1) return std::nullopt;
+  out.index();
+  return out;
+}
+
+/// The smallest and largest corner of face \p f of \p q [rad].
+std::pair<double, double> corner_range(const QuadList& q, int f) {
+  double lo = M_PI, hi = 0;
+  const Quad& c = q.faces[f];
+  for (int k = 0; k < 4; ++k) {
+    const double a = angle_between(q.points[c[(k + 3) % 4]] - q.points[c[k]],
+                                   q.points[c[(k + 1) % 4]] - q.points[c[k]]);
+    lo = std::min(lo, a), hi = std::max(hi, a);
+  }
+  return {lo, hi};
+}
+
 /// One row (polychord): its cross edges and its quads.
 struct Row {
   std::vector<int> edges;
@@ -141,7 +269,8 @@ std::vector<Row> rows_of(const QuadList& q) {
     if (added) rows.emplace_back();
     return rows[it->second];
   };
-  for (std::size_t e = 0; e < q.ends.size(); ++e) row(static_cast<int>(e)).edges.push_back(static_cast<int>(e));
+  for (std::size_t e = 0; e < q.ends.size(); ++e)
+    row(static_cast<int>(e)).edges.push_back(static_cast<int>(e));
   for (std::size_t f = 0; f < q.faces.size(); ++f) {
     const auto& fe = q.face_edges[f];
     Row& r0 = row(fe[0]);
@@ -168,8 +297,8 @@ Features features_of(const QuadList& q, double angle) {
   for (std::size_t e = 0; e < q.ends.size(); ++e) {
     bool sharp = q.boundary(static_cast<int>(e));
     if (!sharp && q.faces_of[e].size() == 2)
-      sharp = angle_between(q.normal(q.faces_of[e][0].first), q.normal(q.faces_of[e][1].first)) >
-              angle;
+      sharp =
+          angle_between(q.normal(q.faces_of[e][0].first), q.normal(q.faces_of[e][1].first)) > angle;
     if (q.faces_of[e].size() > 2) sharp = true;
     if (!sharp) continue;
     f.edge[e] = 1;
@@ -180,8 +309,8 @@ Features features_of(const QuadList& q, double angle) {
 
 /// Measures of one cross edge of a row: the bend along the row there, and the rows beside it.
 struct Beside {
-  int far = -1;       // the far end of the cross edge of the neighbouring row at this end
-  double width = 0;   // that edge's length [mm]
+  int far = -1;                 // the far end of the cross edge of the neighbouring row at this end
+  double width = 0;             // that edge's length [mm]
   double ruling_curvature = 0;  // fold across the rail between the two rows [1/mm]
 };
 
@@ -212,8 +341,8 @@ std::vector<Beside> beside(const QuadList& q, int e, int v) {
 /// Distance from \p x to the segment from \p a to \p b [mm].
 double distance_to_segment3(const Vec3& x, const Vec3& a, const Vec3& b) {
   const Vec3 d = b - a;
-  const double t = d.squaredNorm() > 0 ? std::clamp((x - a).dot(d) / d.squaredNorm(), 0.0, 1.0)
-                                       : 0.0;
+  const double t =
+      d.squaredNorm() > 0 ? std::clamp((x - a).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
   return (x - (a + t * d)).norm();
 }
 
@@ -233,13 +362,13 @@ class Coarsener {
     const double h = material.thickness, d = 1.5 * o.min_cut_spacing;
     // Kerf (docs/kerf-cuts.md, docs/quad-meshing.md "Size"): beams d wide twisted by kappa d
     // over a strip l wide hold while g d sqrt(h^2 + d^2) <= 2 l / kappa.
-    per_curvature_ = (h > 0 && std::isfinite(g) && g > 0) ? 0.5 * g * d * std::sqrt(h * h + d * d)
-                                                         : 0.0;
+    per_curvature_ =
+        (h > 0 && std::isfinite(g) && g > 0) ? 0.5 * g * d * std::sqrt(h * h + d * d) : 0.0;
     tolerance_ = o.tolerance * bounding_box(target.mesh()).diagonal();
     // Where two borders meet at a strip's end their slots and margins take room from both
     // sides of the first cut: one spacing more on each side.
-    fit_ = o.min_cut_length + o.bridge + 2 * o.kerf_margin + 2 * o.joint_depth +
-           2 * o.min_cut_spacing;
+    fit_ =
+        o.min_cut_length + o.bridge + 2 * o.kerf_margin + 2 * o.joint_depth + 2 * o.min_cut_spacing;
     // The target's border edges (edges of one triangle).
     const TriangleMesh& t = target.mesh();
     std::map<std::pair<int, int>, int> count;
@@ -409,19 +538,53 @@ class Coarsener {
       const Quad& c = out.faces[f];
       bool touched = false;
       for (int v : c) touched = touched || moved.count(v) || groups.count(v);
-      if (!touched) continue;
-      const Vec3 n = out.normal(static_cast<int>(f));
-      if (n.isZero()) return std::nullopt;
-      for (int k = 0; k < 4; ++k) {
-        const Vec3 a = out.points[c[(k + 3) % 4]] - out.points[c[k]];
-        const Vec3 b = out.points[c[(k + 1) % 4]] - out.points[c[k]];
-        const double angle = angle_between(a, b);
-        if (angle < o_.min_corner || angle > o_.max_corner) return std::nullopt;
-        if (b.cross(a).dot(n) <= 0) return std::nullopt;  // reflex corner
-      }
-      if (n.dot(target_.closest(out.centre(static_cast<int>(f))).normal) <= 0) return std::nullopt;
+      if (touched && !sound(out, static_cast<int>(f))) return std::nullopt;
     }
     return out;
+  }
+
+  /// True when quad \p f of \p q is convex, its corners within [min_corner, max_corner], and
+  /// it faces the way the target does at its centre.
+  bool sound(const QuadList& q, int f) const { return sound(q, f, o_.min_corner, o_.max_corner); }
+  bool sound(const QuadList& q, int f, double min_corner, double max_corner) const {
+    const Quad& c = q.faces[f];
+    const Vec3 n = q.normal(f);
+    if (n.isZero()) return false;
+    for (int k = 0; k < 4; ++k) {
+      const Vec3 a = q.points[c[(k + 3) % 4]] - q.points[c[k]];
+      const Vec3 b = q.points[c[(k + 1) % 4]] - q.points[c[k]];
+      const double angle = angle_between(a, b);
+      if (angle < min_corner || angle > max_corner) return false;
+      if (b.cross(a).dot(n) <= 0) return false;  // reflex corner
+    }
+    return n.dot(target_.closest(q.centre(f)).normal) > 0;
+  }
+
+  /// True when \p coarse, a level of subdivision of \p fine taken back (\p from: per coarse
+  /// quad its four finer ones), keeps faith with the target: every quad sound (its corners in
+  /// range, or within kSubdivisionSlack of its finer quads' corners where those are out of it:
+  /// the quads round an uneven vertex keep about their shape level after level, a few degrees
+  /// sharper on the coarser one: Spot's cage 19.8 deg where its subdivisions have 20.9, 23.2
+  /// where they have 25), and the middles of its
+  /// edges and its quads (where the finer mesh had its E and F points, on the surface) within
+  /// the tolerance of the target: a straight ruling across a row twice as wide misses the
+  /// surface by no more.
+  bool keeps_faith(const QuadList& coarse, const QuadList& fine,
+                   const std::vector<std::array<int, 4>>& from) const {
+    for (std::size_t f = 0; f < coarse.faces.size(); ++f) {
+      double lo = o_.min_corner, hi = o_.max_corner;
+      for (int g : from[f]) {
+        const auto [a, b] = corner_range(fine, g);
+        lo = std::min(lo, a - kSubdivisionSlack), hi = std::max(hi, b + kSubdivisionSlack);
+      }
+      if (!sound(coarse, static_cast<int>(f), lo, hi) ||
+          target_.closest(coarse.centre(static_cast<int>(f))).distance > tolerance_)
+        return false;
+    }
+    for (const auto& e : coarse.ends)
+      if (target_.closest(0.5 * (coarse.points[e[0]] + coarse.points[e[1]])).distance > tolerance_)
+        return false;
+    return true;
   }
 
   /// True when the rows beside \p row stay faithful once it is collapsed: each of their cross
@@ -442,10 +605,13 @@ class Coarsener {
  private:
   const TargetSurface& target_;
   const CoarsenOptions& o_;
-  double per_curvature_ = 0;  // strip width needed per unit of bend curvature [mm^2]
-  double fit_ = 0;            // strip width a cut needs to fit at all [mm]
+  double per_curvature_ = 0;                 // strip width needed per unit of bend curvature [mm^2]
+  double fit_ = 0;                           // strip width a cut needs to fit at all [mm]
   std::vector<std::array<Vec3, 2>> border_;  // the target's border edges
-  double tolerance_ = 0;      // [mm]
+  double tolerance_ = 0;                     // [mm]
+  /// How much sharper or flatter than its finer quads a coarser quad's corners may be where
+  /// those are out of range [rad].
+  static constexpr double kSubdivisionSlack = 5 * M_PI / 180;
 };
 
 }  // namespace
@@ -453,25 +619,21 @@ class Coarsener {
 /// A coarsening is kept only if it lowers the fraction of narrow cross edges by this much [-].
 constexpr double kLeast = 0.02;
 
-CoarsenResult coarsen_quads(const PolyMesh& quads, const TargetSurface& target,
-                            const Material& material, const CoarsenOptions& options) {
-  if (!(options.min_cut_spacing > 0)) throw InvalidInput("coarsening: min_cut_spacing must be > 0");
-  if (!(options.tolerance > 0)) throw InvalidInput("coarsening: tolerance must be > 0");
-  if (!(options.feature_angle > 0 && options.feature_angle < M_PI))
-    throw InvalidInput("coarsening: feature_angle must be in (0, pi)");
-  if (!(options.min_corner >= 0 && options.min_corner < M_PI / 4) ||
-      !(options.max_corner > M_PI / 2 && options.max_corner <= M_PI))
-    throw InvalidInput("coarsening: corners must be allowed within [< pi/4, > pi/2]");
-  CoarsenResult out;
-  out.quads = quads;
-  out.quads_before = out.quads_after = static_cast<int>(quads.n_faces());
-  const Coarsener c(target, material, options);
-  QuadList q = to_list(quads);
-  out.narrow_before = out.narrow_after = c.narrow_fraction(q);
-  if (!options.enabled || !c.active()) return out;
-  const auto given = to_mesh(q);
-  if (!given) return out;  // not a manifold quad mesh: used as given, the later stages say why
-  const Shape shape = shape_of(*given);
+namespace {
+
+/// What one way of coarsening gave: the mesh, compact, and its counts.
+struct Attempt {
+  QuadList quads;
+  int levels = 0, collapsed = 0, refused = 0;
+  double narrow = 0;
+};
+
+/// Rows of \p q collapsed, narrowest first (coarsen_quads), with \p levels of subdivision
+/// taken back before.
+Attempt collapse_rows(QuadList q, int levels, const Coarsener& c, const CoarsenOptions& options,
+                      const Shape& shape) {
+  Attempt out;
+  out.levels = levels;
   std::set<std::vector<int>> refused;  // rows (by their faces' corners) that could not go
   // Each pass collapses, narrowest first, every candidate row whose quads and the quads around
   // them no earlier row of the pass touched (what it measured is still true), all at once; if
@@ -512,7 +674,7 @@ CoarsenResult coarsen_quads(const PolyMesh& quads, const TargetSurface& target,
     if (batch.empty()) break;
     if (auto next = c.collapse(q, batch, feat, shape)) {
       q = std::move(*next);
-      out.rows_collapsed += static_cast<int>(batch.size());
+      out.collapsed += static_cast<int>(batch.size());
       continue;
     }
     // Some rows of the batch may not go: found by halving (each half checked on the mesh as
@@ -537,21 +699,20 @@ CoarsenResult coarsen_quads(const PolyMesh& quads, const TargetSurface& target,
     if (!good.empty()) {
       if (auto next = c.collapse(q, good, feat, shape)) {
         q = std::move(*next);
-        out.rows_collapsed += static_cast<int>(good.size());
+        out.collapsed += static_cast<int>(good.size());
         continue;
       }
     }
     for (const Row* row : good) {  // each pass collapses a row or refuses one at least
       if (auto next = c.collapse(q, {row}, feat, shape)) {
         q = std::move(*next);
-        ++out.rows_collapsed;
+        ++out.collapsed;
         break;
       }
       refused.insert(key_of(*row));
     }
   }
-  out.rows_refused = static_cast<int>(refused.size());
-  if (out.rows_collapsed == 0) return out;
+  out.refused = static_cast<int>(refused.size());
   // Compact: only the vertices still used, in their order.
   std::vector<int> id(q.points.size(), -1);
   QuadList compact;
@@ -565,19 +726,77 @@ CoarsenResult coarsen_quads(const PolyMesh& quads, const TargetSurface& target,
     }
   compact.faces = q.faces;
   compact.index();
+  out.narrow = c.narrow_fraction(compact);
+  out.quads = std::move(compact);
+  return out;
+}
+
+}  // namespace
+
+CoarsenResult coarsen_quads(const PolyMesh& quads, const TargetSurface& target,
+                            const Material& material, const CoarsenOptions& options) {
+  if (!(options.min_cut_spacing > 0)) throw InvalidInput("coarsening: min_cut_spacing must be > 0");
+  if (!(options.tolerance > 0)) throw InvalidInput("coarsening: tolerance must be > 0");
+  if (!(options.feature_angle > 0 && options.feature_angle < M_PI))
+    throw InvalidInput("coarsening: feature_angle must be in (0, pi)");
+  if (!(options.min_corner >= 0 && options.min_corner < M_PI / 4) ||
+      !(options.max_corner > M_PI / 2 && options.max_corner <= M_PI))
+    throw InvalidInput("coarsening: corners must be allowed within [< pi/4, > pi/2]");
+  CoarsenResult out;
+  out.quads = quads;
+  out.quads_before = out.quads_after = static_cast<int>(quads.n_faces());
+  const Coarsener c(target, material, options);
+  QuadList q = to_list(quads);
+  out.narrow_before = out.narrow_after = c.narrow_fraction(q);
+  if (!options.enabled || !c.active()) return out;
+  const auto given = to_mesh(q);
+  if (!given) return out;  // not a manifold quad mesh: used as given, the later stages say why
+  const Shape shape = shape_of(*given);
+  Attempt best = collapse_rows(q, 0, c, options, shape);
+  // Where the mesh is a subdivision, levels of it taken back first: each doubles every row's
+  // width at once, where the rows of a subdivided cage cannot be collapsed one by one (they
+  // wind round the model and cross themselves: Spot with 4 Catmull-Clark steps at 500 mm kept
+  // 7470 of its 46,848 quads that way, 65 % of its cross edges still beside a row too narrow).
+  // Taken back while each level lowers that fraction and keeps faith with the target; kept
+  // where it then leaves fewer narrow rows than the rows collapsed one by one alone.
+  std::vector<std::array<int, 4>> from;
+  int levels = 0;
+  for (auto coarse = taken_back(q, &from); coarse; coarse = taken_back(q, &from)) {
+    for (Vec3& p : coarse->points) p = target.closest(p).point;
+    const auto mesh = to_mesh(*coarse);
+    if (!mesh) break;
+    const Shape s = shape_of(*mesh);
+    if (s.euler != shape.euler || s.borders != shape.borders || !c.keeps_faith(*coarse, q, from) ||
+        c.narrow_fraction(*coarse) > c.narrow_fraction(q) - kLeast)
+      break;
+    q = std::move(*coarse);
+    ++levels;
+  }
+  if (levels > 0) {
+    Attempt taken = collapse_rows(std::move(q), levels, c, options, shape);
+    if (taken.narrow < best.narrow - kLeast) best = std::move(taken);
+  }
+  out.rows_refused = best.refused;
+  if (best.levels == 0 && best.collapsed == 0) return out;
   // Kept only where it helped: fewer places with a row too narrow that could be wide enough
   // (a ring 15 mm tall that needs 49 mm strips merges its two rows into one, still too narrow,
   // and its facets then come out narrower).
-  const double after = c.narrow_fraction(compact);
-  if (after > out.narrow_before - kLeast) {
-    out.rows_refused += out.rows_collapsed;
-    out.rows_collapsed = 0;
+  if (best.narrow > out.narrow_before - kLeast) {
+    out.rows_refused += best.collapsed;
     return out;
   }
-  out.quads = *to_mesh(compact);
+  out.levels_taken_back = best.levels;
+  out.rows_collapsed = best.collapsed;
+  out.quads = *to_mesh(best.quads);
   out.quads_after = static_cast<int>(out.quads.n_faces());
-  out.narrow_after = after;
+  out.narrow_after = best.narrow;
   return out;
+}
+
+std::optional<PolyMesh> take_back_subdivision(const PolyMesh& quads) {
+  if (!is_all_quads(quads)) return std::nullopt;
+  const auto coarse = taken_back(to_list(quads));
+  return coarse ? to_mesh(*coarse) : std::nullopt;
 }
 
 }  // namespace kerfab

@@ -6,6 +6,7 @@
 /// as long as the strip is wide: a row narrower than the bend needs (docs/kerf-cuts.md) makes
 /// cuts closer than the laser can make, which the resolve stage can only cure by flat facets
 /// (many small parts). Derivation and measurements: docs/quad-meshing.md, "Coarsening".
+#include <optional>
 #include <string>
 
 #include "kerfab/adapters/target_surface.h"
@@ -35,18 +36,36 @@ struct CoarsenOptions {
 };
 
 struct CoarsenResult {
-  PolyMesh quads;           ///< the coarsened quad mesh, vertices on the target [mm]
-  int quads_before = 0;     ///< faces given
-  int quads_after = 0;      ///< faces kept
-  int rows_collapsed = 0;   ///< polychords collapsed
-  int rows_refused = 0;     ///< rows that needed widening but could not be collapsed (their
-                            ///< neighbours would miss the target, fold, or the topology change)
-  double narrow_before = 0; ///< fraction of the cross edges with a row too narrow for its bend,
-  double narrow_after = 0;  ///< before and after [-]
+  PolyMesh quads;        ///< the coarsened quad mesh, vertices on the target [mm]
+  int quads_before = 0;  ///< faces given
+  int quads_after = 0;   ///< faces kept
+  /// Levels of Catmull-Clark subdivision taken back first (take_back_subdivision): the mesh
+  /// given was that many levels finer than one whose strips bend where its own do not.
+  int levels_taken_back = 0;
+  int rows_collapsed = 0;    ///< polychords collapsed
+  int rows_refused = 0;      ///< rows that needed widening but could not be collapsed (their
+                             ///< neighbours would miss the target, fold, or the topology change)
+  double narrow_before = 0;  ///< fraction of the cross edges with a row too narrow for its bend,
+  double narrow_after = 0;   ///< before and after [-]
+  /// True when the mesh kept is not the one given.
+  bool changed() const { return levels_taken_back > 0 || rows_collapsed > 0; }
 };
 
-/// Collapses rows of \p quads (all quads, on \p target) narrower than \p material needs for
-/// their bend, narrowest first, while the rows beside them stay faithful to the target
+/// One level of Catmull-Clark subdivision taken back, where \p quads is one: its vertices fall
+/// into the old ones (V), the edge points (E) and the face points (F), each quad V, E, F, E in
+/// turn, every E joined to four quads (three on the border) and every F, never on the border,
+/// to four; the quads around each F then make one coarser quad of their V corners, in the same
+/// turning sense. Empty where the mesh is no such subdivision (or the coarser one would have
+/// a face that is not a quad: a subdivided triangle). The coarser quads' corners are where the
+/// V vertices are.
+std::optional<PolyMesh> take_back_subdivision(const PolyMesh& quads);
+
+/// Takes back levels of subdivision (take_back_subdivision) while that lowers the fraction of
+/// cross edges with a row too narrow for its bend, every coarser quad stays convex with its
+/// corners in range and its edges' and faces' middles stay within the tolerance of the target
+/// (a straight ruling across the wider row misses the surface by no more); then collapses rows
+/// of \p quads (all quads, on \p target) narrower than \p material needs for their bend,
+/// narrowest first, while the rows beside them stay faithful to the target
 /// (straight rulings within the tolerance), no sharp feature or border corner moves, and every
 /// changed quad stays convex with its corners in range. Merged vertices go to the target's
 /// closest point. The topology (Euler characteristic, borders) never changes. Paper (no
