@@ -286,10 +286,8 @@ class Resolver {
           build_.flat.strips.patches.size()};
       if (!best || score < best->score) best = Best{build_, accepted_, out_.changes.size(), score};
     };
-    const auto started = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    };
+    started_ = std::chrono::steady_clock::now();
+    auto elapsed = [&] { return seconds(); };
     // What decides a round: the changes taken and the quads given up on. Where a round starts
     // from one seen before, the rounds after it repeat (a bust once went 4, 17, 4, 17 ...
     // critical regions to its last round): the loop ends there.
@@ -583,6 +581,14 @@ class Resolver {
   // cuts placed once.
   PartsMemo own_memo_;
   PartsMemo& memo_;
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+
+  /// Seconds since the loop started.
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+  }
+  /// True once the loop has run for its time limit.
+  bool out_of_time() const { return seconds() >= r_.time_limit; }
 
   struct CutBack {
     double depth = 0;  ///< [mm]
@@ -1324,7 +1330,12 @@ class Resolver {
       take(ba, bq);
     }
     for (std::size_t a = 0; a < groups.size(); ++a)
-      for (int guard = 0; !groups[a].quads.empty() && !big_enough(groups[a].quads) && guard < 64;
+      // Past the time limit a group grows no more (its growth checks every neighbour, and
+      // pairs of them where no single one keeps it a plate, against a group of up to hundreds
+      // of quads: on a 7470-quad Spot one region's growth went on for minutes); it is then
+      // left as it is, too small or not.
+      for (int guard = 0;
+           !groups[a].quads.empty() && !big_enough(groups[a].quads) && guard < 64 && !out_of_time();
            ++guard) {
         // The flattest neighbour that keeps the group compact (a snake of quads falls
         // apart at its necks once its slots are cut), else the flattest.
@@ -1352,6 +1363,7 @@ class Resolver {
           // next one): two at once, the flattest pair.
           int second = kNone;
           for (int q : neighbours(groups[a], true)) {
+            if (out_of_time()) break;
             const auto one = with(static_cast<int>(a), q);
             Group g1{one};
             for (int q2 : neighbours(g1, true)) {

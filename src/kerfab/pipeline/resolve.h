@@ -37,7 +37,7 @@ struct ResolveOptions {
   /// No round, and no region's facets, start once the loop has run this long; it ends with
   /// the best build it saw, the regions left listed as unresolved [s], > 0. (A round is one to
   /// three rebuilds: about 0.5 s on the demo, 10-40 s at 4000-6000 quads; so the loop may run
-  /// over by one region's facets and one rebuild.)
+  /// over by one rebuild, and a region's facets stop growing once the limit is reached.)
   double time_limit = 120;
   double max_merge_deviation = 0.004;  ///< a merge may move inner rail vertices by at most this
                                        ///< fraction of the target's bbox diagonal [-]
