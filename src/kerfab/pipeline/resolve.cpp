@@ -287,7 +287,6 @@ class Resolver {
       if (!best || score < best->score) best = Best{build_, accepted_, out_.changes.size(), score};
     };
     started_ = std::chrono::steady_clock::now();
-    auto elapsed = [&] { return seconds(); };
     // What decides a round: the changes taken and the quads given up on. Where a round starts
     // from one seen before, the rounds after it repeat (a bust once went 4, 17, 4, 17 ...
     // critical regions to its last round): the loop ends there.
@@ -342,7 +341,7 @@ class Resolver {
         keep_if_best(small);
         if (!seen.insert(state()).second) break;
         std::vector<Region> pending = current_regions(small);
-        if (!pending.empty() && elapsed() >= r_.time_limit) {
+        if (!pending.empty() && out_of_time()) {
           out_.time_limited = true;
           break;
         }
@@ -440,10 +439,10 @@ class Resolver {
         const std::size_t recorded = out_.changes.size();
         std::set<int> tried;
         int made = 0;
-        bool out_of_time = false;
+        bool stopped = false;  // at the time limit
         for (const Region& region : pending) {
-          if (elapsed() >= r_.time_limit) {
-            out_of_time = true;
+          if (out_of_time()) {
+            stopped = true;
             break;
           }
           bool failed = false;
@@ -462,7 +461,7 @@ class Resolver {
           ++made;
         }
         if (made == 0 && applied.empty()) {
-          out_.time_limited = out_of_time;
+          out_.time_limited = stopped;
           break;
         }
         if (made > 0) {
@@ -497,8 +496,7 @@ class Resolver {
     // Leaving parts out frees their neighbours' borders: a neighbour cut back by them may then
     // hold, or be left out in turn (a few times at most). Once even past the time limit (one
     // rebuild: a part left with nothing once cut is worse than a late run), again only within.
-    for (int k = 0;
-         r_.enabled && k < 3 && (k == 0 || elapsed() < r_.time_limit) && omit_thin_parts(small);
+    for (int k = 0; r_.enabled && k < 3 && (k == 0 || !out_of_time()) && omit_thin_parts(small);
          ++k) {
     }
     for (const CriticalRegion& c : build_.kerf.critical) {
@@ -554,7 +552,7 @@ class Resolver {
       ++out_.small_parts_after;
     }
     std::sort(out_.unresolved_parts.begin(), out_.unresolved_parts.end());
-    out_.seconds = elapsed();
+    out_.seconds = seconds();
     finish();
     return std::move(out_);
   }

@@ -629,9 +629,9 @@ struct Attempt {
 };
 
 /// Rows of \p q collapsed, narrowest first (coarsen_quads), with \p levels of subdivision
-/// taken back before.
-Attempt collapse_rows(QuadList q, int levels, const Coarsener& c, const CoarsenOptions& options,
-                      const Shape& shape) {
+/// taken back before; \p narrow: the narrow fraction of \p q as it is.
+Attempt collapse_rows(QuadList q, int levels, double narrow, const Coarsener& c,
+                      const CoarsenOptions& options, const Shape& shape) {
   Attempt out;
   out.levels = levels;
   std::set<std::vector<int>> refused;  // rows (by their faces' corners) that could not go
@@ -713,6 +713,11 @@ Attempt collapse_rows(QuadList q, int levels, const Coarsener& c, const CoarsenO
     }
   }
   out.refused = static_cast<int>(refused.size());
+  if (out.collapsed == 0) {  // as it came (a level taken back is compact already)
+    out.narrow = narrow;
+    out.quads = std::move(q);
+    return out;
+  }
   // Compact: only the vertices still used, in their order.
   std::vector<int> id(q.points.size(), -1);
   QuadList compact;
@@ -752,7 +757,7 @@ CoarsenResult coarsen_quads(const PolyMesh& quads, const TargetSurface& target,
   const auto given = to_mesh(q);
   if (!given) return out;  // not a manifold quad mesh: used as given, the later stages say why
   const Shape shape = shape_of(*given);
-  Attempt best = collapse_rows(q, 0, c, options, shape);
+  Attempt best = collapse_rows(q, 0, out.narrow_before, c, options, shape);
   // Where the mesh is a subdivision, levels of it taken back first: each doubles every row's
   // width at once, where the rows of a subdivided cage cannot be collapsed one by one (they
   // wind round the model and cross themselves: Spot with 4 Catmull-Clark steps at 500 mm kept
@@ -761,19 +766,22 @@ CoarsenResult coarsen_quads(const PolyMesh& quads, const TargetSurface& target,
   // where it then leaves fewer narrow rows than the rows collapsed one by one alone.
   std::vector<std::array<int, 4>> from;
   int levels = 0;
+  double narrow = out.narrow_before;  // of q
   for (auto coarse = taken_back(q, &from); coarse; coarse = taken_back(q, &from)) {
     for (Vec3& p : coarse->points) p = target.closest(p).point;
     const auto mesh = to_mesh(*coarse);
     if (!mesh) break;
     const Shape s = shape_of(*mesh);
-    if (s.euler != shape.euler || s.borders != shape.borders || !c.keeps_faith(*coarse, q, from) ||
-        c.narrow_fraction(*coarse) > c.narrow_fraction(q) - kLeast)
+    if (s.euler != shape.euler || s.borders != shape.borders || !c.keeps_faith(*coarse, q, from))
       break;
+    const double coarser = c.narrow_fraction(*coarse);
+    if (coarser > narrow - kLeast) break;
     q = std::move(*coarse);
+    narrow = coarser;
     ++levels;
   }
   if (levels > 0) {
-    Attempt taken = collapse_rows(std::move(q), levels, c, options, shape);
+    Attempt taken = collapse_rows(std::move(q), levels, narrow, c, options, shape);
     if (taken.narrow < best.narrow - kLeast) best = std::move(taken);
   }
   out.rows_refused = best.refused;

@@ -53,7 +53,7 @@ struct CoarsenResult {
 
 /// One level of Catmull-Clark subdivision taken back, where \p quads is one: its vertices fall
 /// into the old ones (V), the edge points (E) and the face points (F), each quad V, E, F, E in
-/// turn, every E joined to four quads (three on the border) and every F, never on the border,
+/// turn, every E joined to four quads (two on the border) and every F, never on the border,
 /// to four; the quads around each F then make one coarser quad of their V corners, in the same
 /// turning sense. Empty where the mesh is no such subdivision (or the coarser one would have
 /// a face that is not a quad: a subdivided triangle). The coarser quads' corners are where the
