@@ -1175,17 +1175,26 @@ class Resolver {
   /// The boundary of a group of quads, in the quads' own order: each boundary vertex -> the next.
   /// \p touches: two boundary edges leave one vertex (the later one is kept).
   std::map<int, int> boundary_next(const std::set<int>& quads, bool& touches) const {
-    std::set<std::pair<int, int>> directed;
+    // The quads' directed edges, sorted: an edge is on the boundary where its reverse is not
+    // among them (sorted vectors: this runs for every candidate of every facet's growth).
+    std::vector<std::pair<int, int>> directed;
+    directed.reserve(4 * quads.size());
     for (int q : quads) {
       const auto v = quad_vertices(m_, m_.face_handle(q));
-      for (int k = 0; k < 4; ++k) directed.insert({v[k], v[(k + 1) % 4]});
+      for (int k = 0; k < 4; ++k) directed.emplace_back(v[k], v[(k + 1) % 4]);
     }
+    std::sort(directed.begin(), directed.end());
+    directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
     std::map<int, int> next;
     touches = false;
     for (const auto& [a, b] : directed)
-      if (!directed.count({b, a})) {
-        touches = touches || next.count(a);
-        next[a] = b;
+      if (!std::binary_search(directed.begin(), directed.end(), std::make_pair(b, a))) {
+        if (!next.empty() && std::prev(next.end())->first == a) {  // sorted: a's last entry
+          touches = true;
+          std::prev(next.end())->second = b;  // the later one is kept
+        } else {
+          next.emplace_hint(next.end(), a, b);
+        }
       }
     return next;
   }
@@ -1348,8 +1357,11 @@ class Resolver {
           for (int q : neighbours(groups[a], true)) {
             const auto merged = with(static_cast<int>(a), q);
             if (!seen.insert(merged).second) continue;
-            if (!plate(merged, tilt)) continue;
+            // A compact group is beaten only by a flatter compact one: where the best so far
+            // is compact, the plate and compactness tests only for a flatter one.
             const double e = flatness(merged);
+            if (best_compact && !(e < best)) continue;
+            if (!plate(merged, tilt)) continue;
             const bool c = compact(merged);
             if ((c && !best_compact) || (c == best_compact && e < best))
               best = e, best_compact = c, pick = q;
@@ -1373,9 +1385,11 @@ class Resolver {
                 const auto quads = facet_of(q2);
                 both.insert(quads.begin(), quads.end());
               }
-              if (!plate(both, 0.49 * M_PI)) continue;
+              // The flattest pair wins: its flatness first, the costlier plate test only
+              // where it would win.
               const double e = flatness(both);
-              if (e < best) best = e, pick = q, second = q2;
+              if (!(e < best) || !plate(both, 0.49 * M_PI)) continue;
+              best = e, pick = q, second = q2;
             }
           }
           if (pick == kNone) break;
@@ -1418,12 +1432,15 @@ class Resolver {
     Vec3 mean, u, w, n;
   };
   Plane plane_of(const std::set<int>& quads) const {
-    std::set<int> corners;
+    std::vector<int> corners;  // each once, ascending
+    corners.reserve(4 * quads.size());
     Vec3 facing = Vec3::Zero();
     for (int q : quads) {
-      for (int v : quad_vertices(m_, m_.face_handle(q))) corners.insert(v);
+      for (int v : quad_vertices(m_, m_.face_handle(q))) corners.push_back(v);
       facing += quad_normal(q);
     }
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
     Plane p;
     p.mean = Vec3::Zero();
     for (int v : corners) p.mean += corner(v) / static_cast<double>(corners.size());
