@@ -370,6 +370,22 @@ TEST(Joints, BordersWithoutAJointAreWarnedOfWithWhereAndWhy) {
     EXPECT_NE(u.find("; " + std::to_string(n - beside) + " folded too shallow"), std::string::npos)
         << u;
   }
+  // A bare border folded back past 150 deg (the shape thinner there than two sheets: on
+  // stanford-bunny at 250 mm, parts 159 and 160 at 167-173 deg) is said to be so, with what
+  // would cure it, not to lack room for a tooth.
+  Joints back = c.joints;
+  int first_bare = -1;
+  for (std::size_t k = 0; k < back.borders.size() && first_bare < 0; ++k)
+    if (back.borders[k].kind() == "none") first_bare = static_cast<int>(k);
+  ASSERT_GE(first_bare, 0);
+  for (JointInterval& in : back.borders[first_bare].intervals) in.fold = 170 * kPi / 180;
+  const std::string f = warning(notes(back, o, 3.0));
+  EXPECT_NE(f.find(": 1 folded back more than 150 deg, where the shape is thinner than two "
+                   "sheets"),
+            std::string::npos)
+      << f;
+  EXPECT_NE(f.find("a larger --size or a thinner --material"), std::string::npos) << f;
+  EXPECT_NE(f.find("; " + std::to_string(n - 1) + " folded too shallow"), std::string::npos) << f;
   // Plain borders asked for in paper are no defect; with the default tabs nothing is left bare.
   JointOptions plain = o;
   plain.glue_tab = 0;
@@ -1397,20 +1413,23 @@ TEST(Joints, ShortBorderTeethOnSpotStayOutOfThirdParts) {
       }
     }
   }
-  // (On these raw strips 7 short borders of parts that fall apart stay plain; the resolve stage
-  // removes those ends. Without the 3D check, only the bands: 30 short teeth.)
+  // (On these raw strips 6 short borders of parts that fall apart stay plain, 7 before such
+  // parts took teeth in the free room of the piece they keep; the resolve stage removes those
+  // ends. Without the 3D check, only the bands: 30 short teeth.)
   for (const BorderJoint& b : j.borders) without += b.teeth == 0 && b.length < 8 ? 1 : 0;
-  EXPECT_LE(without, 7);
+  EXPECT_LE(without, 6);
   // (Tooth spans, one per ring edge a tooth runs along: 44 of the same 24 teeth on borders
   // under 8 mm since parts too small to handle own their borders' teeth; 50 before.)
   EXPECT_GE(short_teeth, 40);
   EXPECT_LT(deepest, 0.2);
   // The 3 parts that fall apart even with every border plain (the mitres alone leave a neck
-  // narrower than the smallest feature) keep their joints: 11 borders without one in all (31
-  // when such parts went all plain; 10 before teeth hanging on necks under 1 mm went plain),
-  // every outline sound and every tooth fitting its slot.
+  // narrower than the smallest feature) keep their joints, and take stub teeth on the pieces
+  // they keep where those lose nothing more: 7 borders without a joint in all (9 before; 31
+  // when such parts went all plain), the same 81 mm^2 lost, every outline sound and every
+  // tooth fitting its slot.
   EXPECT_EQ(j.repaired_parts, 3);
-  EXPECT_LE(j.borders_without_joint, 11);
+  EXPECT_LE(j.borders_without_joint, 7);
+  EXPECT_LT(j.lost_area, 81.1);
   expect_sound_joints(s, f, j, 3);
   expect_teeth_fit_slots(s, f, j);
 }

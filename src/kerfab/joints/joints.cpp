@@ -492,7 +492,10 @@ class Builder {
     std::sort(room.begin(), room.end(),
               [](const auto& x, const auto& y) { return x[1] - x[0] > y[1] - y[0]; });
     b.free_room = room.empty() ? 0.0 : room.front()[1] - room.front()[0];
-    if (out_.parts[b.patches[0]].repaired || out_.parts[b.patches[1]].repaired) return;
+    // A part that fell apart and joins itself (a loop cut open): which of its pieces the two
+    // sides are on is unknown (on Spot's raw strips such a tooth reached 1.2 mm into a third
+    // part in 3D).
+    if (b.patches[0] == b.patches[1] && out_.parts[b.patches[0]].repaired) return;
     for (const auto& r : room)
       for (double margin : {o_.min_feature, 0.5 * o_.min_feature, 0.0}) {
         // Ends of the border are corners of both parts, not bands: no margin there.
@@ -503,6 +506,9 @@ class Builder {
         const double mid = 0.5 * (lo + hi);
         if (try_tooth(i, mid - 0.5 * width, mid + 0.5 * width, t)) return;
       }
+    // A part that fell apart takes a tooth in the free room only: its pieces' plates, as drawn,
+    // are no ground for the 3D check below.
+    if (out_.parts[b.patches[0]].repaired || out_.parts[b.patches[1]].repaired) return;
     // No room between the bands: the bands are the conservative rule (every tooth they let
     // through is clear of third parts in 3D); here the tooth is checked in 3D directly against
     // the plates of the parts around it, as drawn, and may reach into the bands.
@@ -585,9 +591,44 @@ class Builder {
     return looks;
   }
 
+  /// True when the tooth of interval \p in of border \p i, owned by side \p owner, is on its
+  /// part as drawn (its rectangle from the plain cut-back to the tip within the outline, to 1 %)
+  /// and the slot for it is cut from the mate (its rectangle from the border line to the slot
+  /// depth clear of the outline, to 1 %).
+  bool tooth_and_slot_drawn(int i, const JointInterval& in, int owner) const {
+    const BorderJoint& b = out_.borders[i];
+    for (int k : {0, 1}) {
+      const Polygon2& drawn = out_.parts[b.patches[k]].designed;
+      const double lo = k == owner ? std::min(in.plain, 0.0) : 0.0,
+                   hi = k == owner ? in.offsets.tip : std::min(in.offsets.slot, in.plain);
+      for (const Zone& z : tooth_zones(i, in, k)) {
+        Polygon2 r = {z.from + lo * z.normal, z.to + lo * z.normal, z.to + hi * z.normal,
+                      z.from + hi * z.normal};
+        const double area = std::abs(polygon_area(r));
+        if (area < 1e-9) continue;
+        make_counter_clockwise(r);
+        double inside = 0;
+        for (const Polygon2& x : polygon_intersection({drawn}, {r})) inside += polygon_area(x);
+        if (k == owner ? inside < 0.99 * area : inside > 0.01 * area) return false;
+      }
+    }
+    return true;
+  }
+
+  /// True when \p a and \p b are the same pieces lost: as many, of the same area within
+  /// 0.05 mm^2.
+  static bool same_loss(const std::vector<Polygon2>& a, const std::vector<Polygon2>& b) {
+    if (a.size() != b.size()) return false;
+    double area = 0;
+    for (const Polygon2& p : a) area += std::abs(polygon_area(p));
+    for (const Polygon2& p : b) area -= std::abs(polygon_area(p));
+    return std::abs(area) <= 0.05;
+  }
+
   /// Border \p i (all plain) with a tooth on [s0, s1] instead, kept if one of its sides (of those
-  /// \p owners allows) can own it with both parts whole, no tooth of theirs bitten and no new
-  /// thin neck (adds_thin_neck); otherwise everything as before.
+  /// \p owners allows) can own it with both parts whole (or, one that fell apart without it,
+  /// losing the same pieces), no tooth of theirs bitten and no new thin neck (adds_thin_neck);
+  /// otherwise everything as before.
   bool try_tooth(int i, double s0, double s1, StubTrial& t, bool in_bands = false,
                  std::array<bool, 2> owners = {true, true}) {
     BorderJoint& b = out_.borders[i];
@@ -611,13 +652,17 @@ class Builder {
     const std::vector<JointInterval> before = b.intervals;
     const std::array<PartOutline, 2> drawn = {out_.parts[b.patches[0]], out_.parts[b.patches[1]]};
     const std::array<std::vector<Polygon2>, 2> lost = {lost_[b.patches[0]], lost_[b.patches[1]]};
+    // Beside a part that fell apart, the bands' rule is no guarantee: checked in 3D too, and the
+    // tooth and its slot measured on the parts as drawn.
+    const bool fell_apart = drawn[0].repaired || drawn[1].repaired;
+    const bool in_3d = in_bands || fell_apart;
     // A part too small to handle owns the tooth if it can: a slot would make it smaller still.
     const bool second_first = too_small(drawn[1]) && !too_small(drawn[0]);
     for (int owner : second_first ? std::array{1, 0} : std::array{0, 1}) {
       if (!owners[owner] || untrimmed_owner(i, in, owner) != owner) continue;
       // Into third parts first: they are drawn already and this tooth does not change them.
       std::vector<Zone> zones;
-      if (in_bands) {
+      if (in_3d) {
         zones = tooth_zones(i, in, owner);
         if (reach_into(b.patches[owner], i, in, zones, nullptr, Into::kThirdParts,
                        kThirdPartReach) > kThirdPartReach)
@@ -642,23 +687,28 @@ class Builder {
       bool sound = true;
       for (int k = 0; k < 2 && sound; ++k) {
         const int p = order[k];
+        const PartOutline& old = drawn[p == b.patches[0] ? 0 : 1];
         sound = bitten_teeth(p).empty();
         if (sound) {
           out_.parts[p] = outline(p);
-          sound = !out_.parts[p].repaired;
+          // A part that fell apart without the tooth (its slots cut off a piece: the resolve
+          // stage lists it) may take one on the piece it keeps: it loses the same pieces, so
+          // the tooth and its slot are both on the piece cut.
+          sound = !out_.parts[p].repaired ||
+                  (old.repaired && same_loss(lost_[p], lost[p == b.patches[0] ? 0 : 1]));
         }
         // Nor a part left too narrow to handle that was not (a slot of a stub tooth from each
         // side narrowed a 77 mm^2 strip end of Spot's triangle mesh to under 3 mm; the tooth
         // the other way round, or none, leaves it as it was). Refusing teeth that leave a part
         // under the smallest area too gave spot_quadrangulated's one such part a tooth the
         // other way round, beside a notch the laser path passes within 0.5 mm of itself.
-        const PartOutline& old = drawn[p == b.patches[0] ? 0 : 1];
         if (sound) sound = !adds_thin_neck(out_.parts[p].designed, old.designed);
         if (sound) sound = !narrow(out_.parts[p]) || narrow(old);
         if (!sound) t.failed_last = p;
       }
       // Into its mate, as both are now drawn (the slot cut).
-      if (sound && in_bands)
+      if (sound && fell_apart) sound = tooth_and_slot_drawn(i, in, owner);
+      if (sound && in_3d)
         sound = reach_into(b.patches[owner], i, in, zones, &out_.parts[b.patches[owner]].designed,
                            Into::kMate, kMateReach) <= kMateReach;
       if (sound) {

@@ -236,6 +236,10 @@ Joints make_joints(const Strips& strips, const Flattening& flat, const Material&
                    const Machine& machine, const JointOptions& options,
                    OutlineMemo* memo = nullptr);
 
+/// Two parts folded more than this at their border lie back to back: the shape there is thinner
+/// than two sheets, and their mitres cut both back by several thicknesses [rad].
+inline constexpr double kFoldBackAngle = 150.0 * M_PI / 180.0;
+
 /// Folds sharper than this are joined as if they were this sharp [rad]: two parts folded back
 /// onto each other (only where a strip's rail collapses to a point) would need a cut-back
 /// growing without bound; at 170 degrees it is h/2 tan(85 deg) = 5.7 h.

@@ -214,7 +214,7 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
   // borders.)
   const bool plain_asked = thickness == 0 && options.glue_tab == 0;
   if (j.borders_without_joint > 0 && !plain_asked) {
-    int left = 0, apart = 0, too_shallow = 0, crowded = 0;
+    int left = 0, apart = 0, folded_back = 0, too_shallow = 0, crowded = 0;
     double length = 0;  // [mm]
     std::vector<std::string> where;
     const auto fell = [&](int p) {
@@ -228,6 +228,10 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
         ++left;
       else if (fell(b.patches[0]) || fell(b.patches[1]))
         ++apart;
+      else if (std::any_of(b.intervals.begin(), b.intervals.end(), [](const JointInterval& in) {
+                 return std::abs(in.fold) > kFoldBackAngle;
+               }))
+        ++folded_back;
       else if (b.shallow > 0 && b.blocked == 0)
         ++too_shallow;
       else
@@ -252,6 +256,12 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
     }
     if (apart > 0) {
       w << sep << apart << " beside a part that fell apart when its joints were cut";
+      sep = "; ";
+    }
+    if (folded_back > 0) {
+      w << sep << folded_back
+        << " folded back more than 150 deg, where the shape is thinner than two sheets and "
+           "their mitres cut both parts back (a larger --size or a thinner --material)";
       sep = "; ";
     }
     if (too_shallow > 0) {

@@ -537,7 +537,7 @@ class Resolver {
           const double hold = hold_factor(cut, across);
           why << "; its joints cut it back up to " << cut.depth << " mm (beside part " << cut.other
               << ") and it is " << 2 * across << " mm across";
-          if (cut.fold > 5 * M_PI / 6)
+          if (cut.fold > kFoldBackAngle)
             why << ", folded back " << std::lround(cut.fold * 180 / M_PI)
                 << " deg onto that part: the shape is thinner there than the sheets";
           size_factor = std::max(size_factor, hold);
@@ -653,7 +653,7 @@ class Resolver {
       if (!gone && bent_facet(build_, p, o_.flatten.max_angle_error)) continue;
       const CutBack cut = deepest_cut_back(p);
       const double across = 2 * inscribed_radius(flat_outline(strips(), build_.flat.flattening, p));
-      if (cut.fold > 5 * M_PI / 6)
+      if (cut.fold > kFoldBackAngle)
         omitted.push_back({p, Why::kFolded, cut, across, gone});
       else if (across < r_.min_part_width)
         omitted.push_back({p, Why::kSliver, cut, across, gone});
