@@ -14,18 +14,17 @@ bound (the parts' area over the usable area, rounded up) and each nester's time.
 libnest2d is never a kerfab dependency: without it the script says so and stops. It runs with
 Debian's /usr/bin/python3 (the module is built for it).
 """
-import datetime
 import glob
 import json
 import math
-import platform
 import re
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "scripts"))
+from benchmarks import machine  # noqa: E402  (the machine named as in docs/benchmarks.md)
 UNITS = 100  # libnest2d works in integers: 0.01 mm
 
 
@@ -76,17 +75,6 @@ def libnest2d_sheets(parts, usable_w, usable_h, spacing):
     return sheets, time.monotonic() - start
 
 
-def machine():
-    cpu = "unknown CPU"
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            cpu = line.split(":", 1)[1].strip()
-            break
-    cores = len([l for l in Path("/proc/cpuinfo").read_text().splitlines()
-                 if l.startswith("processor")])
-    return f"{cpu}, {cores} cores, {platform.system()} {platform.release()}"
-
-
 def main():
     try:
         import pynest2d  # noqa: F401
@@ -114,16 +102,13 @@ def main():
                      report["timings_s"]["layout"], sheets, seconds))
         print(f"{rows[-1][0]}: kerfab {lay['sheets']} sheets, libnest2d {sheets} "
               f"({seconds:.1f} s)", file=sys.stderr)
-    commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
-                            capture_output=True, text=True).stdout.strip()
     lines = [
         "# Nesting against a true-shape nester",
         "",
-        "Written by `scripts/nest-compare.py` (issue 18) on "
-        f"{datetime.datetime.now(datetime.timezone.utc):%Y-%m-%d %H:%M} UTC at {commit}, "
-        f"{machine()}. The same parts (the laser paths read back from each run's sheets) nested "
-        "by kerfab's layout stage and by libnest2d (Debian `python3-pynest2d`, its no-fit-polygon "
-        "placer: quarter turns, bottom-left, the run's spacing between parts, on the sheet's "
+        f"Written by `scripts/nest-compare.py` (issue 18): {machine()}. The same parts (the "
+        "laser paths read back from each run's sheets) nested by kerfab's layout stage and by "
+        "libnest2d (Debian `python3-pynest2d`, its no-fit-polygon placer: quarter turns, "
+        "bottom-left, the run's spacing between parts, on the sheet's "
         "usable area inside its margins). Area bound: the parts' area over the usable area, "
         "rounded up. kerfab's time is its whole layout stage (labels included); libnest2d's is "
         "its nest() call alone, single runs on a machine that may have been busy.",
