@@ -544,6 +544,25 @@ class Builder {
     }
   }
 
+  /// The rectangles a tooth of interval \p in of border \p i, owned by side \p owner, takes on
+  /// side \p k, one per ring edge it runs along: on the owner from the plain cut-back to the
+  /// tip, on its mate from \p mate_from (the border line, or just inside it) to the slot depth.
+  /// Counter-clockwise; those of no area left out.
+  std::vector<Polygon2> joint_rects(int i, const JointInterval& in, int owner, int k,
+                                    double mate_from) const {
+    const double lo = k == owner ? std::min(in.plain, 0.0) : mate_from,
+                 hi = k == owner ? in.offsets.tip : std::min(in.offsets.slot, in.plain);
+    std::vector<Polygon2> rects;
+    for (const Zone& z : tooth_zones(i, in, k)) {
+      Polygon2 r = {z.from + lo * z.normal, z.to + lo * z.normal, z.to + hi * z.normal,
+                    z.from + hi * z.normal};
+      if (std::abs(polygon_area(r)) < 1e-12) continue;
+      make_counter_clockwise(r);
+      rects.push_back(std::move(r));
+    }
+    return rects;
+  }
+
   /// Per side of border \p i, whether a tooth on [s0, s1] it owns, reaching into the bands,
   /// looks sound before either part is drawn with it: the side may own it and neither part falls in
   /// more pieces near the border under an opening by half the smallest feature (adds_thin_neck)
@@ -564,18 +583,7 @@ class Builder {
       for (int k = 0; k < 2 && sound; ++k) {
         const Polygon2& before = out_.parts[b.patches[k]].designed;
         if (before.size() < 3) continue;
-        // From the plain cut-back to the tip on the owner, from the border line to the slot on
-        // its mate.
-        const double lo = k == owner ? std::min(in.plain, 0.0) : kOverlap,
-                     hi = k == owner ? in.offsets.tip : std::min(in.offsets.slot, in.plain);
-        std::vector<Polygon2> rects;
-        for (const Zone& z : tooth_zones(i, in, k)) {
-          Polygon2 r = {z.from + lo * z.normal, z.to + lo * z.normal, z.to + hi * z.normal,
-                        z.from + hi * z.normal};
-          if (std::abs(polygon_area(r)) < 1e-12) continue;
-          make_counter_clockwise(r);
-          rects.push_back(std::move(r));
-        }
+        const std::vector<Polygon2> rects = joint_rects(i, in, owner, k, kOverlap);
         if (rects.empty()) continue;
         Vec2 bl = rects[0][0], tr = rects[0][0];
         for (const Polygon2& r : rects)
@@ -599,14 +607,9 @@ class Builder {
     const BorderJoint& b = out_.borders[i];
     for (int k : {0, 1}) {
       const Polygon2& drawn = out_.parts[b.patches[k]].designed;
-      const double lo = k == owner ? std::min(in.plain, 0.0) : 0.0,
-                   hi = k == owner ? in.offsets.tip : std::min(in.offsets.slot, in.plain);
-      for (const Zone& z : tooth_zones(i, in, k)) {
-        Polygon2 r = {z.from + lo * z.normal, z.to + lo * z.normal, z.to + hi * z.normal,
-                      z.from + hi * z.normal};
+      for (const Polygon2& r : joint_rects(i, in, owner, k, 0.0)) {
         const double area = std::abs(polygon_area(r));
         if (area < 1e-9) continue;
-        make_counter_clockwise(r);
         double inside = 0;
         for (const Polygon2& x : polygon_intersection({drawn}, {r})) inside += polygon_area(x);
         if (k == owner ? inside < 0.99 * area : inside > 0.01 * area) return false;
@@ -687,15 +690,15 @@ class Builder {
       bool sound = true;
       for (int k = 0; k < 2 && sound; ++k) {
         const int p = order[k];
-        const PartOutline& old = drawn[p == b.patches[0] ? 0 : 1];
+        const int side = p == b.patches[0] ? 0 : 1;
+        const PartOutline& old = drawn[side];
         sound = bitten_teeth(p).empty();
         if (sound) {
           out_.parts[p] = outline(p);
           // A part that fell apart without the tooth (its slots cut off a piece: the resolve
           // stage lists it) may take one on the piece it keeps: it loses the same pieces, so
           // the tooth and its slot are both on the piece cut.
-          sound = !out_.parts[p].repaired ||
-                  (old.repaired && same_loss(lost_[p], lost[p == b.patches[0] ? 0 : 1]));
+          sound = !out_.parts[p].repaired || (old.repaired && same_loss(lost_[p], lost[side]));
         }
         // Nor a part left too narrow to handle that was not (a slot of a stub tooth from each
         // side narrowed a 77 mm^2 strip end of Spot's triangle mesh to under 3 mm; the tooth
