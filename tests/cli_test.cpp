@@ -736,6 +736,10 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   EXPECT_EQ(lay["sheet_mm"][0].get<double>(), 600.0);
   EXPECT_GT(lay["utilization"].get<double>(), 0.1);
   EXPECT_TRUE(lay["unplaced"].empty());
+  // One sheet: no strip is split to save one.
+  EXPECT_FALSE(lay["split_to_fit"]["tried"].get<bool>());
+  EXPECT_EQ(lay["split_to_fit"]["saved_sheets"].get<int>(), 0);
+  EXPECT_EQ(lay["split_to_fit"]["why_not"], "no nesting uses fewer sheets");
   int groups = 0;
   for (int sheet = 1; sheet <= lay["sheets"].get<int>(); ++sheet) {
     char sheet_name[32];
@@ -1258,6 +1262,69 @@ TEST(Cli, APartCutAwayByItsJointsNamesTheSizeAtWhichItHolds) {
   EXPECT_EQ(audit.small_parts, 0);
   EXPECT_EQ(audit.narrow_parts, 0);
   EXPECT_EQ(audit.parts, there["resolve"]["parts_after"].get<int>());
+}
+
+}  // namespace
+}  // namespace kerfab
+
+namespace kerfab {
+namespace {
+
+// Issue 18, sheets saved: Spot (control mesh, one Catmull-Clark step) at 500 mm on the default
+// 600 x 450 mm sheets. Its long strips leave gaps no other part fills, and nested whole they need
+// 4 sheets (the last about 4 % used), two over the area bound. Split at their middle rulings,
+// the parts fit 3, the spaced bound; everything else the same: no critical region, no part too
+// small, no border without a joint more, the sheets read back clean by the auditor, and the
+// parts' area on the sheets within 1 % of the whole strips' (a split costs only its joint).
+TEST(Cli, LongStripsAreSplitWhereThatSavesASheet) {
+  const std::string args = "--target " + test::real_mesh("spot_triangulated.obj").string() +
+                           " --quad " + test::real_mesh("spot_control_mesh.obj").string() +
+                           " --subdivide 1 --size 500";
+  const fs::path whole_out = test::fresh_dir() / "whole", split_out = test::fresh_dir() / "split";
+  const auto whole = run_quietly(args + " --keep-strips-whole", whole_out);
+  const auto split = run_quietly(args, split_out);
+  ASSERT_FALSE(whole.is_null());
+  ASSERT_FALSE(split.is_null());
+  const auto& s = split["layout"]["split_to_fit"];
+  EXPECT_EQ(whole["layout"]["sheets"].get<int>(), 4);
+  EXPECT_FALSE(whole["layout"]["split_to_fit"]["tried"].get<bool>());
+  EXPECT_EQ(split["layout"]["sheets"].get<int>(), 3);
+  EXPECT_LE(split["layout"]["sheets"].get<int>(),
+            split["layout"]["sheets_lower_bound"].get<int>() + 1);
+  EXPECT_EQ(s["sheets_before"].get<int>(), 4);
+  EXPECT_EQ(s["sheets_after"].get<int>(), 3);
+  EXPECT_EQ(s["saved_sheets"].get<int>(), 1);
+  const int parts = static_cast<int>(split["layout"]["parts"].size());
+  EXPECT_EQ(s["parts_before"].get<int>(), static_cast<int>(whole["layout"]["parts"].size()));
+  EXPECT_EQ(s["parts_after"].get<int>(), parts);
+  // Each split makes at most one part more (a strip the flattening split already may be cut
+  // where it was).
+  EXPECT_GT(parts, s["parts_before"].get<int>());
+  EXPECT_LE(parts, s["parts_before"].get<int>() + s["strips_split"].get<int>());
+  for (const auto* r : {&whole, &split}) {
+    EXPECT_EQ((*r)["kerf"]["critical_regions"].get<int>(), 0);
+    EXPECT_EQ((*r)["resolve"]["small_parts_after"].get<int>(), 0);
+  }
+  EXPECT_LE(split["joints"]["borders_without_joint"].get<int>(),
+            whole["joints"]["borders_without_joint"].get<int>());
+  EXPECT_EQ(split["flatten"]["patches"].size(), static_cast<std::size_t>(parts));
+  EXPECT_EQ(split["joints"]["repaired_parts"].get<int>(), 0);
+  // From outside: the written sheets.
+  double area[2] = {0, 0};
+  int k = 0;
+  for (const fs::path& out : {whole_out, split_out}) {
+    const auto audit = test::audit_sheets(out / "cut");
+    EXPECT_TRUE(audit.clean()) << out << ": " << (audit.findings.empty() ? "" : audit.findings[0]);
+    EXPECT_EQ(audit.sheets, k == 0 ? 4 : 3);
+    EXPECT_EQ(audit.parts, k == 0 ? static_cast<int>(whole["layout"]["parts"].size()) : parts);
+    for (const test::SheetPart& p : test::read_sheet_parts(out / "cut"))
+      area[k] += std::abs(polygon_area(p.outline));
+    ++k;
+  }
+  EXPECT_NEAR(area[1], area[0], 0.01 * area[0]);
+  // The surface is the same: the strips split, not moved.
+  EXPECT_NEAR(split["quality"]["hausdorff_rel"].get<double>(),
+              whole["quality"]["hausdorff_rel"].get<double>(), 1e-3);
 }
 
 }  // namespace

@@ -367,6 +367,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       "Use a given quad mesh as it is, instead of collapsing rows of quads where the strips "
       "beside them are too narrow for the material to bend (the mesh used is written to "
       "OUT/model/quads.obj)");
+  cmd.add_flag(
+      "--keep-strips-whole", [&f](std::int64_t) { f.options.split_to_fit.enabled = false; },
+      "Never split a long strip in two to save a sheet (by default, where the parts need more "
+      "sheets than their area does, the longest strips are split at their middle ruling when "
+      "that saves a whole sheet; layout.split_to_fit in the report)");
   cmd.add_flag("--dump", f.output.dump, "Also write intermediate stages to OUT/stages/");
   cmd.add_flag("--row-baseline", f.options.row_baseline,
                "Also build the naive one-strip-per-row layout and report its strip count "

@@ -254,7 +254,7 @@ struct Turned {
 struct Prepared {
   bool fits = false;
   double area = 0, grown_area = 0, rect_area = 0, length = 0;
-  double rect_angle = 0;  ///< the minimum rectangle's angle [rad]
+  double rect_angle = 0;       ///< the minimum rectangle's angle [rad]
   Polygon2 outline, inflated;  ///< as cut, and grown by half the spacing
   Turned quarters;
 };
@@ -308,9 +308,8 @@ Spot find_spot(const SheetGrid& grid, const Turned& turns, Rule rule, const Layo
       if (!grid.rows_may_hold(r, y)) continue;
       const int x = grid.first_free(r, x_min, y, x_max);
       if (x < 0) continue;
-      const double score = rule == Rule::kBottomLeft
-                               ? y + 1e-6 * x
-                               : (y + r.height) + 0.5 * (x + r.width);
+      const double score =
+          rule == Rule::kBottomLeft ? y + 1e-6 * x : (y + r.height) + 0.5 * (x + r.width);
       if (score < best_score) best = {static_cast<int>(q), x, y}, best_score = score;
       if (rule == Rule::kBottomLeft) break;
     }
@@ -346,11 +345,6 @@ void put(Pass& pass, int i, int s, const Raster& r, const Spot& spot, double are
 
 /// The most cells a sheet's occupancy grid has: 2000 x 2000 mm at the 1 mm step.
 constexpr double kMaxCells = 4e6;
-
-/// The fullest sheets the passes reach: the grown parts cover about this much of a sheet's
-/// usable area, grown alike, on every sheet but the last (0.77-0.80 on Spot at 500 mm, Amo and
-/// the quad sphere on small sheets; stanford-bunny's 365 parts 0.76 on one sheet) [-].
-constexpr double kFullest = 0.8;
 
 /// \p turns: per part, the turns to try (default: its quarter turns, Prepared::quarters),
 /// rasterised on a grid of o.step.
@@ -570,10 +564,10 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   // cost of a pass), kept only where it saves a sheet. stanford-bunny from its triangles: 365
   // parts, 4 of them on a second sheet (0.1 % used) at 1 mm cells, all on one at 0.5 mm. Only
   // where the grown parts would fill the sheets but one no fuller than the fullest sheets the
-  // passes reach (kFullest): else it cannot save one, and costs (Amo on 300 x 250 sheets: 0.7 s
-  // more for the same 4 sheets).
+  // passes reach (kFullestSheet): else it cannot save one, and costs (Amo on 300 x 250
+  // sheets: 0.7 s more for the same 4 sheets).
   if (cheap && best.sheets() > result.sheets_lower_bound_spaced &&
-      result.spaced_fill <= kFullest * (best.sheets() - 1)) {
+      result.spaced_fill <= kFullestSheet * (best.sheets() - 1)) {
     LayoutOptions fine = o;
     fine.step = 0.5 * o.step;
     std::vector<Turned> quarters(n);

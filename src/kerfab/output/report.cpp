@@ -30,7 +30,10 @@ std::string report_json(const RunResult& run, const OutputOptions& output) {
   if (run.layout)
     r["layout"] = report::layout_section(*run.layout, run.options.layout, output.formats,
                                          run.flat->oversize_splits);
-  if (run.assembly && run.layout) r["assembly"] = report::assembly_section(*run.assembly, *run.layout);
+  if (run.layout && run.split_to_fit)
+    r["layout"]["split_to_fit"] = report::split_to_fit_section(*run.split_to_fit);
+  if (run.assembly && run.layout)
+    r["assembly"] = report::assembly_section(*run.assembly, *run.layout);
   if (run.quality) r["quality"] = report::quality_section(*run.quality, diagonal);
   // A run that dropped geometry does not call itself ok: pieces of parts that fell apart, parts
   // that fit no sheet.

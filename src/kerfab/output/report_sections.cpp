@@ -451,6 +451,23 @@ json layout_section(const LayoutResult& l, const LayoutOptions& options,
       {"border_labels", {{"placed", l.border_labels_placed}, {"wanted", l.border_labels_wanted}}}};
 }
 
+json split_to_fit_section(const SplitToFitResult& s) {
+  json edges = json::array();
+  for (const auto& e : s.split_edges) edges.push_back({e[0], e[1]});
+  return {{"tried", s.tried},
+          {"saved_sheets", s.sheets_before - s.sheets_after},
+          {"sheets_before", s.sheets_before},
+          {"sheets_after", s.sheets_after},
+          {"parts_before", s.parts_before},
+          {"parts_after", s.parts_after},
+          {"strips_split", s.strips_split},
+          {"min_length_mm", s.min_length_mm},
+          {"split_edges", edges},
+          {"attempts", s.attempts},
+          {"seconds", s.seconds},
+          {"why_not", s.why_not}};
+}
+
 json assembly_section(const AssemblyPlan& a, const LayoutResult& l) {
   json order = json::array(), steps = json::array();
   for (std::size_t k = 0; k < a.steps.size(); ++k) {

@@ -25,6 +25,8 @@ json resolve_section(const ResolveResult& resolve, const ResolveOptions& options
 json layout_section(const LayoutResult& layout, const LayoutOptions& options,
                     const SheetFormats& formats, int oversize_splits);
 /// The assembly order (assembly.order) and its steps, with each part's sheet.
+/// What the layout stage tried to save a sheet by splitting long strips.
+json split_to_fit_section(const SplitToFitResult& s);
 json assembly_section(const AssemblyPlan& assembly, const LayoutResult& layout);
 json quality_section(const SurfaceDistance& quality, double target_diagonal);
 json timings_section(const std::vector<StageTiming>& timings, double total_seconds);

@@ -444,6 +444,18 @@ StageNotes notes(const LayoutResult& l, const LayoutOptions& options) {
   return n;
 }
 
+StageNotes notes(const SplitToFitResult& s) {
+  StageNotes n;
+  if (!s.saved()) return n;
+  Line os(3);
+  os << s.strips_split << " strips at least " << s.min_length_mm
+     << " mm long split in two at their middle ruling: " << s.sheets_after << " sheets instead of "
+     << s.sheets_before << ", " << s.parts_after << " parts instead of " << s.parts_before
+     << " (--keep-strips-whole keeps them whole)";
+  n.lines.push_back(os.str());
+  return n;
+}
+
 StageNotes notes(const AssemblyPlan& a) {
   StageNotes n;
   int closing = 0;

@@ -42,6 +42,8 @@ std::string skipped_cuts_warning(int by_options, int planned, const KerfOptions&
 /// these quads, and a run at another size from the triangles alone would make others.
 StageNotes notes(const ResolveResult& resolve, const KerfOptions& kerf, bool quads_made = false);
 StageNotes notes(const LayoutResult& layout, const LayoutOptions& options);
+/// One line where strips were split to save a sheet (none otherwise).
+StageNotes notes(const SplitToFitResult& split);
 StageNotes notes(const AssemblyPlan& assembly);
 StageNotes notes(const SurfaceDistance& quality, double target_diagonal);
 

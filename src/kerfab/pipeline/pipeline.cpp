@@ -60,18 +60,46 @@ LoadedInputs load_inputs(const RunInputs& in) {
 
 }  // namespace
 
+/// The parts from bending to kerf, taken out of \p r as one build.
+static PartsBuild take_build(RunResult& r) {
+  return {std::move(*r.bending), std::move(*r.strips), std::move(*r.flat), std::move(*r.joints),
+          std::move(*r.kerf)};
+}
+
+/// \p build back into \p r.
+static void put_build(RunResult& r, PartsBuild&& build) {
+  r.bending = std::move(build.bending);
+  r.strips = std::move(build.strips);
+  r.flat = std::move(build.flat);
+  r.joints = std::move(build.joints);
+  r.kerf = std::move(build.kerf);
+}
+
+/// The warnings of the stages from strips to kerf on the parts \p r holds now (a stage that
+/// rebuilds them carries these in its notes and supersedes theirs).
+static std::vector<std::string> rebuilt_warnings(const RunResult& r, double diagonal) {
+  const PipelineOptions& o = r.options;
+  const std::vector<int> unresolved = r.resolve ? r.resolve->unresolved_parts : std::vector<int>{};
+  std::vector<std::string> held;
+  for (const StageNotes& rebuilt :
+       {notes(*r.strips, r.baseline, o.strips), notes(*r.flat, diagonal),
+        notes(*r.joints, o.joints, o.material.thickness, unresolved), notes(*r.kerf, o.kerf)})
+    held.insert(held.end(), rebuilt.warnings.begin(), rebuilt.warnings.end());
+  return held;
+}
+
 /// The resolve stage: the parts built so far go in, the rebuilt ones come back into \p r. Its
 /// notes carry the warnings that hold for the rebuilt parts and replace the earlier stages'.
+/// \p of_first: what it says of the first build that no later stage can see again.
 static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double diagonal,
                                 double deformation_spacing, const Progress& progress,
-                                PartsMemo& memo) {
+                                PartsMemo& memo, std::vector<std::string>& of_first) {
   const PipelineOptions& o = r.options;
   // Cuts the options left no room for in the first build: named even where the resolve stage
   // then made those parts flat facets (--bridge 50 made all of Spot facets, with no word why).
   const int first_skipped = r.kerf->skipped_by_options;
   const int first_planned = r.kerf->cuts + r.kerf->skipped;
-  PartsBuild build{std::move(*r.bending), std::move(*r.strips), std::move(*r.flat),
-                   std::move(*r.joints), std::move(*r.kerf)};
+  PartsBuild build = take_build(r);
   // Joints drafted without stub teeth: the loop's final build has them even where it changed
   // nothing else, and the joints and kerf stages' notes were of the draft.
   const bool drafted = build.joints.draft;
@@ -79,26 +107,60 @@ static StageNotes resolve_stage(RunResult& r, const PartsOptions& parts, double 
     if (progress) progress("  " + line);
   };
   r.resolve = resolve_critical_regions(build, *r.input, parts, o.resolve, round_done, &memo);
-  r.bending = std::move(build.bending);
-  r.strips = std::move(build.strips);
-  r.flat = std::move(build.flat);
-  r.joints = std::move(build.joints);
-  r.kerf = std::move(build.kerf);
+  put_build(r, std::move(build));
   if (r.resolve->rounds > 0 && o.flatten.mimic_3d)
     r.flat->deformation = flat_metric_deformation(*r.flat, deformation_spacing);
   StageNotes n = notes(*r.resolve, o.kerf, r.quads.has_value());
   if (r.resolve->rounds > 0 || drafted) {
     n.supersedes = {Stage::kStrips, Stage::kFlatten, Stage::kJoints, Stage::kKerf};
-    std::vector<std::string> held;
-    for (const StageNotes& rebuilt :
-         {notes(*r.strips, r.baseline, o.strips), notes(*r.flat, diagonal),
-          notes(*r.joints, o.joints, o.material.thickness, r.resolve->unresolved_parts),
-          notes(*r.kerf, o.kerf)})
-      held.insert(held.end(), rebuilt.warnings.begin(), rebuilt.warnings.end());
+    std::vector<std::string> held = rebuilt_warnings(r, diagonal);
     if (first_skipped > 0 && r.kerf->skipped_by_options == 0)
-      held.push_back(skipped_cuts_warning(first_skipped, first_planned, o.kerf, true));
+      of_first.push_back(skipped_cuts_warning(first_skipped, first_planned, o.kerf, true));
+    held.insert(held.end(), of_first.begin(), of_first.end());
     n.warnings.insert(n.warnings.begin(), held.begin(), held.end());
   }
+  return n;
+}
+
+/// The layout stage's second half: long strips split where that saves a sheet (split_to_fit),
+/// only on a build the resolve stage left with no part it names by number (unresolved, or
+/// left out beside one) and no facet cut along its outline alone (a rebuild would not make
+/// that again). Where it splits, the notes of the stages it rebuilt are made again, and the
+/// resolve stage's (which carried theirs), with \p of_first (resolve_stage).
+static StageNotes split_to_fit_stage(RunResult& r, const PartsOptions& parts, double diagonal,
+                                     double deformation_spacing, PartsMemo& memo,
+                                     const std::vector<std::string>& of_first) {
+  const PipelineOptions& o = r.options;
+  SplitToFitInput in{r.input ? &*r.input : nullptr, &parts, {}, &o.layout, o.resolve.min_part_area,
+                     o.resolve.min_part_width};
+  SplitToFitOptions options = o.split_to_fit;
+  std::string blocked;
+  if (r.resolve) {
+    in.guidance = r.resolve->added;
+    if (!r.resolve->unresolved_parts.empty()) blocked = "the resolve stage left parts unresolved";
+    for (const RegionChange& c : r.resolve->changes)
+      if (c.action == "omit" || c.action == "outline")
+        blocked = "the resolve stage left parts out or cut facets along their outlines";
+  }
+  if (!blocked.empty()) options.enabled = false;
+  PartsBuild build = take_build(r);
+  r.split_to_fit = split_to_fit(build, *r.layout, in, options, &memo);
+  put_build(r, std::move(build));
+  if (!blocked.empty()) r.split_to_fit->why_not = blocked;
+  StageNotes n = notes(*r.layout, o.layout);
+  if (!r.split_to_fit->saved()) return n;
+  if (o.flatten.mimic_3d)
+    r.flat->deformation = flat_metric_deformation(*r.flat, deformation_spacing);
+  const StageNotes split = notes(*r.split_to_fit);
+  n.lines.insert(n.lines.begin(), split.lines.begin(), split.lines.end());
+  n.supersedes = {Stage::kStrips, Stage::kFlatten, Stage::kJoints, Stage::kKerf, Stage::kResolve};
+  std::vector<std::string> held = rebuilt_warnings(r, diagonal);
+  held.insert(held.end(), of_first.begin(), of_first.end());
+  if (r.resolve) {
+    const StageNotes own = notes(*r.resolve, o.kerf, r.quads.has_value());
+    held.insert(held.end(), own.warnings.begin(), own.warnings.end());
+  }
+  n.warnings.insert(n.warnings.begin(), held.begin(), held.end());
   return n;
 }
 
@@ -142,6 +204,8 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   // Part outlines drawn by the joints stage and patches' cuts placed by the kerf stage, reused
   // by the resolve stage's rebuilds.
   PartsMemo memo;
+  // Warnings of the first build that the resolve stage carries and a later rebuild keeps.
+  std::vector<std::string> of_first;
   // Whether the resolve loop runs on the parts the joints and kerf stages cut.
   const bool resolve_follows =
       o.resolve.enabled &&
@@ -225,12 +289,14 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kResolve,
        [&] {
-         return resolve_stage(r, parts_options(), diag(), deformation_spacing(), progress, memo);
+         return resolve_stage(r, parts_options(), diag(), deformation_spacing(), progress, memo,
+                              of_first);
        }},
       {Stage::kLayout,
        [&] {
          r.layout = lay_out_parts(r.flat->strips, r.flat->flattening, *r.joints, *r.kerf, o.layout);
-         return notes(*r.layout, o.layout);
+         return split_to_fit_stage(r, parts_options(), diag(), deformation_spacing(), memo,
+                                   of_first);
        }},
       {Stage::kAssembly,
        [&] {

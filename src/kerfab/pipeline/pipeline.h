@@ -18,6 +18,7 @@
 #include "kerfab/layout/layout.h"
 #include "kerfab/pipeline/cuttable_patches.h"
 #include "kerfab/pipeline/resolve.h"
+#include "kerfab/pipeline/split_to_fit.h"
 #include "kerfab/pipeline/stages.h"
 #include "kerfab/quads/coarsen.h"
 #include "kerfab/quads/quads.h"
@@ -48,6 +49,7 @@ struct PipelineOptions {
   KerfOptions kerf;
   ResolveOptions resolve;
   LayoutOptions layout;
+  SplitToFitOptions split_to_fit;  ///< long strips split where that saves a sheet
   AssemblyOptions assembly;
   Material material;  ///< the sheet: thickness and strength (joints, kerf cuts)
   Machine machine;    ///< the laser: kerf width (joints) and speed (cutting time)
@@ -93,6 +95,9 @@ struct RunResult {
   std::optional<KerfResult> kerf;
   std::optional<ResolveResult> resolve;  ///< after it, bending .. kerf hold the final build
   std::optional<LayoutResult> layout;
+  /// What the layout stage tried to save a sheet (where it split strips, bending .. kerf and
+  /// the layout hold the build with them; resolve's numbers are of the build before).
+  std::optional<SplitToFitResult> split_to_fit;
   std::optional<AssemblyPlan> assembly;
   std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
   std::vector<StageTiming> timings;

@@ -1623,6 +1623,11 @@ class Resolver {
 
 }  // namespace
 
+std::vector<int> parts_too_small(const PartsBuild& b, double min_area, double min_width,
+                                 double max_angle_error) {
+  return small_parts(b, min_area, min_width, max_angle_error);
+}
+
 void cut_parts(PartsBuild& b, const Guidance& g, const PartsOptions& o, PartsMemo* memo) {
   if (!g.omit.empty()) omit_patches(b.flat, std::set<int>(g.omit.begin(), g.omit.end()));
   b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints,

@@ -129,6 +129,12 @@ struct PartsMemo {
   KerfMemo kerf;
 };
 
+/// The parts of \p b a maker cannot handle: less than \p min_area as cut [mm^2], nowhere \p
+/// min_width wide [mm], fallen apart when cut, or flattened inverted, crossing itself or with a
+/// corner \p max_angle_error [rad] or more off (what the loop changes), ascending.
+std::vector<int> parts_too_small(const PartsBuild& b, double min_area, double min_width,
+                                 double max_angle_error);
+
 /// The parts cut from \p build's flattening: the patches \p guidance omits left out (omit_patches),
 /// then joints and kerf cuts. \p memo as in build_parts.
 void cut_parts(PartsBuild& build, const Guidance& guidance, const PartsOptions& options,

@@ -1,0 +1,139 @@
+#include "kerfab/pipeline/split_to_fit.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <set>
+
+#include "kerfab/core/errors.h"
+
+namespace kerfab {
+namespace {
+
+/// What a build must not have more of to be taken.
+struct Defects {
+  std::size_t critical = 0, small = 0, off_sheet = 0;
+  int without_joint = 0;
+  bool no_worse_than(const Defects& o) const {
+    return critical <= o.critical && small <= o.small && off_sheet <= o.off_sheet &&
+           without_joint <= o.without_joint;
+  }
+};
+
+Defects defects_of(const PartsBuild& b, const LayoutResult& l, const SplitToFitInput& in) {
+  return {b.kerf.critical.size(),
+          parts_too_small(b, in.min_part_area, in.min_part_width, in.parts->flatten.max_angle_error)
+              .size(),
+          l.unplaced.size(), b.joints.borders_without_joint};
+}
+
+/// The coarse edge of strip \p p's ruling nearest its middle at a boundary between two of its
+/// quads (a strip border there leaves a whole quad on each side), or -1.
+int middle_ruling_edge(const Strips& s, const Patch& p) {
+  std::vector<int> starts = {0};
+  for (int q : p.quads) starts.push_back(starts.back() + s.quad_segments[q]);
+  const double half = 0.5 * starts.back();
+  int best = -1;
+  double off = 0;
+  for (std::size_t col = 1; col + 1 < starts.size(); ++col) {
+    const int edge = p.ruling_edges[starts[col]];
+    if (edge < 0) continue;
+    const double d = std::abs(starts[col] - half);
+    if (best < 0 || d < off) best = edge, off = d;
+  }
+  return best;
+}
+
+}  // namespace
+
+SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const SplitToFitInput& in,
+                              const SplitToFitOptions& options, PartsMemo* memo) {
+  for (double f : options.fractions)
+    if (!(f > 0 && f <= 2)) throw InvalidInput("split to fit: every fraction must be in (0, 2]");
+  const auto t0 = std::chrono::steady_clock::now();
+  SplitToFitResult r;
+  r.sheets_before = r.sheets_after = layout.sheets;
+  r.parts_before = r.parts_after = static_cast<int>(build.joints.parts.size());
+  auto done = [&] {
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  };
+  if (!options.enabled) {
+    r.why_not = "strips kept whole (--keep-strips-whole)";
+    return done();
+  }
+  if (!(in.parts->material.thickness > 0)) {
+    r.why_not = "paper: parts are split to fit the page only";
+    return done();
+  }
+  if (layout.sheets <= std::max({1, layout.sheets_lower_bound, layout.sheets_lower_bound_spaced})) {
+    r.why_not = "no nesting uses fewer sheets";
+    return done();
+  }
+  if (layout.spaced_fill > kFullestSheet * (layout.sheets - 1)) {
+    r.why_not =
+        "the parts, grown by half the spacing, would fill the sheets but one fuller than "
+        "any nesting here reaches";
+    return done();
+  }
+  r.tried = true;
+  const LayoutOptions& sheets = *in.layout;
+  const Vec2 stock = sheets.size_of(-1);
+  const double side = std::min(stock.x(), stock.y()) - 2 * sheets.margin;
+  const PolyMesh& m = in.input->quads;
+  Guidance guidance = in.guidance;
+  Defects now = defects_of(build, layout, in);
+  std::set<int> tried_edges;  // the last attempt's, to skip a fraction that adds nothing
+  for (double fraction : options.fractions) {
+    const double min_length = fraction * side;
+    std::vector<int> edges;
+    const Strips& s = build.flat.strips;
+    for (std::size_t p = 0; p < s.patches.size(); ++p) {
+      const Patch& patch = s.patches[p];
+      if (patch.flat || patch.rows() > 1 || patch.quads.size() < 2) continue;
+      const MinRect rect = min_area_rect(build.joints.parts[p].designed);
+      if (std::max(rect.width, rect.height) < min_length) continue;
+      const int edge = middle_ruling_edge(s, patch);
+      if (edge >= 0) edges.push_back(edge);
+    }
+    const std::set<int> these(edges.begin(), edges.end());
+    if (these.empty() || these == tried_edges) continue;
+    tried_edges = these;
+    Guidance g = guidance;
+    std::vector<std::array<int, 2>> added;
+    for (int edge : these) {
+      const auto h = m.halfedge_handle(m.edge_handle(edge), 0);
+      added.push_back({m.from_vertex_handle(h).idx(), m.to_vertex_handle(h).idx()});
+    }
+    g.split.insert(g.split.end(), added.begin(), added.end());
+    ++r.attempts;
+    PartsBuild tried;
+    try {
+      tried = build_parts(*in.input, *in.parts, g, &build.bending, memo);
+    } catch (const InvalidInput&) {  // the strips refused a border there
+      continue;
+    }
+    LayoutResult laid =
+        lay_out_parts(tried.flat.strips, tried.flat.flattening, tried.joints, tried.kerf, sheets);
+    const Defects after = defects_of(tried, laid, in);
+    if (laid.sheets >= layout.sheets || !after.no_worse_than(now)) continue;
+    build = std::move(tried);
+    layout = std::move(laid);
+    guidance = std::move(g);
+    now = after;
+    r.strips_split += static_cast<int>(added.size());
+    r.split_edges.insert(r.split_edges.end(), added.begin(), added.end());
+    r.min_length_mm = min_length;
+    r.sheets_after = layout.sheets;
+    r.parts_after = static_cast<int>(build.joints.parts.size());
+    tried_edges.clear();
+    if (layout.sheets <=
+            std::max({1, layout.sheets_lower_bound, layout.sheets_lower_bound_spaced}) ||
+        layout.spaced_fill > kFullestSheet * (layout.sheets - 1))
+      break;
+  }
+  if (!r.saved()) r.why_not = "splitting the longest strips saved no sheet without a defect more";
+  return done();
+}
+
+}  // namespace kerfab
