@@ -8,13 +8,13 @@
 #include <regex>
 #include <sstream>
 
+#include "fixtures.h"
 #include "kerfab/core/errors.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/layout/labels.h"
 #include "kerfab/output/dxf_sheets.h"
 #include "kerfab/output/svg_sheets.h"
 #include "kerfab/pipeline/pipeline.h"
-#include "fixtures.h"
 #include "test_util.h"
 
 namespace kerfab {
@@ -283,6 +283,47 @@ TEST(Layout, OversizedPartsAreSplitUntilTheyFit) {
   const auto dir = test::fresh_dir("cut");
   write_svg_sheets(run, {}, dir);
   expect_sound_sheets(dir, run.layout->sheets, o.layout, run.joints->parts.size());
+}
+
+// Six rings of an open cylinder (r 60 mm, 120 mm high), each cut open into a strip 380 mm long
+// and 23 mm wide, on sheets with 614 x 120 mm inside the margins: four rings lie one above the
+// other on a sheet, so whole they need two; halved (a ring cut open at two rulings, its middle
+// and where the strips stage cut it) three halves lie side by side and all twelve fit one.
+TEST(Layout, RingsAreCutInTwoWhereThatSavesASheet) {
+  const auto rings = test::open_cylinder(60, 120, 24, 6, 8);
+  PipelineOptions o;
+  o.layout.sheet_width = 640;
+  o.layout.sheet_height = 146;
+  o.split_to_fit.enabled = false;
+  const RunResult whole = run_shape(rings, o);
+  o.split_to_fit.enabled = true;
+  const RunResult split = run_shape(rings, o);
+  ASSERT_TRUE(whole.layout && split.layout && split.split_to_fit);
+  ASSERT_EQ(whole.joints->parts.size(), 6u);
+  EXPECT_EQ(whole.layout->sheets, 2);
+  EXPECT_EQ(split.layout->sheets, 1);
+  const SplitToFitResult& s = *split.split_to_fit;
+  EXPECT_TRUE(s.saved());
+  EXPECT_EQ(s.sheets_before, 2);
+  EXPECT_EQ(s.strips_split, 6);
+  EXPECT_EQ(s.split_edges.size(), 12u);
+  ASSERT_EQ(split.joints->parts.size(), 12u);
+  EXPECT_EQ(s.parts_after, 12);
+  // Each half is half a ring (380 mm) long, and every border has a joint.
+  double area[2] = {0, 0};
+  for (const auto& part : whole.joints->parts) area[0] += std::abs(polygon_area(part.cut));
+  for (const auto& part : split.joints->parts) {
+    const MinRect m = min_area_rect(part.cut);
+    EXPECT_NEAR(std::max(m.width, m.height), 192, 4);
+    area[1] += std::abs(polygon_area(part.cut));
+  }
+  EXPECT_NEAR(area[1], area[0], 0.02 * area[0]);
+  EXPECT_EQ(split.joints->borders_without_joint, 0);
+  EXPECT_TRUE(split.kerf->critical.empty());
+  EXPECT_GT(s.minutes_after, s.minutes_before);  // the new borders' joints are cut too
+  const auto dir = test::fresh_dir("halves");
+  write_svg_sheets(split, {}, dir);
+  expect_sound_sheets(dir, split.layout->sheets, o.layout, split.joints->parts.size());
 }
 
 TEST(Layout, MinimumRectangleAndBadSheets) {

@@ -449,9 +449,11 @@ StageNotes notes(const SplitToFitResult& s) {
   if (!s.saved()) return n;
   Line os(3);
   os << s.strips_split << " strips at least " << s.min_length_mm
-     << " mm long split in two at their middle ruling: " << s.sheets_after << " sheets instead of "
-     << s.sheets_before << ", " << s.parts_after << " parts instead of " << s.parts_before
-     << " (--keep-strips-whole keeps them whole)";
+     << " mm long split in two at their middle ruling";
+  if (s.rings_recut > 0) os << ", " << s.rings_recut << " rings cut open there instead";
+  os << ": " << s.sheets_after << " sheets instead of " << s.sheets_before << ", " << s.parts_after
+     << " parts instead of " << s.parts_before << ", cutting " << s.minutes_after
+     << " min instead of " << s.minutes_before << " (--keep-strips-whole keeps them whole)";
   n.lines.push_back(os.str());
   return n;
 }

@@ -54,6 +54,7 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
   SplitToFitResult r;
   r.sheets_before = r.sheets_after = layout.sheets;
   r.parts_before = r.parts_after = static_cast<int>(build.joints.parts.size());
+  r.minutes_before = r.minutes_after = build.kerf.cutting.minutes;
   auto done = [&] {
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
@@ -83,10 +84,17 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
   const PolyMesh& m = in.input->quads;
   Guidance guidance = in.guidance;
   Defects now = defects_of(build, layout, in);
-  std::set<int> tried_edges;  // the last attempt's, to skip a fraction that adds nothing
-  for (double fraction : options.fractions) {
+  std::set<int> tried_edges;  // the last attempt's, to skip one that adds nothing
+  // Per fraction, rings (strips the strips stage cut open) cut in two first, then only cut open
+  // at their middle instead (their other shape may nest better; Bob at 600 mm saved a sheet
+  // that way and not the other).
+  std::vector<std::pair<double, bool>> attempts;
+  for (double fraction : options.fractions)
+    for (bool halve_rings : {true, false}) attempts.push_back({fraction, halve_rings});
+  for (const auto& [fraction, halve_rings] : attempts) {
     const double min_length = fraction * side;
     std::vector<int> edges;
+    int strips = 0, rings = 0;
     const Strips& s = build.flat.strips;
     for (std::size_t p = 0; p < s.patches.size(); ++p) {
       const Patch& patch = s.patches[p];
@@ -94,7 +102,18 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
       const MinRect rect = min_area_rect(build.joints.parts[p].designed);
       if (std::max(rect.width, rect.height) < min_length) continue;
       const int edge = middle_ruling_edge(s, patch);
-      if (edge >= 0) edges.push_back(edge);
+      if (edge < 0) continue;
+      edges.push_back(edge);
+      // A ring cut open where the strips stage chose: a border there too cuts it in two;
+      // without, the one in the middle moves the cut there.
+      if (!patch.loop_cut) {
+        ++strips;
+      } else if (halve_rings && patch.end_edges[0] >= 0) {
+        edges.push_back(patch.end_edges[0]);
+        ++strips;
+      } else {
+        ++rings;
+      }
     }
     const std::set<int> these(edges.begin(), edges.end());
     if (these.empty() || these == tried_edges) continue;
@@ -121,11 +140,13 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
     layout = std::move(laid);
     guidance = std::move(g);
     now = after;
-    r.strips_split += static_cast<int>(added.size());
+    r.strips_split += strips;
+    r.rings_recut += rings;
     r.split_edges.insert(r.split_edges.end(), added.begin(), added.end());
     r.min_length_mm = min_length;
     r.sheets_after = layout.sheets;
     r.parts_after = static_cast<int>(build.joints.parts.size());
+    r.minutes_after = build.kerf.cutting.minutes;
     tried_edges.clear();
     if (layout.sheets <=
             std::max({1, layout.sheets_lower_bound, layout.sheets_lower_bound_spaced}) ||

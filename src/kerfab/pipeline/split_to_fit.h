@@ -23,6 +23,8 @@ struct SplitToFitOptions {
   /// Tried in turn: strips whose minimum rectangle's longer side is at least this fraction of
   /// the stock sheet's shorter side inside its margins are split [-], each in (0, 2]. Fewest
   /// splits first; the first that saves a sheet is kept, and the next fraction may save another.
+  /// Each fraction is tried with rings (strips cut open from a closed loop) cut in two, then
+  /// with rings only cut open at their middle instead.
   std::vector<double> fractions = {0.8, 0.6};
 };
 
@@ -32,8 +34,10 @@ struct SplitToFitResult {
   int attempts = 0;     ///< builds cut and nested
   int sheets_before = 0, sheets_after = 0;
   int parts_before = 0, parts_after = 0;
-  int strips_split = 0;                         ///< strips split in two (kept)
-  double min_length_mm = 0;                     ///< the shortest strip length split (kept) [mm]
+  double minutes_before = 0, minutes_after = 0;  ///< estimated cutting time [min]
+  int strips_split = 0;      ///< strips split in two (a ring cut open at two rulings) (kept)
+  int rings_recut = 0;       ///< rings cut open at their middle instead of where they were (kept)
+  double min_length_mm = 0;  ///< the shortest strip length split (kept) [mm]
   std::vector<std::array<int, 2>> split_edges;  ///< quad-mesh vertex pairs made strip borders
   double seconds = 0;
   bool saved() const { return sheets_after < sheets_before; }
