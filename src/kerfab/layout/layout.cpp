@@ -520,7 +520,7 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   // only where parts x sheets is at most 2000 (about 2 s on 2 cores; Spot at 500 mm with 4
   // Catmull-Clark steps, 578 parts on 10 sheets, took 13.6 s for one pass and 57 s for all),
   // else only the two other orders, bottom-left.
-  const bool cheap = static_cast<double>(n) * best.sheets() <= 2000;
+  const bool cheap = static_cast<double>(n) * best.sheets() <= kCheapNest;
   if (best.sheets() > result.sheets_lower_bound_spaced) {
     const std::vector<int> by_rect = order_by([&](int i) { return parts[i].rect_area; });
     const std::vector<int> by_length = order_by([&](int i) { return parts[i].length; });

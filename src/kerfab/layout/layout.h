@@ -79,6 +79,11 @@ struct LayoutResult {
 /// nesting of these parts is likely to save a sheet.
 constexpr double kFullestSheet = 0.8;
 
+/// Nesting is cheap (about 2 s on 2 cores) where parts x sheets is at most this: only then are
+/// more orders and rules tried (Spot at 500 mm with 4 Catmull-Clark steps, 578 parts on 10
+/// sheets, took 13.6 s for one pass and 57 s for all) [-].
+constexpr double kCheapNest = 2000;
+
 struct MinRect {
   double angle = 0, width = 0, height = 0;
 };

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <set>
+#include <string>
 
 #include "kerfab/core/errors.h"
 
@@ -75,6 +76,13 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
     r.why_not =
         "the parts, grown by half the spacing, would fill the sheets but one fuller than "
         "any nesting here reaches";
+    return done();
+  }
+  // Each attempt cuts the parts again and nests them: only where a nesting is cheap (a job of
+  // hundreds of parts on ten sheets takes minutes per attempt).
+  if (static_cast<double>(build.joints.parts.size()) * layout.sheets > kCheapNest) {
+    r.why_not = "too many parts on too many sheets to cut and nest again (parts x sheets over " +
+                std::to_string(static_cast<int>(kCheapNest)) + ")";
     return done();
   }
   r.tried = true;
