@@ -567,7 +567,7 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   // passes reach (kFullestSheet): else it cannot save one, and costs (Amo on 300 x 250
   // sheets: 0.7 s more for the same 4 sheets).
   if (cheap && best.sheets() > result.sheets_lower_bound_spaced &&
-      result.spaced_fill <= kFullestSheet * (best.sheets() - 1)) {
+      !too_full_for_one_fewer(result.spaced_fill, best.sheets())) {
     LayoutOptions fine = o;
     fine.step = 0.5 * o.step;
     std::vector<Turned> quarters(n);

@@ -70,8 +70,6 @@ struct LayoutResult {
   }
 };
 
-/// Smallest-area enclosing rectangle of a polygon's convex hull: its angle [rad] (turning the
-/// polygon by -angle makes the rectangle axis-aligned) and size [mm].
 /// The fullest sheets the nesting reaches: the parts grown by half the spacing cover about this
 /// much of a sheet's usable area, grown alike, on every sheet but the last (0.77-0.80 on Spot at
 /// 500 mm, Amo and the quad sphere on small sheets; stanford-bunny's 365 parts 0.76 on one
@@ -84,6 +82,15 @@ constexpr double kFullestSheet = 0.8;
 /// sheets, took 13.6 s for one pass and 57 s for all) [-].
 constexpr double kCheapNest = 2000;
 
+/// True when parts grown by half the spacing that fill \p spaced_fill sheets
+/// (LayoutResult::spaced_fill) would have to fill the sheets but one of \p sheets fuller than
+/// kFullestSheet: no nesting here is likely to save that sheet.
+inline bool too_full_for_one_fewer(double spaced_fill, int sheets) {
+  return spaced_fill > kFullestSheet * (sheets - 1);
+}
+
+/// Smallest-area enclosing rectangle of a polygon's convex hull: its angle [rad] (turning the
+/// polygon by -angle makes the rectangle axis-aligned) and size [mm].
 struct MinRect {
   double angle = 0, width = 0, height = 0;
 };

@@ -133,20 +133,17 @@ static StageNotes split_to_fit_stage(RunResult& r, const PartsOptions& parts, do
   const PipelineOptions& o = r.options;
   SplitToFitInput in{r.input ? &*r.input : nullptr, &parts, {}, &o.layout, o.resolve.min_part_area,
                      o.resolve.min_part_width};
-  SplitToFitOptions options = o.split_to_fit;
-  std::string blocked;
   if (r.resolve) {
     in.guidance = r.resolve->added;
-    if (!r.resolve->unresolved_parts.empty()) blocked = "the resolve stage left parts unresolved";
+    if (!r.resolve->unresolved_parts.empty())
+      in.blocked = "the resolve stage left parts unresolved";
     for (const RegionChange& c : r.resolve->changes)
       if (c.action == "omit" || c.action == "outline")
-        blocked = "the resolve stage left parts out or cut facets along their outlines";
+        in.blocked = "the resolve stage left parts out or cut facets along their outlines";
   }
-  if (!blocked.empty()) options.enabled = false;
   PartsBuild build = take_build(r);
-  r.split_to_fit = split_to_fit(build, *r.layout, in, options, &memo);
+  r.split_to_fit = split_to_fit(build, *r.layout, in, o.split_to_fit, &memo);
   put_build(r, std::move(build));
-  if (!blocked.empty()) r.split_to_fit->why_not = blocked;
   StageNotes n = notes(*r.layout, o.layout);
   if (!r.split_to_fit->saved()) return n;
   if (o.flatten.mimic_3d)

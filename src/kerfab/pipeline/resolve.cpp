@@ -78,13 +78,6 @@ std::vector<int> small_parts(const PartsBuild& b, double min_area, double min_wi
   return out;
 }
 
-/// Ruling index where each column of \p p starts (and one past the last).
-std::vector<int> column_starts(const Strips& s, const Patch& p) {
-  std::vector<int> starts = {0};
-  for (int q : p.quads) starts.push_back(starts.back() + s.quad_segments[q]);
-  return starts;
-}
-
 int column_of(const std::vector<int>& starts, int interval) {
   return std::clamp(
       static_cast<int>(std::upper_bound(starts.begin(), starts.end(), interval) - starts.begin()) -

@@ -31,8 +31,7 @@ Defects defects_of(const PartsBuild& b, const LayoutResult& l, const SplitToFitI
 /// The coarse edge of strip \p p's ruling nearest its middle at a boundary between two of its
 /// quads (a strip border there leaves a whole quad on each side), or -1.
 int middle_ruling_edge(const Strips& s, const Patch& p) {
-  std::vector<int> starts = {0};
-  for (int q : p.quads) starts.push_back(starts.back() + s.quad_segments[q]);
+  const std::vector<int> starts = column_starts(s, p);
   const double half = 0.5 * starts.back();
   int best = -1;
   double off = 0;
@@ -43,6 +42,11 @@ int middle_ruling_edge(const Strips& s, const Patch& p) {
     if (best < 0 || d < off) best = edge, off = d;
   }
   return best;
+}
+
+/// No nesting uses fewer sheets than \p l does: it is at one sheet or a lower bound.
+bool at_bound(const LayoutResult& l) {
+  return l.sheets <= std::max({1, l.sheets_lower_bound, l.sheets_lower_bound_spaced});
 }
 
 }  // namespace
@@ -60,6 +64,10 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
   };
+  if (!in.blocked.empty()) {
+    r.why_not = in.blocked;
+    return done();
+  }
   if (!options.enabled) {
     r.why_not = "strips kept whole (--keep-strips-whole)";
     return done();
@@ -68,11 +76,11 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
     r.why_not = "paper: parts are split to fit the page only";
     return done();
   }
-  if (layout.sheets <= std::max({1, layout.sheets_lower_bound, layout.sheets_lower_bound_spaced})) {
+  if (at_bound(layout)) {
     r.why_not = "no nesting uses fewer sheets";
     return done();
   }
-  if (layout.spaced_fill > kFullestSheet * (layout.sheets - 1)) {
+  if (too_full_for_one_fewer(layout.spaced_fill, layout.sheets)) {
     r.why_not =
         "the parts, grown by half the spacing, would fill the sheets but one fuller than "
         "any nesting here reaches";
@@ -156,10 +164,7 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
     r.parts_after = static_cast<int>(build.joints.parts.size());
     r.minutes_after = build.kerf.cutting.minutes;
     tried_edges.clear();
-    if (layout.sheets <=
-            std::max({1, layout.sheets_lower_bound, layout.sheets_lower_bound_spaced}) ||
-        layout.spaced_fill > kFullestSheet * (layout.sheets - 1))
-      break;
+    if (at_bound(layout) || too_full_for_one_fewer(layout.spaced_fill, layout.sheets)) break;
   }
   if (!r.saved()) r.why_not = "splitting the longest strips saved no sheet without a defect more";
   return done();

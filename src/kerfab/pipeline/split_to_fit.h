@@ -52,6 +52,8 @@ struct SplitToFitInput {
   const LayoutOptions* layout = nullptr;  ///< the sheets (as the layout stage used them)
   double min_part_area = 50;              ///< what a maker can handle [mm^2] (ResolveOptions)
   double min_part_width = 3;              ///< [mm]
+  /// Why the run's build may not be split (nothing is tried); empty: it may.
+  std::string blocked;
 };
 
 /// Tries to save sheets on \p build laid out as \p layout; where it does, replaces both (the

@@ -1163,6 +1163,12 @@ Strips build_strips(const PolyMesh& quads, const BendingResult& bending,
   return Builder(quads, bending, target, options).run();
 }
 
+std::vector<int> column_starts(const Strips& s, const Patch& p) {
+  std::vector<int> starts = {0};
+  for (int q : p.quads) starts.push_back(starts.back() + s.quad_segments[q]);
+  return starts;
+}
+
 Strips split_patch(const Strips& strips, int patch, int at) {
   if (patch < 0 || patch >= static_cast<int>(strips.patches.size()))
     throw InvalidInput("split_patch: no patch " + std::to_string(patch));

@@ -175,6 +175,10 @@ Strips build_strips(const PolyMesh& quads, const BendingResult& bending,
 /// \throw InvalidInput no such patch, or \p at not in 1 .. quads - 1.
 Strips split_patch(const Strips& strips, int patch, int at);
 
+/// Ruling index where each column (coarse quad) of patch \p p of \p s starts, and one past the
+/// last: column c spans rulings starts[c] .. starts[c + 1].
+std::vector<int> column_starts(const Strips& s, const Patch& p);
+
 /// Number of dual chords (rows of quads joined across opposite edges, open or closed) of the
 /// quad mesh; a layout with one strip per row of one family needs about half of these.
 int quad_rows(const PolyMesh& quads);
