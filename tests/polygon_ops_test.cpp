@@ -58,6 +58,38 @@ void expect_outer_and_hole(const std::vector<Polygon2>& rings, double outer, dou
   expect_strictly_simple(rings);
 }
 
+// Round offsets are the morphological ones: a square of side a grown by d covers
+// a^2 + 4ad + pi d^2 (the mitred offset the whole (a + 2d)^2), and shrunk by d it is the square
+// of side a - 2d. Two squares joined by a bridge narrower than 2d fall in two when shrunk, and
+// each grows back to its square within the arcs' tolerance.
+TEST(PolygonOps, RoundOffsetsGrowAndShrinkAsMorphologyDoes) {
+  const double a = 10, d = 1, tolerance = 0.01;
+  auto area = [](const std::vector<Polygon2>& ps) {
+    double sum = 0;
+    for (const auto& p : ps) sum += polygon_area(p);
+    return sum;
+  };
+  const Polygon2 square = rect(0, 0, a, a);
+  const auto grown = polygon_offset_round({square}, d, tolerance);
+  ASSERT_EQ(grown.size(), 1u);
+  const double exact = a * a + 4 * a * d + std::numbers::pi * d * d;
+  // The arcs are inscribed chords within the tolerance: less, by at most perimeter x tolerance.
+  EXPECT_LE(area(grown), exact + 1e-6);
+  EXPECT_GE(area(grown), exact - 2 * std::numbers::pi * d * tolerance - 1e-6);
+  EXPECT_NEAR(area(polygon_offset({square}, d)), (a + 2 * d) * (a + 2 * d), 1e-6);
+  EXPECT_NEAR(area(polygon_offset_round({square}, -d, tolerance)), (a - 2 * d) * (a - 2 * d), 1e-6);
+  // Two 4 x 4 squares 1 mm apart, joined by a bridge 0.08 mm wide, shrunk by 0.49 mm.
+  const Polygon2 pair = {{0, 0}, {4, 0}, {4, 1.96}, {5, 1.96}, {5, 0}, {9, 0},
+                         {9, 4}, {5, 4}, {5, 2.04}, {4, 2.04}, {4, 4}, {0, 4}};
+  const auto cores = polygon_offset_round({pair}, -0.49, tolerance);
+  ASSERT_EQ(cores.size(), 2u);
+  for (const auto& core : cores) {
+    const auto back = polygon_offset_round({core}, 0.49, tolerance);
+    ASSERT_EQ(back.size(), 1u);
+    EXPECT_NEAR(area(back), 16 - (4 - std::numbers::pi) * 0.49 * 0.49, 0.04);
+  }
+}
+
 TEST(PolygonOps, TwoTrianglesMeetingAtAPointComeOutAsTwoRings) {
   // A 2 x 2 square without its top and bottom quarters: two triangles touching at (1, 1).
   const auto left = polygon_difference(

@@ -383,4 +383,14 @@ std::vector<Polygon2> polygon_offset(const std::vector<Polygon2>& polygons, doub
   return from_paths(out);
 }
 
+std::vector<Polygon2> polygon_offset_round(const std::vector<Polygon2>& polygons, double delta,
+                                           double tolerance) {
+  ClipperLib::ClipperOffset o(4.0, std::max(tolerance, 1.0 / kScale) * kScale);
+  for (const auto& p : polygons)
+    o.AddPath(to_path(p), ClipperLib::jtRound, ClipperLib::etClosedPolygon);
+  ClipperLib::Paths out;
+  o.Execute(out, delta * kScale);
+  return from_paths(out);
+}
+
 }  // namespace kerfab

@@ -23,4 +23,11 @@ std::vector<Polygon2> polygon_difference(const std::vector<Polygon2>& a,
 /// Outward offset by \p delta (negative: inward) with mitred corners (miter limit 4).
 std::vector<Polygon2> polygon_offset(const std::vector<Polygon2>& polygons, double delta);
 
+/// The same with round corners, each arc within \p tolerance of the true circle [mm]: the
+/// points within |delta| of the polygons (delta > 0) or the points at least |delta| inside
+/// them (delta < 0), as mathematical morphology grows and shrinks (a mitred corner reaches up to
+/// four times farther).
+std::vector<Polygon2> polygon_offset_round(const std::vector<Polygon2>& polygons, double delta,
+                                           double tolerance);
+
 }  // namespace kerfab
