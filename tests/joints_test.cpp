@@ -442,9 +442,11 @@ TEST(Joints, RealMeshesHaveSoundOutlines) {
 
 // A part too small to handle takes the teeth of its borders instead of their slots where it can
 // own them (from mates not smaller still). On Spot's raw strips (before the resolve stage, which
-// changes what is left) 6 parts are under 50 mm^2 as cut with the swap off: 40.3 mm^2 grows to
-// 45.9, 45.5 to 52.7, 38.0 to 50.4, 40.7 to 42.8 (a tooth more, a slot less); 47.2 gives 1.3
-// mm^2 to a smaller neighbour; 25.6 owns all its teeth already. Two are then large enough.
+// changes what is left) 6 parts are under 50 mm^2 as cut with the swap off: 45.5 mm^2 grows to
+// 52.7, 38.0 to 50.4, 40.8 to 42.8 (a tooth more, a slot less), 43.8 to 45.9 (40.3 before the
+// morphological neck pass made a slot of it plain with the swap off: it now has more spans of
+// slots, shallower); 47.2 gives 1.3 mm^2 to a smaller neighbour; 25.6 owns all its teeth
+// already. Two are then large enough.
 TEST(Joints, PartsTooSmallToHandleOwnTheirBordersTeeth) {
   const PreparedInput p = test::load(test::spot());
   Flattening f;
@@ -479,8 +481,8 @@ TEST(Joints, PartsTooSmallToHandleOwnTheirBordersTeeth) {
   }
   EXPECT_EQ(small_before, 6);
   EXPECT_LE(small_after, small_before - 2);
-  EXPECT_GE(fewer_slots, 4);
-  EXPECT_GT(area_after, area_before + 20);  // 237.3 -> 263.3 mm^2
+  EXPECT_GE(fewer_slots, 3);
+  EXPECT_GT(area_after, area_before + 20);  // 240.9 -> 263.3 mm^2
   expect_sound_joints(s, f, after, 6);
   expect_teeth_fit_slots(s, f, after);
 }
@@ -1548,8 +1550,9 @@ TEST(Joints, PaperStubsOnAFoldedSheetGetTabsWithSquareEnds) {
 
 // A part the thin-neck pass could not mend is named: Joints::thin_neck_parts holds exactly the
 // parts whose outline an opening by half the smallest feature splits into two or more pieces,
-// or whose round (morphological) erosion by that half less 10 um does (the mitred opening can
-// join two pieces again across a neck; measured here with the polygon offsets alone). On Spot's raw
+// or whose erosion by that half does and whose round (morphological) erosion by that half less
+// 10 um does too (the mitred opening can join two pieces again across a neck; measured here
+// with the polygon offsets alone). On Spot's raw
 // strips with a 3 mm smallest feature some are left, so the list is checked where it is not empty.
 TEST(Joints, PartsLeftWithAThinNeckAreNamed) {
   const PreparedInput p = test::load(test::spot());
@@ -1564,13 +1567,15 @@ TEST(Joints, PartsLeftWithAThinNeckAreNamed) {
     for (std::size_t q = 0; q < j.parts.size(); ++q) {
       const Polygon2& outline = j.parts[q].designed;
       if (outline.size() < 3) continue;
-      int pieces = 0, cores = 0;
+      int pieces = 0, eroded = 0, cores = 0;
       for (const Polygon2& c :
            polygon_offset(polygon_offset({outline}, -0.5 * feature), 0.5 * feature))
         pieces += polygon_area(c) > 0 ? 1 : 0;
+      for (const Polygon2& c : polygon_offset({outline}, -0.5 * feature))
+        eroded += polygon_area(c) > 0 ? 1 : 0;
       for (const Polygon2& c : polygon_offset_round({outline}, -0.5 * feature + 0.01, 0.01))
         cores += polygon_area(c) > 0 ? 1 : 0;
-      if (pieces >= 2 || cores >= 2) necked.push_back(static_cast<int>(q));
+      if (pieces >= 2 || (eroded >= 2 && cores >= 2)) necked.push_back(static_cast<int>(q));
     }
     EXPECT_EQ(j.thin_neck_parts, necked);
     std::printf("smallest feature %.0f mm: %zu of %zu parts keep a thin neck\n", feature,

@@ -175,7 +175,10 @@ class Builder {
       if (out_.parts[p].repaired) out_ = before, lost_ = lost_before;
     }
     give_stubs_a_tooth(forbidden);
-    widen_thin_necks(forbidden);
+    if (o_.stub_teeth) {
+      widen_thin_necks(forbidden, true);
+      widen_thin_necks(forbidden, false);
+    }
     // Last, with every joint settled: corners hanging on a short neck go (never a tooth). Done
     // while drawing, it changed which stub teeth fit (one of the demo's short borders lost its
     // joint: the tooth would have hung on the neck the cut corner had shared).
@@ -1149,19 +1152,47 @@ class Builder {
   /// outline the opening takes away that touch two of its pieces. without_thin_features() cuts
   /// off what hangs on such a neck only when it is no larger than a square tooth; a larger piece
   /// it leaves hanging, and it breaks off when cut.
-  std::vector<Polygon2> thin_necks(int p) const { return thin_necks(out_.parts[p].designed); }
-  std::vector<Polygon2> thin_necks(const Polygon2& outline) const {
+  /// \p mitred: by the mitred opening alone (see thin_necks_drawn).
+  std::vector<Polygon2> thin_necks(int p, bool mitred = false) const {
+    return thin_necks(out_.parts[p].designed, mitred);
+  }
+  std::vector<Polygon2> thin_necks(const Polygon2& outline, bool mitred = false) const {
     if (outline.size() < 3) return {};
     return checked(
-               'N', [&](std::string& key) { put_polygons(key, {outline}); },
+               mitred ? 'M' : 'N', [&](std::string& key) { put_polygons(key, {outline}); },
                [&] {
-                 return OutlineCheck{thin_necks_drawn(outline), {}};
+                 return OutlineCheck{thin_necks_drawn(outline, mitred), {}};
                })
         .polygons;
   }
-  std::vector<Polygon2> thin_necks_drawn(const Polygon2& outline) const {
-    const std::vector<Polygon2> opened = opening({outline});
-    if (opened.size() < 2) return {};
+  /// The opening grows back with mitred corners, which reach up to four times the offset: where
+  /// that joins the eroded pieces again (fertility's triangle mesh in 3 mm plywood at 350 mm: a
+  /// 3 x 4.8 mm tab on a neck 0.08 mm wide, found only by the auditor), the morphological
+  /// opening decides instead (round corners, to kOpeningArc, by 10 um under half the feature as
+  /// without_hanging_corners: a neck exactly that wide is none), each piece of its erosion
+  /// grown back on its own. It is taken only there: the mitred erosion, inside the round one,
+  /// falls in two first.
+  std::vector<Polygon2> thin_necks_drawn(const Polygon2& outline, bool mitred) const {
+    const double r = 0.5 * o_.min_feature;
+    if (!(r > 0)) return {};
+    std::vector<Polygon2> eroded;
+    for (auto& c : polygon_offset({outline}, -r))
+      if (polygon_area(c) > 0) eroded.push_back(std::move(c));
+    if (eroded.size() < 2) return {};
+    std::vector<Polygon2> opened;
+    for (auto& c : polygon_offset(eroded, r))
+      if (polygon_area(c) > 0) opened.push_back(std::move(c));
+    if (opened.size() < 2) {
+      if (mitred) return {};
+      opened.clear();
+      std::vector<Polygon2> cores;
+      for (auto& c : polygon_offset_round({outline}, -(r - 0.01), kOpeningArc))
+        if (polygon_area(c) > 0) cores.push_back(std::move(c));
+      if (cores.size() < 2) return {};
+      for (const Polygon2& core : cores)
+        for (auto& c : polygon_offset_round({core}, r - 0.01, kOpeningArc))
+          if (polygon_area(c) > 0) opened.push_back(std::move(c));
+    }
     std::vector<Polygon2> necks;
     for (auto& piece : polygon_difference({outline}, opened)) {
       if (!(polygon_area(piece) > 0)) continue;
@@ -1170,6 +1201,26 @@ class Builder {
       if (touched >= 2) necks.push_back(std::move(piece));
     }
     return necks;
+  }
+
+  /// True when part \p p falls in two or more pieces under the mitred erosion by half the
+  /// smallest feature and under the morphological one (as thin_necks_drawn()), whether or not
+  /// a neck between them is found: the part is named where the pass could not mend it.
+  bool splits_apart(int p) const {
+    const Polygon2& outline = out_.parts[p].designed;
+    const double r = 0.5 * o_.min_feature;
+    if (outline.size() < 3 || !(r > 0)) return false;
+    const OutlineCheck found = checked(
+        'E', [&](std::string& key) { put_polygons(key, {outline}); },
+        [&] {
+          int eroded = 0, cores = 0;
+          for (const auto& c : polygon_offset({outline}, -r)) eroded += polygon_area(c) > 0;
+          if (eroded > 1)
+            for (const auto& c : polygon_offset_round({outline}, -(r - 0.01), kOpeningArc))
+              cores += polygon_area(c) > 0;
+          return OutlineCheck{{}, {cores}};
+        });
+    return found.positions.front() > 1;
   }
 
   /// True when outline \p after (a part drawn with one joint changed) falls in more pieces than
@@ -1223,43 +1274,28 @@ class Builder {
     return opened;
   }
 
-  /// True when part \p p narrows to less than the smallest feature between two of its pieces
-  /// by the morphological erosion (round corners, kOpeningArc), by 10 um under half that
-  /// feature (as without_hanging_corners: a neck exactly that wide is none): it falls in two
-  /// or more pieces. opening() grows back with mitred corners, which reach up to four times the
-  /// offset, so two pieces less than two features apart can merge again and thin_necks() miss
-  /// the neck between them: fertility's triangle mesh in 3 mm plywood at 350 mm had a 3 x 4.8
-  /// mm tab hanging on a neck 0.08 mm wide, found only by the auditor. (Mending by this
-  /// measure instead, in widen_thin_necks, made joints plain on 31 of the quad sphere's raw
-  /// strips and left them pinched by the other: it only names the part.)
-  bool splits_apart(int p) const {
-    const Polygon2& outline = out_.parts[p].designed;
-    const double r = 0.5 * o_.min_feature - 0.01;
-    if (outline.size() < 3 || !(r > 0)) return false;
-    const OutlineCheck found = checked(
-        'E', [&](std::string& key) { put_polygons(key, {outline}); },
-        [&] {
-          int cores = 0;
-          for (const auto& core : polygon_offset_round({outline}, -r, kOpeningArc))
-            cores += polygon_area(core) > 0 ? 1 : 0;
-          return OutlineCheck{{}, {cores}};
-        });
-    return found.positions.front() > 1;
-  }
-
   /// Thin necks (thin_necks) that joints made: the intervals whose tooth, slot or cut-back comes
   /// near a neck go plain on both parts (as plain_where_lost does for a part that fell apart),
-  /// kept only where that leaves the part without a thin neck and makes no part fall apart or
-  /// gain a neck. A border that so loses its last joint gets a tooth elsewhere where one fits
+  /// kept only where that mends the part and makes no part fall apart or gain a neck. Two
+  /// passes (\p mitred): first by the mitred opening alone, kept where the part is left without
+  /// a neck; then by thin_necks_drawn()'s morphological opening, for the necks the mitred one
+  /// joined again, kept where the part has fewer necks and no part has one where it had none.
+  /// (The morphological measure alone in one pass: asking it for none left kept no mend on the
+  /// quad sphere's raw strips, 31 left pinched; asking it for fewer left horse_quad two pinches
+  /// the mitred mends had taken.) Not in the resolve loop's drafts (stub_teeth false): a neck
+  /// decides no critical region or part too small, and the final build has the passes (the
+  /// demo's resolve stage 2.8-2.9 s before, 2.7 s with both passes). A border that so loses
+  /// its last joint gets a tooth elsewhere where one fits
   /// (give_stubs_a_tooth(), which lets no tooth make a neck); where none does, it stays without:
   /// a tooth hanging on a neck narrower than the smallest feature breaks off (Spot's fine quad
   /// mesh had one on a 0.3 mm neck). A neck of the flattened strip itself stays (the auditor
   /// reports it).
-  void widen_thin_necks(const std::vector<std::vector<std::array<double, 2>>>& forbidden) {
+  void widen_thin_necks(const std::vector<std::vector<std::array<double, 2>>>& forbidden,
+                        bool mitred) {
     std::vector<int> all(out_.parts.size());
     for (std::size_t p = 0; p < all.size(); ++p) all[p] = static_cast<int>(p);
     std::vector<std::vector<Polygon2>> necks(all.size());
-    for_each_of(all, [&](int p) { necks[p] = thin_necks(p); });
+    for_each_of(all, [&](int p) { necks[p] = thin_necks(p, mitred); });
     for (int p : all) {
       if (necks[p].empty()) continue;
       const Joints before = out_;
@@ -1279,18 +1315,36 @@ class Builder {
       for (std::size_t q = 0; q < out_.parts.size(); ++q)
         if (redo.contains(static_cast<int>(q)) ||
             out_.parts[q].designed != before.parts[q].designed)
-          after[static_cast<int>(q)] = thin_necks(static_cast<int>(q));
-      bool better = after[p].empty() && !out_.parts[p].repaired;
+          after[static_cast<int>(q)] = thin_necks(static_cast<int>(q), mitred);
+      // The mitred pass: no neck left on it, none more on the others. The morphological one:
+      // fewer on it, none more on the others, and none on any where it had none (by count
+      // alone a part with a neck elsewhere may take a new one beside the joints made plain).
+      bool better = !out_.parts[p].repaired &&
+                    (mitred ? after[p].empty()
+                            : after[p].size() < necks[p].size() && only_where(after[p], necks[p]));
       for (const auto& [q, left] : after)
         if (q != p && better)
           better = (!out_.parts[q].repaired || before.parts[q].repaired) &&
-                   left.size() <= necks[q].size();
+                   left.size() <= necks[q].size() && (mitred || only_where(left, necks[q]));
       if (!better) {
         out_ = before, lost_ = lost_before;
         continue;
       }
       for (auto& [q, left] : after) necks[q] = std::move(left);
     }
+  }
+
+  /// True when every neck of \p now lies where one of \p was did (within the smallest feature).
+  bool only_where(const std::vector<Polygon2>& now, const std::vector<Polygon2>& was) const {
+    if (now.empty()) return true;
+    const std::vector<Polygon2> near = polygon_offset(was, o_.min_feature);
+    for (const Polygon2& n : now) {
+      bool found = false;
+      for (const Polygon2& w : near)
+        found = found || (polygon_area(w) > 0 && !polygon_intersection(n, w).empty());
+      if (!found) return false;
+    }
+    return true;
   }
 
   /// The intervals of part \p p's joints whose stretch on it comes within a millimetre of one
