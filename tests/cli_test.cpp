@@ -360,14 +360,20 @@ void expect_all_placed_and_clean(const nlohmann::json& report, const fs::path& o
 // flat plate of it and its neighbours.
 TEST(Cli, NoPaperPartOfTheBunnyFlattensDistorted) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
+  const fs::path out = test::fresh_dir() / "out";
   const auto report =
       run_quietly("--target " + (test::shared_meshes() / "bunny_closed_odedstein.obj").string() +
-                  " --size 200 --material paper");
+                      " --size 200 --material paper",
+                  out);
   ASSERT_FALSE(report.is_null());
   for (const auto& p : report["flatten"]["patches"])
     EXPECT_TRUE(p["outline_simple"].get<bool>()) << p["patch"];
   EXPECT_EQ(report["resolve"]["small_parts_after"].get<int>(), 0);
   EXPECT_TRUE(report["layout"]["unplaced"].empty());
+  // Its pages, read back by the auditor: no slit or tail a cutter cannot follow (3 until the
+  // slits were measured as cut and the tabs' hooked tips went, 2026-11-29).
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_EQ(audit.thin_features, 0) << (audit.findings.empty() ? "" : audit.findings[0]);
 }
 
 // horse_quad at 250 mm: where many facets meet on the ears, facets capped quads tilted up to

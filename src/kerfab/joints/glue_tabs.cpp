@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 
+#include "kerfab/core/geometry2d.h"
 #include "kerfab/joints/border_pieces.h"
 #include "kerfab/joints/corners.h"
 
@@ -501,8 +502,11 @@ class GlueBuilder {
   /// meet at a corner of their part, their tapered ends left notches of 0.1-0.5 mm (165 on the
   /// bunny at 250 mm) that a cutter cannot follow and that tear. What a closing by half that
   /// width adds is added; nothing is taken away (a tab's sharp corner stays as it is).
+  /// The slits are measured as cut: the cutter's path runs half its kerf outside the part on
+  /// both sides of a slit, so a slit of the smallest feature as drawn is one kerf narrower as
+  /// cut (bob_tri in paper at 200 mm: a 0.9 mm slit between a tab and its part's corner).
   Polygon2 without_slits(const Polygon2& outline) const {
-    const double r = 0.5 * o_.min_feature;
+    const double r = 0.5 * (o_.min_feature + kerf_width_);
     if (outline.size() < 3 || !(r > 0)) return outline;
     std::vector<Polygon2> all;
     for (auto& fill :
@@ -513,12 +517,45 @@ class GlueBuilder {
     return largest_polygon(polygon_union(all));
   }
 
+  /// \p outline without the tails of its tabs narrower than JointOptions::min_feature: of what
+  /// an opening by half that width takes away, the pieces holding more than a square of it or
+  /// reaching farther than it from the rest (the auditor's rule for a tail), where they lie off
+  /// the part's body \p body. Where two tabs meet at a corner of their part their tapered ends
+  /// left hooks 0.5 mm wide (bob_tri in paper at 200 mm) that tear off; a tab glued under its
+  /// mate misses nothing by losing one.
+  Polygon2 without_tab_tails(const Polygon2& outline, const Polygon2& body) const {
+    const double r = 0.5 * o_.min_feature;
+    if (outline.size() < 3 || !(r > 0)) return outline;
+    const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
+    if (opened.empty()) return outline;
+    std::vector<Polygon2> tails;
+    for (const auto& piece : polygon_difference({outline}, opened)) {
+      if (!(polygon_area(piece) > 0)) continue;
+      double reach = 0;
+      for (const Vec2& v : piece) {
+        double d = std::numeric_limits<double>::infinity();
+        for (const Polygon2& ring : opened)
+          for (std::size_t k = 0; k < ring.size(); ++k)
+            d = std::min(d, distance_to_segment(v, ring[k], ring[(k + 1) % ring.size()]));
+        reach = std::max(reach, d);
+      }
+      if (polygon_area(piece) <= o_.min_feature * o_.min_feature && reach <= o_.min_feature)
+        continue;
+      for (auto& off_body : polygon_difference({piece}, {body}))
+        if (polygon_area(off_body) > 0) tails.push_back(std::move(off_body));
+    }
+    if (tails.empty()) return outline;
+    // Grown by a hair: taken away exactly, a tail sharing its sides with the outline can come
+    // back as a hole touching it.
+    return largest_polygon(polygon_difference({outline}, polygon_offset(tails, 1e-4)));
+  }
+
   PartOutline outline(int p) {
     PartOutline part;
     std::vector<Polygon2> all = {body_[p]};
     all.insert(all.end(), own_[p].begin(), own_[p].end());
     const auto united = polygon_union(all);
-    part.designed = without_slits(largest_polygon(united));
+    part.designed = without_slits(without_tab_tails(largest_polygon(united), body_[p]));
     int pieces = 0;
     for (const auto& c : united) pieces += polygon_area(c) > 0 ? 1 : 0;
     part.repaired = pieces != 1;
