@@ -342,11 +342,6 @@ nlohmann::json run_quietly(const std::string& args, fs::path out = {}) {
   return report;
 }
 
-// The bunny in paper at 200 mm, from its triangle mesh: no part flattens distorted. A strip
-// of one quad (which the flattening cannot split further) whose rail collapses folded its
-// sub-quads up to 160 deg against each other and flattened 216 deg off with an inverted
-// sub-quad; the resolve stage now takes such a part as one a maker cannot handle and makes a
-
 // Every part placed, none fallen apart at its slots, and the sheets in \p out, read back by
 // the independent auditor, hold them all and are clean. \p name: for the messages.
 void expect_all_placed_and_clean(const nlohmann::json& report, const fs::path& out,
@@ -357,7 +352,13 @@ void expect_all_placed_and_clean(const nlohmann::json& report, const fs::path& o
   EXPECT_EQ(audit.parts, report["resolve"]["parts_after"].get<int>()) << name;
   EXPECT_TRUE(audit.clean()) << name << ": " << (audit.findings.empty() ? "" : audit.findings[0]);
 }
-// flat plate of it and its neighbours.
+
+// The bunny in paper at 200 mm, from its triangle mesh: no part flattens distorted. A strip
+// of one quad (which the flattening cannot split further) whose rail collapses folded its
+// sub-quads up to 160 deg against each other and flattened 216 deg off with an inverted
+// sub-quad; the resolve stage now takes such a part as one a maker cannot handle and makes a
+// flat plate of it and its neighbours. Its pages, read back by the auditor, have no slit or
+// tail a cutter cannot follow.
 TEST(Cli, NoPaperPartOfTheBunnyFlattensDistorted) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
   const fs::path out = test::fresh_dir() / "out";
