@@ -5,7 +5,6 @@
 #include <limits>
 #include <optional>
 
-#include "kerfab/core/geometry2d.h"
 #include "kerfab/joints/border_pieces.h"
 #include "kerfab/joints/corners.h"
 
@@ -531,15 +530,8 @@ class GlueBuilder {
     std::vector<Polygon2> tails;
     for (const auto& piece : polygon_difference({outline}, opened)) {
       if (!(polygon_area(piece) > 0)) continue;
-      double reach = 0;
-      for (const Vec2& v : piece) {
-        double d = std::numeric_limits<double>::infinity();
-        for (const Polygon2& ring : opened)
-          for (std::size_t k = 0; k < ring.size(); ++k)
-            d = std::min(d, distance_to_segment(v, ring[k], ring[(k + 1) % ring.size()]));
-        reach = std::max(reach, d);
-      }
-      if (polygon_area(piece) <= o_.min_feature * o_.min_feature && reach <= o_.min_feature)
+      if (polygon_area(piece) <= o_.min_feature * o_.min_feature &&
+          !reaches_beyond(piece, opened, o_.min_feature))
         continue;
       for (auto& off_body : polygon_difference({piece}, {body}))
         if (polygon_area(off_body) > 0) tails.push_back(std::move(off_body));

@@ -48,6 +48,9 @@ constexpr std::size_t kScreenFrom = 600;
 /// Round corners of the outlines' morphological opening keep within this of the true arc (a
 /// hundredth of the smallest feature; 4 segments a quarter turn at half of it) [mm].
 constexpr double kOpeningArc = 0.01;
+/// Erosions that find necks go this much under half the smallest feature: a neck exactly that
+/// wide is none (two slots from both sides of a 4 mm strip leave exactly 1 mm between them) [mm].
+constexpr double kNeckSlack = 0.01;
 /// Needles of material narrower than this along all their length are taken off an outline:
 /// nothing a cutter makes is that thin, and grown by half the kerf each would become a hair as
 /// wide as the beam [mm].
@@ -72,18 +75,6 @@ std::vector<std::array<Vec2, 2>> edges_near(const Polygon2& piece,
       near.push_back({a, b});
     }
   return near;
-}
-
-/// True when some vertex of \p piece lies farther than \p r from the boundary of \p region.
-bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, double r) {
-  std::vector<const Polygon2*> rings;
-  for (const Polygon2& ring : region) rings.push_back(&ring);
-  const auto near = edges_near(piece, rings, r);
-  for (const Vec2& v : piece)
-    if (std::none_of(near.begin(), near.end(),
-                     [&](const auto& e) { return distance_to_segment(v, e[0], e[1]) <= r; }))
-      return true;
-  return false;
 }
 
 class Builder {
@@ -1168,9 +1159,8 @@ class Builder {
   /// The opening grows back with mitred corners, which reach up to four times the offset: where
   /// that joins the eroded pieces again (fertility's triangle mesh in 3 mm plywood at 350 mm: a
   /// 3 x 4.8 mm tab on a neck 0.08 mm wide, found only by the auditor), the morphological
-  /// opening decides instead (round corners, to kOpeningArc, by 10 um under half the feature as
-  /// without_hanging_corners: a neck exactly that wide is none), each piece of its erosion
-  /// grown back on its own. It is taken only there: the mitred erosion, inside the round one,
+  /// opening decides instead (morphological_cores()), each piece of its erosion grown back on
+  /// its own. It is taken only there: the mitred erosion, inside the round one,
   /// falls in two first.
   std::vector<Polygon2> thin_necks_drawn(const Polygon2& outline, bool mitred) const {
     const double r = 0.5 * o_.min_feature;
@@ -1185,12 +1175,10 @@ class Builder {
     if (opened.size() < 2) {
       if (mitred) return {};
       opened.clear();
-      std::vector<Polygon2> cores;
-      for (auto& c : polygon_offset_round({outline}, -(r - 0.01), kOpeningArc))
-        if (polygon_area(c) > 0) cores.push_back(std::move(c));
+      const std::vector<Polygon2> cores = morphological_cores(outline);
       if (cores.size() < 2) return {};
       for (const Polygon2& core : cores)
-        for (auto& c : polygon_offset_round({core}, r - 0.01, kOpeningArc))
+        for (auto& c : polygon_offset_round({core}, r - kNeckSlack, kOpeningArc))
           if (polygon_area(c) > 0) opened.push_back(std::move(c));
     }
     std::vector<Polygon2> necks;
@@ -1213,14 +1201,23 @@ class Builder {
     const OutlineCheck found = checked(
         'E', [&](std::string& key) { put_polygons(key, {outline}); },
         [&] {
-          int eroded = 0, cores = 0;
+          int eroded = 0;
           for (const auto& c : polygon_offset({outline}, -r)) eroded += polygon_area(c) > 0;
-          if (eroded > 1)
-            for (const auto& c : polygon_offset_round({outline}, -(r - 0.01), kOpeningArc))
-              cores += polygon_area(c) > 0;
+          const int cores = eroded > 1 ? static_cast<int>(morphological_cores(outline).size()) : 0;
           return OutlineCheck{{}, {cores}};
         });
     return found.positions.front() > 1;
+  }
+
+  /// The pieces of \p outline's morphological erosion (round corners, kOpeningArc) by half the
+  /// smallest feature less kNeckSlack: two or more where a neck narrower than that feature
+  /// parts them.
+  std::vector<Polygon2> morphological_cores(const Polygon2& outline) const {
+    std::vector<Polygon2> cores;
+    for (auto& c :
+         polygon_offset_round({outline}, -(0.5 * o_.min_feature - kNeckSlack), kOpeningArc))
+      if (polygon_area(c) > 0) cores.push_back(std::move(c));
+    return cores;
   }
 
   /// True when outline \p after (a part drawn with one joint changed) falls in more pieces than
@@ -1677,6 +1674,17 @@ class Builder {
 
 }  // namespace
 
+bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, double r) {
+  std::vector<const Polygon2*> rings;
+  for (const Polygon2& ring : region) rings.push_back(&ring);
+  const auto near = edges_near(piece, rings, r);
+  for (const Vec2& v : piece)
+    if (std::none_of(near.begin(), near.end(),
+                     [&](const auto& e) { return distance_to_segment(v, e[0], e[1]) <= r; }))
+      return true;
+  return false;
+}
+
 const char* to_string(JointKind kind) {
   switch (kind) {
     case JointKind::kBox:
@@ -1752,9 +1760,7 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
 
 Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Polygon2>& teeth,
                                  double min_feature, double largest) {
-  // 10 um under half the smallest feature: a neck exactly that wide is none (and two slots
-  // from both sides of a 4 mm strip leave exactly 1 mm between them).
-  const double r = 0.5 * min_feature - 0.01;
+  const double r = 0.5 * min_feature - kNeckSlack;
   if (outline.size() < 3 || !(r > 0)) return outline;
   std::vector<Polygon2> eroded;
   for (auto& c : polygon_offset({outline}, -r))

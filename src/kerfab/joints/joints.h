@@ -255,6 +255,11 @@ std::vector<Polygon2> tooth_slivers(const std::vector<Polygon2>& taken,
                                     const std::vector<Polygon2>& opened,
                                     const std::vector<Polygon2>& teeth, double min_feature);
 
+/// True when some vertex of \p piece lies farther than \p r from the boundary of \p region
+/// [mm]: a piece an opening by half the smallest feature takes away is a feature (a tail, a
+/// sliver) where it reaches beyond that feature, not the rounding of a corner.
+bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, double r);
+
 /// The regions to cut away from \p outline so that no slit is narrower than \p min_feature [mm]:
 /// what a closing by half that width fills and that reaches more than half of it from the rest,
 /// grown by what it lacks on each side, never into \p teeth (counter-clockwise regions; their
