@@ -121,6 +121,21 @@ TEST(TargetSurface, RejectsEmptyAndZeroArea) {
   EXPECT_THROW(TargetSurface{flat}, InvalidInput);
 }
 
+// A strip's sub-quad with two corners in one point triangulates into a triangle of no area
+// (stanford-bunny in paper at 200 mm: the resolve stage's surface of the parts kept was refused
+// and the run failed). Without it, the surface is the same: the queries agree with the square.
+TEST(TargetSurface, DegenerateTrianglesLeftOutLeaveTheSameSurface) {
+  TriangleMesh m{{Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(10, 10, 0), Vec3(0, 10, 0), Vec3(10, 10, 0)},
+                 {{0, 1, 2}, {0, 2, 3}, {1, 2, 4}, {2, 4, 2}}};
+  EXPECT_THROW(TargetSurface{m}, InvalidInput);
+  const TriangleMesh kept = without_degenerate(m);
+  ASSERT_EQ(kept.triangles.size(), 2u);
+  EXPECT_EQ(kept.vertices.size(), m.vertices.size());
+  const TargetSurface surface(kept);
+  EXPECT_NEAR(surface.closest(Vec3(3, 4, 5)).distance, 5.0, 1e-12);
+  EXPECT_NEAR(surface.closest(Vec3(13, 14, 0)).distance, 5.0, 1e-12);
+}
+
 TEST(TargetSurface, DeterministicQueries) {
   const auto shape = test::torus(40.0, 10.0, 12, 6);
   const TargetSurface a(shape.target), b(shape.target);

@@ -27,6 +27,17 @@ BoundingBox bounding_box(const TriangleMesh& mesh) {
   return box;
 }
 
+TriangleMesh without_degenerate(const TriangleMesh& mesh) {
+  TriangleMesh out;
+  out.vertices = mesh.vertices;
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.vertices[t[0]];
+    if ((mesh.vertices[t[1]] - a).cross(mesh.vertices[t[2]] - a).norm() > 1e-12)
+      out.triangles.push_back(t);
+  }
+  return out;
+}
+
 TriangleMesh triangulate(const PolyMesh& mesh) {
   TriangleMesh tri;
   tri.vertices.reserve(mesh.n_vertices());

@@ -50,6 +50,11 @@ BoundingBox bounding_box(const TriangleMesh& mesh);
 /// convex polygons meshes are made of). Vertex indices are those of \p mesh.
 TriangleMesh triangulate(const PolyMesh& mesh);
 
+/// \p mesh without its triangles of no area (a cross product of their edges under 1e-12 mm^2):
+/// what a closest-point query (TargetSurface) cannot take, and contributes no surface. The
+/// vertices are kept as they are.
+TriangleMesh without_degenerate(const TriangleMesh& mesh);
+
 /// Counts of faces by their number of sides, e.g. {3: 4, 4: 160, 5: 16}.
 std::vector<std::pair<int, int>> face_size_histogram(const PolyMesh& mesh);
 

@@ -13,16 +13,6 @@
 namespace kerfab {
 namespace {
 
-TriangleMesh without_degenerate(const TriangleMesh& m) {
-  TriangleMesh out;
-  out.vertices = m.vertices;
-  for (const auto& t : m.triangles) {
-    const Vec3 n = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
-    if (n.norm() > 1e-12) out.triangles.push_back(t);
-  }
-  return out;
-}
-
 /// A triangle cut into cells no wider than a spacing in any direction, whatever its shape: its
 /// longest edge is the base; lines parallel to it cut it into bands no higher than the spacing,
 /// and each band is cut into trapezoids no wider than the spacing at equal fractions of its two
