@@ -1113,6 +1113,54 @@ TEST(Joints, PaperGetsGlueTabsOnEveryBorder) {
   expect_sound_glue_tabs(c, 90);
 }
 
+// Paper's joints are glue tabs: the stage's line counts them and the share of the border they
+// glue, not box teeth (it said "0 box teeth and 0 dovetail tabs ... intervals without teeth"),
+// and a bare border lacks room for a glue tab, not for a tooth.
+TEST(Joints, PaperSaysGlueTabsNotTeeth) {
+  const Case c = folded_sheet(90, {}, kPaper);
+  ASSERT_GT(c.joints.glue_tabs, 0);
+  const StageNotes n = notes(c.joints, JointOptions{}, 0.0);
+  ASSERT_FALSE(n.lines.empty());
+  EXPECT_EQ(n.lines[0].rfind(std::to_string(c.joints.glue_tabs) + " glue tabs on " +
+                                 std::to_string(c.joints.borders.size()) + " border pieces (",
+                             0),
+            0u)
+      << n.lines[0];
+  EXPECT_EQ(n.lines[0].find("teeth"), std::string::npos) << n.lines[0];
+  Joints bare = c.joints;  // one border left without its tabs, as where no tab has room
+  BorderJoint& b = bare.borders.front();
+  b.glue = 0;
+  for (JointInterval& in : b.intervals) in.fold = 0.5;
+  b.joined_through.clear();
+  ++bare.borders_without_joint;
+  int said = 0;
+  for (const std::string& w : notes(bare, JointOptions{}, 0.0).warnings)
+    if (w.find("have no joint") != std::string::npos) {
+      ++said;
+      EXPECT_NE(w.find("no room for a glue tab"), std::string::npos) << w;
+      EXPECT_EQ(w.find("tooth"), std::string::npos) << w;
+    }
+  EXPECT_EQ(said, 1);
+}
+
+// The resolve stage's warning where it changed nothing and no region is critical (a paper
+// model whose parts stay too small: horse_quad in paper at 250 mm) begins with its count, not
+// with a bare "; ".
+TEST(Joints, ResolveWarningWithoutChangesBeginsWithItsCount) {
+  ResolveResult r;
+  r.current_size_mm = 250;
+  r.min_size_mm = 250;
+  r.small_parts_after = 2;
+  r.small_parts_size_mm = 600;
+  r.changes.resize(2);
+  for (RegionChange& c : r.changes) c.action = "unresolved";
+  const StageNotes n = notes(r, KerfOptions{}, false);
+  ASSERT_EQ(n.warnings.size(), 1u);
+  EXPECT_EQ(n.warnings[0].rfind("2 parts stay too small or narrow to handle", 0), 0u)
+      << n.warnings[0];
+  EXPECT_NE(n.warnings[0].find("would hold at --size 600"), std::string::npos) << n.warnings[0];
+}
+
 TEST(Joints, ACubeInPaperHasMountainFoldsOnly) {
   const Case c = paper_cube();
   expect_sound_glue_tabs(c, 90);

@@ -197,13 +197,22 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
   int blocked = 0, shallow = 0;
   for (const auto& b : j.borders) blocked += b.blocked, shallow += b.shallow;
   Line os;
-  os << j.teeth - j.tabs << " box teeth and " << j.tabs << " dovetail tabs on " << j.borders.size()
-     << " border pieces (" << 100 * (j.border_length > 0 ? j.toothed_length / j.border_length : 0)
-     << "% of the shared border length); " << j.borders_without_joint
-     << " border pieces without a joint (and " << j.stubs_joined_at_corners
-     << " stubs held by the joints at their corners); intervals without teeth: " << shallow
-     << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
-     << " in collision regions";
+  if (thickness == 0) {  // paper: glue tabs, no teeth to count
+    os << j.glue_tabs << " glue tabs on " << j.borders.size() << " border pieces ("
+       << 100 * (j.border_length > 0 ? j.glue_length / j.border_length : 0)
+       << "% of the shared border length glued); " << j.borders_without_joint
+       << " border pieces without a joint (and " << j.stubs_joined_at_corners
+       << " stubs held by the joints at their corners)";
+  } else {
+    os << j.teeth - j.tabs << " box teeth and " << j.tabs << " dovetail tabs on "
+       << j.borders.size() << " border pieces ("
+       << 100 * (j.border_length > 0 ? j.toothed_length / j.border_length : 0)
+       << "% of the shared border length); " << j.borders_without_joint
+       << " border pieces without a joint (and " << j.stubs_joined_at_corners
+       << " stubs held by the joints at their corners); intervals without teeth: " << shallow
+       << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
+       << " in collision regions";
+  }
   if (j.draft)
     os << " (a draft for the resolve stage: short borders between corners get their stub teeth "
           "in its final build)";
@@ -272,7 +281,9 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
       sep = "; ";
     }
     if (crowded > 0)
-      w << sep << crowded << " with no room for a tooth clear of the joints beside them";
+      w << sep << crowded
+        << (thickness == 0 ? " with no room for a glue tab clear of the tabs beside them"
+                           : " with no room for a tooth clear of the joints beside them");
     n.warnings.push_back(w.str());
   }
   if (!j.thin_neck_parts.empty()) {
@@ -372,13 +383,21 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
   if (r.critical_after > 0 || changed > 0 || r.small_parts_after > 0) {
     Line w(4);
     bool named = false;  // a --size (or a material's) was named
-    if (changed > 0) w << changed << " regions were changed to be buildable (resolve.changes)";
-    if (r.critical_after > 0)
+    // Between the clauses: none before the first (a paper model has no critical regions, and
+    // where the loop changed nothing the warning began with a bare "; ").
+    const char* sep = "";
+    if (changed > 0) {
+      w << changed << " regions were changed to be buildable (resolve.changes)";
+      sep = "; ";
+    }
+    if (r.critical_after > 0) {
       w << (changed > 0 ? " and " : "") << r.critical_after << " remain critical: their cuts keep "
         << kerf.min_cut_spacing << " mm but the bend overstresses the beams there (kerf.critical"
         << (r.time_limited ? "; the loop stopped at its time limit before it reached them)" : ")");
+      sep = "; ";
+    }
     if (r.small_parts_after > 0) {
-      w << "; " << r.small_parts_after
+      w << sep << r.small_parts_after
         << " parts stay too small or narrow to handle (resolve.changes, \"unresolved\")";
       if (r.small_parts_size_mm > kLargestSize)
         w << ", which no --size up to " << kLargestSize / 1000 << " m would hold";
