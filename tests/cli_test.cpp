@@ -166,6 +166,9 @@ TEST(Cli, PaperSizesByNameAndA4ForPaper) {
   ASSERT_EQ(paper.exit_code, 0) << paper.err;
   const auto report = read_report(scratch / "a");
   EXPECT_EQ(report["layout"]["sheet_mm"], nlohmann::json::array({210.0, 297.0}));
+  // Paper creases where a stiff sheet is split: its strips are split only at folds over 100
+  // degrees unless told otherwise.
+  EXPECT_NEAR(report["options"]["split_angle_deg"].get<double>(), 100, 1e-9);
   EXPECT_GT(report["quality"]["sample_spacing_mm"].get<double>(), 0);
   EXPECT_LE(report["quality"]["samples"].get<long>(), 10'000'000);
   EXPECT_LT(report["quality"]["hausdorff_rel"].get<double>(), 1e-6);  // flat faces, exact
@@ -186,7 +189,15 @@ TEST(Cli, PaperSizesByNameAndA4ForPaper) {
                              scratch);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(read_report(out)["layout"]["sheet_mm"], nlohmann::json::array({w, h})) << name;
+    EXPECT_NEAR(read_report(out)["options"]["split_angle_deg"].get<double>(), 60, 1e-9) << name;
   }
+  const fs::path asked = scratch / "split-asked";
+  const CliRun split =
+      run_cli("run --target " + target.string() +
+                  " --material paper --split-angle 60 --stop-after strips --out " + asked.string(),
+              scratch);
+  ASSERT_EQ(split.exit_code, 0) << split.err;
+  EXPECT_NEAR(read_report(asked)["options"]["split_angle_deg"].get<double>(), 60, 1e-9);
   const CliRun bad = run_cli(
       "run --target " + target.string() + " --sheet B5 --out " + (scratch / "b").string(), scratch);
   EXPECT_EQ(bad.exit_code, 1);
@@ -536,9 +547,12 @@ TEST(Cli, PaperModelsGetGlueTabsAndFoldLines) {
           << part.id << ": a fold line on the outline's edge, not between part and tab";
     }
   }
-  EXPECT_EQ(folds, j["fold_lines"]["tab_roots"].get<int>());
+  // Every tab root, and the rulings where a strip folds round a cube's edge (paper creases
+  // there: its strips are split only at folds over 100 degrees, and folds over 60 are scored).
+  EXPECT_GT(j["fold_lines"]["rulings"].get<int>(), 0);
+  EXPECT_EQ(folds, j["fold_lines"]["tab_roots"].get<int>() + j["fold_lines"]["rulings"].get<int>());
   // A cube's folds: 0 degrees between strips of a face (either sign), 90 at its edges, all
-  // mountains: at least the 12 edges' worth of tabs.
+  // mountains: at least the 12 edges' worth of tabs and creases.
   EXPECT_GE(j["fold_lines"]["mountain"].get<int>(), 12);
   // Mountain and valley drawn differently (when both occur), and never in the cut colour.
   std::set<std::string> kinds;

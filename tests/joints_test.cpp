@@ -1113,6 +1113,61 @@ TEST(Joints, PaperGetsGlueTabsOnEveryBorder) {
   expect_sound_glue_tabs(c, 90);
 }
 
+// Paper creases where a stiff sheet is cut in two: a strip folded along one of its rulings
+// stays one part up to kPaperSplitAngle (the paper default), and a fold over kCreaseFold is a
+// score line even unasked; a gentler one only with score_rulings. With the stiff sheets' 60
+// degrees, the 90 degree fold splits the strip.
+TEST(Joints, PaperCreasesAStripAlongARulingInsteadOfSplittingIt) {
+  auto strip_folded = [](double fold_deg, double split_angle, const JointOptions& options) {
+    const double f = fold_deg * kPi / 180;
+    auto sheet = [f](double u, double v) {
+      if (u <= 0.5) return Vec3(100 * u, 30 * v, 0);
+      const double w = 100 * (u - 0.5);
+      return Vec3(50 + w * std::cos(f), 30 * v, w * std::sin(f));
+    };
+    const PolyMesh quads = test::grid_mesh(6, 1, false, false, sheet);  // one strip
+    const TargetSurface target(triangulate(test::grid_mesh(24, 8, false, false, sheet)));
+    // Bending edges (the strip's rails) run across the fold, so the rulings run along y and
+    // the fold at x = 50 is one of them.
+    const BendingOptions bo = test::force_bendable(
+        quads, [](const Vec3& a, const Vec3& b) { return std::abs(b.y() - a.y()) < 1e-9; });
+    StripsOptions so;
+    so.split_angle = split_angle;
+    Case c;
+    c.strips = build_strips(quads, choose_bending_edges(quads, target, bo), target, so);
+    c.flat = flatten_patches(c.strips, {});
+    c.joints = make_joints(c.strips, c.flat, kPaper, kLaser, options);
+    return c;
+  };
+  auto ruling_folds = [](const Case& c) {
+    std::vector<double> angles;
+    for (const PartOutline& part : c.joints.parts)
+      for (const FoldLine& fold : part.folds)
+        if (fold.kind == FoldLine::Kind::kRuling)
+          angles.push_back(std::abs(fold.angle) * 180 / kPi);
+    return angles;
+  };
+  const Case creased = strip_folded(90, kPaperSplitAngle, {});
+  EXPECT_EQ(creased.strips.patches.size(), 1u);
+  const std::vector<double> creases = ruling_folds(creased);
+  ASSERT_EQ(creases.size(), 1u);
+  EXPECT_NEAR(creases[0], 90, 1);
+  EXPECT_EQ(creased.joints.borders_without_joint, 0);
+  // Flattened, the folded strip is the 100 x 30 mm sheet it was folded from.
+  EXPECT_NEAR(std::abs(polygon_area(creased.joints.parts[0].designed)), 100 * 30, 1);
+  // A gentle fold is bent, not creased, unless asked.
+  EXPECT_TRUE(ruling_folds(strip_folded(30, kPaperSplitAngle, {})).empty());
+  JointOptions asked;
+  asked.score_rulings = true;
+  const std::vector<double> scored = ruling_folds(strip_folded(30, kPaperSplitAngle, asked));
+  ASSERT_EQ(scored.size(), 1u);
+  EXPECT_NEAR(scored[0], 30, 1);
+  // A stiff sheet's split angle cuts it in two at the fold, with glue tabs there.
+  const Case split = strip_folded(90, kPi / 3, {});
+  EXPECT_EQ(split.strips.patches.size(), 2u);
+  EXPECT_TRUE(ruling_folds(split).empty());
+}
+
 // Paper's joints are glue tabs: the stage's line counts them and the share of the border they
 // glue, not box teeth (it said "0 box teeth and 0 dovetail tabs ... intervals without teeth"),
 // and a bare border lacks room for a glue tab, not for a tooth.

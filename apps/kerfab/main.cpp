@@ -101,8 +101,9 @@ struct RunFlags {
   std::string projection = "normal";
   std::string material = "mdf";
   std::string sheet = "600x450";
-  CLI::Option* sheet_option = nullptr;   // to tell a given --sheet from the default
-  CLI::Option* stroke_option = nullptr;  // to tell a given --stroke from the default
+  CLI::Option* sheet_option = nullptr;        // to tell a given --sheet from the default
+  CLI::Option* split_angle_option = nullptr;  // to tell a given --split-angle from the default
+  CLI::Option* stroke_option = nullptr;       // to tell a given --stroke from the default
   std::string format = "svg,dxf,pdf";
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
   std::optional<int> constant_density;
@@ -190,11 +191,13 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "fallback) or to the closest point [normal|closest]")
       ->capture_default_str()
       ->check(CLI::IsMember({"normal", "closest"}));
-  cmd.add_option("--split-angle", f.split_angle_deg,
-                 "Split a strip between two quads whose sector normals at an end of their shared "
-                 "ruling differ by more than this [deg, (0, 180]]")
-      ->capture_default_str()
-      ->check(CLI::Range(1e-6, 180.0));
+  f.split_angle_option =
+      cmd.add_option("--split-angle", f.split_angle_deg,
+                     "Split a strip between two quads whose sector normals at an end of their "
+                     "shared ruling differ by more than this; 100 with --material paper, which "
+                     "creases there instead (scored) [deg, (0, 180]]")
+          ->capture_default_str()
+          ->check(CLI::Range(1e-6, 180.0));
   cmd.add_option("--features", f.features_deg,
                  "Feature-preserving projection: vertices on quad-mesh edges sharper than this "
                  "dihedral angle (and on the boundary) go to the target's sharp edges and "
@@ -389,6 +392,10 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   kerfab::OutputOptions output = f.output;
   options.input.size = f.size;
   options.strips.split_angle = f.split_angle_deg * M_PI / 180.0;
+  // Paper folds where a stiff sheet must be split: its strips are split only at folds over
+  // kPaperSplitAngle, and the rulings folding over kCreaseFold are scored (docs/joints.md).
+  if (f.material == "paper" && f.split_angle_option && f.split_angle_option->count() == 0)
+    options.strips.split_angle = kerfab::kPaperSplitAngle;
   options.quads.feature_angle = f.quad_feature_angle_deg * M_PI / 180.0;
   try {
     options.material = kerfab::material_preset(f.material);

@@ -464,8 +464,8 @@ class GlueBuilder {
     folds_[p].push_back(std::move(fold));
   }
 
-  /// The rulings of patch \p p that bend by kMinScoredFold or more, as fold lines.
-  std::vector<FoldLine> ruling_folds(int p) const {
+  /// The rulings of patch \p p that bend by \p min_angle or more [rad], as fold lines.
+  std::vector<FoldLine> ruling_folds(int p, double min_angle) const {
     std::vector<FoldLine> out;
     const Patch& patch = s_.patches[p];
     if (patch.flat || patch.rulings.size() < 3) return out;
@@ -487,7 +487,7 @@ class GlueBuilder {
           sign = na.dot(face_centre(b) - face_centre(a)) < 0 ? 1 : -1;
         }
       }
-      if (angle < kMinScoredFold) continue;
+      if (angle < min_angle) continue;
       FoldLine fold;
       fold.kind = FoldLine::Kind::kRuling;
       fold.angle = sign * angle;
@@ -558,8 +558,8 @@ class GlueBuilder {
     part.cut = largest_polygon(polygon_offset({part.designed}, 0.5 * kerf_width_));
     part.spans = std::move(spans_[p]);
     part.folds = std::move(folds_[p]);
-    if (o_.score_rulings)
-      for (auto& fold : ruling_folds(p)) part.folds.push_back(std::move(fold));
+    for (auto& fold : ruling_folds(p, o_.score_rulings ? kMinScoredFold : kCreaseFold))
+      part.folds.push_back(std::move(fold));
     return part;
   }
 };

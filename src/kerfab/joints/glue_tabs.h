@@ -5,8 +5,9 @@
 /// alternate sides in runs of about that length, so both parts are held. A tab is folded under
 /// the other part and glued to its back; it is clipped so that it stays inside that part, off
 /// the tabs already glued there and off its own part and its other tabs on the sheet. Each tab's
-/// root is a fold line, mountain or valley as the model's surface folds there; the rulings too
-/// when asked (JointOptions::score_rulings). docs/joints.md, "Paper".
+/// root is a fold line, mountain or valley as the model's surface folds there; so are the
+/// rulings that fold more than kCreaseFold, and every ruling that bends when asked
+/// (JointOptions::score_rulings). docs/joints.md, "Paper".
 #include "kerfab/joints/joints.h"
 
 namespace kerfab {
@@ -24,6 +25,9 @@ inline constexpr double kGlueTabGap = 1.0;
 inline constexpr double kMinGlueTabArea = 2.0;
 /// Rulings bending less than this are not scored (JointOptions::score_rulings) [rad].
 inline constexpr double kMinScoredFold = M_PI / 180;
+/// Rulings folding more than this are scored even unasked: paper creases there rather than
+/// bends (where a strip of stiff sheet is split by default, StripsOptions::split_angle) [rad].
+inline constexpr double kCreaseFold = M_PI / 3;
 
 /// The glue tabs, fold lines and outlines of a paper model; plain borders (and no tabs) where
 /// JointOptions::glue_tab is 0. \pre \p flat was computed from \p strips; options checked by

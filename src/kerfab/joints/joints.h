@@ -51,7 +51,8 @@ struct JointOptions {
   double glue_tab = 6.0;       ///< height of a glue tab, root to edge [mm], >= 0; 0: no glue
                                ///< tabs (plain borders, the paper's emulation)
   bool score_rulings = false;  ///< paper: the rulings that bend by a degree or more are fold
-                               ///< lines too (the strip folds there instead of curving)
+                               ///< lines too (the strip folds there instead of curving); false:
+                               ///< those folding more than kCreaseFold (glue_tabs.h) only
 };
 
 /// What holds an interval of a border.

@@ -38,6 +38,13 @@ inline int sub_quads_within(double memory_mb) {
   return n <= 0 ? 0 : n >= kMaxSubQuads ? kMaxSubQuads : static_cast<int>(n);
 }
 
+/// Paper's strips are split only where they fold more than this (the CLI's default for
+/// --material paper): paper creases where a stiff sheet must be cut in two, and the rulings
+/// folding more than kCreaseFold (joints/glue_tabs.h) are scored. Of 60 to 179 degrees on the
+/// shared meshes in paper, the largest that left no border without a tab and no part unresolved
+/// that 60 did not (120 and up: two bare borders on fandisk); docs/joints.md, "Paper" [rad].
+inline constexpr double kPaperSplitAngle = 100 * M_PI / 180;
+
 struct StripsOptions {
   double max_memory_mb = 0;  ///< > 0: more sub-quads than sub_quads_within() this are refused
                              ///< [MB] (the run's memory budget); kMaxSubQuads holds always
@@ -47,7 +54,8 @@ struct StripsOptions {
   Projection projection = Projection::kNormal;
   double split_angle = M_PI / 3;   ///< a strip is split between two quads where the sector
                                    ///< normals at either end of their shared ruling differ by
-                                   ///< more than this [rad], in (0, pi]
+                                   ///< more than this [rad], in (0, pi]; kPaperSplitAngle for
+                                   ///< paper
   std::optional<double> features;  ///< set: vertices on refined-mesh edges sharper than this
                                    ///< dihedral angle go to target feature curves [rad], (0, pi)
   /// Quad-mesh edges (vertex index pairs) where a strip border is inserted: each must be a
