@@ -1198,24 +1198,6 @@ TEST(Joints, PaperSaysGlueTabsNotTeeth) {
   EXPECT_EQ(said, 1);
 }
 
-// The resolve stage's warning where it changed nothing and no region is critical (a paper
-// model whose parts stay too small: horse_quad in paper at 250 mm) begins with its count, not
-// with a bare "; ".
-TEST(Joints, ResolveWarningWithoutChangesBeginsWithItsCount) {
-  ResolveResult r;
-  r.current_size_mm = 250;
-  r.min_size_mm = 250;
-  r.small_parts_after = 2;
-  r.small_parts_size_mm = 600;
-  r.changes.resize(2);
-  for (RegionChange& c : r.changes) c.action = "unresolved";
-  const StageNotes n = notes(r, KerfOptions{}, false);
-  ASSERT_EQ(n.warnings.size(), 1u);
-  EXPECT_EQ(n.warnings[0].rfind("2 parts stay too small or narrow to handle", 0), 0u)
-      << n.warnings[0];
-  EXPECT_NE(n.warnings[0].find("would hold at --size 600"), std::string::npos) << n.warnings[0];
-}
-
 TEST(Joints, ACubeInPaperHasMountainFoldsOnly) {
   const Case c = paper_cube();
   expect_sound_glue_tabs(c, 90);

@@ -26,8 +26,8 @@ inline constexpr double kMinGlueTabArea = 2.0;
 /// Rulings bending less than this are not scored (JointOptions::score_rulings) [rad].
 inline constexpr double kMinScoredFold = M_PI / 180;
 /// Rulings folding more than this are scored even unasked: paper creases there rather than
-/// bends (where a strip of stiff sheet is split by default, StripsOptions::split_angle) [rad].
-inline constexpr double kCreaseFold = M_PI / 3;
+/// bends (where a strip of stiff sheet is split by default) [rad].
+inline constexpr double kCreaseFold = kStiffSplitAngle;
 
 /// The glue tabs, fold lines and outlines of a paper model; plain borders (and no tabs) where
 /// JointOptions::glue_tab is 0. \pre \p flat was computed from \p strips; options checked by

@@ -197,22 +197,21 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
   int blocked = 0, shallow = 0;
   for (const auto& b : j.borders) blocked += b.blocked, shallow += b.shallow;
   Line os;
-  if (thickness == 0) {  // paper: glue tabs, no teeth to count
-    os << j.glue_tabs << " glue tabs on " << j.borders.size() << " border pieces ("
-       << 100 * (j.border_length > 0 ? j.glue_length / j.border_length : 0)
-       << "% of the shared border length glued); " << j.borders_without_joint
-       << " border pieces without a joint (and " << j.stubs_joined_at_corners
-       << " stubs held by the joints at their corners)";
-  } else {
-    os << j.teeth - j.tabs << " box teeth and " << j.tabs << " dovetail tabs on "
-       << j.borders.size() << " border pieces ("
-       << 100 * (j.border_length > 0 ? j.toothed_length / j.border_length : 0)
-       << "% of the shared border length); " << j.borders_without_joint
-       << " border pieces without a joint (and " << j.stubs_joined_at_corners
-       << " stubs held by the joints at their corners); intervals without teeth: " << shallow
-       << " too shallow (tip - slot < " << options.min_depth << " mm), " << blocked
-       << " in collision regions";
-  }
+  // Paper has glue tabs, no teeth to count. Border length joined [mm]:
+  const bool paper = thickness == 0;
+  const double joined = paper ? j.glue_length : j.toothed_length;
+  if (paper)
+    os << j.glue_tabs << " glue tabs";
+  else
+    os << j.teeth - j.tabs << " box teeth and " << j.tabs << " dovetail tabs";
+  os << " on " << j.borders.size() << " border pieces ("
+     << 100 * (j.border_length > 0 ? joined / j.border_length : 0)
+     << "% of the shared border length" << (paper ? " glued); " : "); ") << j.borders_without_joint
+     << " border pieces without a joint (and " << j.stubs_joined_at_corners
+     << " stubs held by the joints at their corners)";
+  if (!paper)
+    os << "; intervals without teeth: " << shallow << " too shallow (tip - slot < "
+       << options.min_depth << " mm), " << blocked << " in collision regions";
   if (j.draft)
     os << " (a draft for the resolve stage: short borders between corners get their stub teeth "
           "in its final build)";
@@ -221,7 +220,7 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
   // A border with nothing that locates its two parts or holds them while the glue sets is a
   // defect of the build: said, with where and why. (Paper with --glue-tab 0 asks for plain
   // borders.)
-  const bool plain_asked = thickness == 0 && options.glue_tab == 0;
+  const bool plain_asked = paper && options.glue_tab == 0;
   if (j.borders_without_joint > 0 && !plain_asked) {
     int left = 0, apart = 0, folded_back = 0, too_shallow = 0, crowded = 0;
     double length = 0;  // [mm]
@@ -282,8 +281,8 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
     }
     if (crowded > 0)
       w << sep << crowded
-        << (thickness == 0 ? " with no room for a glue tab clear of the tabs beside them"
-                           : " with no room for a tooth clear of the joints beside them");
+        << (paper ? " with no room for a glue tab clear of the tabs beside them"
+                  : " with no room for a tooth clear of the joints beside them");
     n.warnings.push_back(w.str());
   }
   if (!j.thin_neck_parts.empty()) {

@@ -38,6 +38,10 @@ inline int sub_quads_within(double memory_mb) {
   return n <= 0 ? 0 : n >= kMaxSubQuads ? kMaxSubQuads : static_cast<int>(n);
 }
 
+/// A strip of stiff sheet is split where it folds more than this (StripsOptions::split_angle's
+/// default, the CLI's --split-angle 60) [rad].
+inline constexpr double kStiffSplitAngle = M_PI / 3;
+
 /// Paper's strips are split only where they fold more than this (the CLI's default for
 /// --material paper): paper creases where a stiff sheet must be cut in two, and the rulings
 /// folding more than kCreaseFold (joints/glue_tabs.h) are scored. Of 60 to 179 degrees on the
@@ -52,10 +56,9 @@ struct StripsOptions {
   double max_ruling_spacing = 5;  ///< a quad gets at least ceil(bending edge length / this)
                                   ///< segments [mm], > 0; the larger count wins
   Projection projection = Projection::kNormal;
-  double split_angle = M_PI / 3;   ///< a strip is split between two quads where the sector
-                                   ///< normals at either end of their shared ruling differ by
-                                   ///< more than this [rad], in (0, pi]; kPaperSplitAngle for
-                                   ///< paper
+  /// A strip is split between two quads where the sector normals at either end of their shared
+  /// ruling differ by more than this [rad], in (0, pi]; kPaperSplitAngle for paper.
+  double split_angle = kStiffSplitAngle;
   std::optional<double> features;  ///< set: vertices on refined-mesh edges sharper than this
                                    ///< dihedral angle go to target feature curves [rad], (0, pi)
   /// Quad-mesh edges (vertex index pairs) where a strip border is inserted: each must be a
