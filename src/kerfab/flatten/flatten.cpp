@@ -10,6 +10,7 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
 
 #include "kerfab/core/errors.h"
 #include "kerfab/core/parallel.h"
@@ -221,22 +222,65 @@ struct Corner {
   double target = 0;
 };
 
-/// Every quad's four corners, with their 3D angles as targets. A corner on a side of no length
+/// Paper: quads of \p lp whose 3D corner angles fall short of 360 deg by more than
+/// kTwistCrease (no flat quad meets them), as local vertex pairs along the shorter diagonal,
+/// with the quad's signed fold across it (> 0: convex, seen from the side its corners turn
+/// counter-clockwise around).
+std::vector<Crease> twist_creases(const LocalPatch& lp) {
+  std::vector<Crease> out;
+  for (const auto& q : lp.quads) {
+    std::array<Vec3, 4> p;
+    for (int c = 0; c < 4; ++c) p[c] = lp.p3[q[c]];
+    double sum = 0;
+    bool degenerate = false;
+    for (int c = 0; c < 4; ++c) {
+      degenerate = degenerate || !((p[(c + 1) % 4] - p[c]).norm() > 0);
+      sum += corner_angle_3d(p[c], p[(c + 1) % 4], p[(c + 3) % 4]);
+    }
+    if (degenerate || !(2 * M_PI - sum > kTwistCrease)) continue;
+    const int d = (p[2] - p[0]).norm() <= (p[3] - p[1]).norm() ? 0 : 1;
+    const Vec3 &a = p[d], &b = p[d + 1], &c = p[d + 2], &e = p[(d + 3) % 4];
+    // Triangles (a, b, c) and (a, c, e) on either side of the diagonal a-c; convex where the
+    // second one's far corner lies below the first one's plane.
+    const Vec3 n1 = (b - a).cross(c - a), n2 = (c - a).cross(e - a);
+    const double fold = std::atan2(n1.cross(n2).norm(), n1.dot(n2));
+    out.push_back({{q[d], q[d + 2]}, n1.dot(e - a) < 0 ? fold : -fold});
+  }
+  return out;
+}
+
+/// Every quad's four corners, with their 3D angles as targets (of a quad creased along a
+/// diagonal, one of \p creases, its two triangles' angles). A corner on a side of no length
 /// (where a strip's rails meet, two vertices at one point) has no angle: it is left out, and
 /// the side's length (0) holds its ends together.
-std::vector<Corner> quad_corners(const LocalPatch& lp) {
+std::vector<Corner> quad_corners(const LocalPatch& lp, const std::vector<Crease>& creases = {}) {
+  std::set<std::pair<int, int>> creased;
+  for (const Crease& c : creases) creased.insert(std::minmax(c.ends[0], c.ends[1]));
   std::vector<Corner> out;
   double longest = 0;
   for (const auto& q : lp.quads)
     for (int c = 0; c < 4; ++c)
       longest = std::max(longest, (lp.p3[q[(c + 1) % 4]] - lp.p3[q[c]]).norm());
   const double none = 1e-9 * longest;
-  for (const auto& q : lp.quads)
+  for (const auto& q : lp.quads) {
+    // A quad creased along a diagonal is its two triangles: at the diagonal's ends a corner is
+    // the sum of theirs, at the other two each one's own.
+    int diagonal = -1;
+    for (int d = 0; d < 2; ++d)
+      if (creased.count(std::minmax(q[d], q[d + 2]))) diagonal = d;
     for (int c = 0; c < 4; ++c) {
       const Vec3 &p = lp.p3[q[c]], &next = lp.p3[q[(c + 1) % 4]], &prev = lp.p3[q[(c + 3) % 4]];
       if ((next - p).norm() <= none || (prev - p).norm() <= none) continue;
-      out.push_back({q[c], q[(c + 1) % 4], q[(c + 3) % 4], corner_angle_3d(p, next, prev)});
+      double target = corner_angle_3d(p, next, prev);
+      if (diagonal >= 0) {
+        const Vec3& across = lp.p3[q[(c + 2) % 4]];
+        target = c % 2 == diagonal
+                     ? corner_angle_3d(p, next, across) + corner_angle_3d(p, across, prev)
+                     : target;
+      }
+      out.push_back({q[c], q[(c + 1) % 4], q[(c + 3) % 4], target});
     }
+  }
   return out;
 }
 
@@ -634,9 +678,11 @@ PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const Flat
   out.points = patch.flat ? plane_coordinates(lp.p3) : conformal_map(lp);
   // The conformal map does not come out reflected for consistently oriented input.
   make_quads_counter_clockwise(lp, out.points);
+  if (opt.crease_twisted && !patch.flat) out.creases = twist_creases(lp);
   // A facet's corners may sit off its plane where it meets another facet: its border lengths
   // (which its neighbours keep) come first, its inner angles only hold it in shape.
-  const AngleLengthEnergy energy(lp, patch.flat ? std::max(opt.lambda, 0.9999) : opt.lambda);
+  const AngleLengthEnergy energy(lp, patch.flat ? std::max(opt.lambda, 0.9999) : opt.lambda,
+                                 quad_corners(lp, out.creases), false);
   out.initial_energy = energy.residuals(out.points).squaredNorm();
   // Border lengths as in 3D for a facet too: its mating strips' borders keep theirs.
   // (Gauss-Newton converges only linearly there: the residuals do not vanish.)

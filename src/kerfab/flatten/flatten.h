@@ -30,6 +30,22 @@ struct FlattenOptions {
   /// A strip flattening with a larger corner angle error than this is split (flatten_cuttable)
   /// [rad], in (0, pi].
   double max_angle_error = 20 * M_PI / 180;
+  /// Paper (it folds, wood cannot): a quad of a strip that twists, its 3D corner angles falling
+  /// short of 360 deg by more than kTwistCrease, is flattened as the two triangles it is made
+  /// of, creased along its shorter diagonal (PatchFlattening::creases): their angles are the
+  /// corners' targets, which a flat quad meets exactly, where its own are met by none. The run
+  /// sets it for a material of no thickness.
+  bool crease_twisted = false;
+};
+
+/// A strip's quad whose 3D corner angles fall short of 360 deg by more than this is creased
+/// along a diagonal in paper (FlattenOptions::crease_twisted) [rad].
+inline constexpr double kTwistCrease = 4 * M_PI / 180;
+
+/// Paper: the diagonal a twisted quad is creased along (FlattenOptions::crease_twisted).
+struct Crease {
+  std::array<int, 2> ends{};  ///< its local vertices (PatchFlattening::points)
+  double fold = 0;            ///< [rad]: > 0 mountain (the surface convex there), < 0 valley
 };
 
 /// One patch's flattening. Vertices are the patch's own, 2 * ruling + rail (Patch::local_quads).
@@ -38,15 +54,16 @@ struct PatchFlattening {
   std::vector<Vec3> deformed_3d;  ///< 3D positions whose metric matches the flat one [mm]
                                   ///< (empty unless mimic_3d)
   int iterations = 0;
-  double initial_energy = 0;               ///< Eq. 2 after the conformal initialisation [-]
-  double energy = 0;                       ///< Eq. 2 at the end [-]
-  bool converged = false;                  ///< Newton decrement test met within max_iterations
+  double initial_energy = 0;   ///< Eq. 2 after the conformal initialisation [-]
+  double energy = 0;           ///< Eq. 2 at the end [-]
+  bool converged = false;      ///< Newton decrement test met within max_iterations
   double max_angle_error = 0;  ///< largest |alpha - alpha*| over quad corners [rad]; over the
                                ///< outline's corners for a facet cut along its outline alone
   double max_border_length_error_rel = 0;  ///< largest |l - l*| / l* over border edges [-]
   int inverted_quads = 0;                  ///< quads with a corner angle outside (0, pi) in 2D
   bool outline_simple = true;              ///< the outline does not cross itself
   double area_3d = 0, area_2d = 0;         ///< [mm^2]
+  std::vector<Crease> creases;             ///< paper: where its twisted quads are creased
 };
 
 /// A border piece: the part of one coarse quad-mesh edge on which two patch sides meet.

@@ -583,6 +583,14 @@ class GlueBuilder {
     part.folds = std::move(folds_[p]);
     for (auto& fold : ruling_folds(p, o_.score_rulings ? kMinScoredFold : kCreaseFold))
       part.folds.push_back(std::move(fold));
+    const auto& x = f_.patches[p].points;
+    for (const Crease& crease : f_.patches[p].creases) {
+      FoldLine fold;
+      fold.kind = FoldLine::Kind::kDiagonal;
+      fold.angle = crease.fold;
+      fold.points = {x[crease.ends[0]], x[crease.ends[1]]};
+      part.folds.push_back(std::move(fold));
+    }
     return part;
   }
 };

@@ -138,7 +138,9 @@ struct JointSpan {
 /// flattened frame. Seen from the printed side (the outside of the model), a mountain fold's
 /// crease points toward the viewer (the surface is convex there), a valley fold's away.
 struct FoldLine {
-  enum class Kind { kTabRoot, kRuling };
+  /// A glue tab's root, a ruling, or the diagonal of a twisted quad (FlattenOptions::
+  /// crease_twisted).
+  enum class Kind { kTabRoot, kRuling, kDiagonal };
   Kind kind = Kind::kTabRoot;
   std::vector<Vec2> points;  ///< polyline [mm]
   double angle = 0;          ///< signed fold angle [rad]: > 0 mountain, < 0 valley

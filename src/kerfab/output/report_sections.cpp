@@ -274,16 +274,19 @@ json joints_section(const Joints& jt, const Material& material) {
                          {"edge", b.edge},
                          {"s_mm", {in.s0, in.s1}}});
   }
-  int tab_roots = 0, rulings = 0, mountain = 0;
+  int tab_roots = 0, rulings = 0, diagonals = 0, mountain = 0;
   for (const PartOutline& part : jt.parts)
     for (const FoldLine& f : part.folds) {
-      (f.kind == FoldLine::Kind::kRuling ? rulings : tab_roots) += 1;
+      (f.kind == FoldLine::Kind::kRuling     ? rulings
+       : f.kind == FoldLine::Kind::kDiagonal ? diagonals
+                                             : tab_roots) += 1;
       mountain += f.mountain() ? 1 : 0;
     }
   const json folds = {{"tab_roots", tab_roots},
                       {"rulings", rulings},
+                      {"diagonals", diagonals},
                       {"mountain", mountain},
-                      {"valley", tab_roots + rulings - mountain}};
+                      {"valley", tab_roots + rulings + diagonals - mountain}};
   json borders = json::array();
   int flared = 0;
   for (std::size_t i = 0; i < jt.borders.size(); ++i) {

@@ -183,13 +183,18 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
   joints.min_part_width = o.resolve.min_part_width;
   check_joint_options(o.material, o.machine, joints);  // before any work, as the sheets
   check_kerf_options(o.material, o.machine, o.kerf);
+  // Paper folds: a strip's quads that twist are creased along a diagonal and flattened as
+  // their two triangles, where a sheet of wood (split at its folds, bent along its rulings)
+  // cannot be.
+  FlattenOptions flatten = o.flatten;
+  flatten.crease_twisted = flatten.crease_twisted || o.material.thickness == 0;
   // The flattening's 3D check: how finely it samples the strips' move [mm].
   auto deformation_spacing = [&] {
     return kDeformationSpacing * o.quality_sample_spacing * diag();
   };
   // The options the stages from bending to kerf run with, the guidance file's edges included.
   auto parts_options = [&] {
-    PartsOptions p{o.bending, o.strips, o.flatten, usable, o.material, o.machine, joints, o.kerf};
+    PartsOptions p{o.bending, o.strips, flatten, usable, o.material, o.machine, joints, o.kerf};
     const Guidance& g = r.loaded->guidance;
     p.bending.guidance.insert(p.bending.guidance.end(), g.edges.begin(), g.edges.end());
     p.strips.split_edges.insert(p.strips.split_edges.end(), g.split.begin(), g.split.end());
@@ -263,7 +268,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kFlatten,
        [&] {
-         r.flat = flatten_cuttable(*r.strips, o.flatten, usable);
+         r.flat = flatten_cuttable(*r.strips, flatten, usable);
          if (o.flatten.mimic_3d)
            r.flat->deformation = flat_metric_deformation(*r.flat, deformation_spacing());
          return notes(*r.flat, diag());
