@@ -223,9 +223,10 @@ struct Corner {
 };
 
 /// Paper: quads of \p lp whose 3D corner angles fall short of 360 deg by more than
-/// kTwistCrease (no flat quad meets them), as local vertex pairs along the shorter diagonal,
-/// with the quad's signed fold across it (> 0: convex, seen from the side its corners turn
-/// counter-clockwise around).
+/// kTwistCrease (no flat quad meets them), as local vertex pairs along the shorter diagonal (the
+/// other where that one's would leave a reflex corner; none where both would), with the quad's
+/// signed fold across it (> 0: convex, seen from the side its corners turn counter-clockwise
+/// around).
 std::vector<Crease> twist_creases(const LocalPatch& lp) {
   std::vector<Crease> out;
   for (const auto& q : lp.quads) {
@@ -238,7 +239,22 @@ std::vector<Crease> twist_creases(const LocalPatch& lp) {
       sum += corner_angle_3d(p[c], p[(c + 1) % 4], p[(c + 3) % 4]);
     }
     if (degenerate || !(2 * M_PI - sum > kTwistCrease)) continue;
-    const int d = (p[2] - p[0]).norm() <= (p[3] - p[1]).norm() ? 0 : 1;
+    // The shorter diagonal, else the other, where the corners at its ends (the sums of the two
+    // triangles' angles there) stay convex: a reflex corner is no quad the flattening measures
+    // (horse_quad in paper: a quad folded across its diagonal came out inverted, 114 deg off).
+    auto convex_at_ends = [&](int d) {
+      for (int end : {d, d + 2}) {
+        const Vec3 &at = p[end], &next = p[(end + 1) % 4], &prev = p[(end + 3) % 4],
+                   &across = p[(end + 2) % 4];
+        if (!(corner_angle_3d(at, next, across) + corner_angle_3d(at, across, prev) <
+              M_PI - kTwistCrease))
+          return false;
+      }
+      return true;
+    };
+    int d = (p[2] - p[0]).norm() <= (p[3] - p[1]).norm() ? 0 : 1;
+    if (!convex_at_ends(d)) d = 1 - d;
+    if (!convex_at_ends(d)) continue;
     const Vec3 &a = p[d], &b = p[d + 1], &c = p[d + 2], &e = p[(d + 3) % 4];
     // Triangles (a, b, c) and (a, c, e) on either side of the diagonal a-c; convex where the
     // second one's far corner lies below the first one's plane.
@@ -672,13 +688,14 @@ std::optional<PatchFlattening> outline_flattening(const LocalPatch& lp,
   return out;
 }
 
-PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const FlattenOptions& opt) {
-  const LocalPatch lp = local_patch(strips, patch);
+/// \p lp of \p patch flattened, its quads creased along \p creases.
+PatchFlattening flatten_local(const LocalPatch& lp, const Patch& patch, const FlattenOptions& opt,
+                              std::vector<Crease> creases) {
   PatchFlattening out;
+  out.creases = std::move(creases);
   out.points = patch.flat ? plane_coordinates(lp.p3) : conformal_map(lp);
   // The conformal map does not come out reflected for consistently oriented input.
   make_quads_counter_clockwise(lp, out.points);
-  if (opt.crease_twisted && !patch.flat) out.creases = twist_creases(lp);
   // A facet's corners may sit off its plane where it meets another facet: its border lengths
   // (which its neighbours keep) come first, its inner angles only hold it in shape.
   const AngleLengthEnergy energy(lp, patch.flat ? std::max(opt.lambda, 0.9999) : opt.lambda,
@@ -703,6 +720,21 @@ PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const Flat
   }
   out.max_angle_error = energy.max_angle_error(out.points);
   measure_shape(lp, energy.target_lengths(), out);
+  return out;
+}
+
+PatchFlattening flatten_one(const Strips& strips, const Patch& patch, const FlattenOptions& opt) {
+  const LocalPatch lp = local_patch(strips, patch);
+  PatchFlattening out = flatten_local(lp, patch, opt, {});
+  // Paper: where the strip flattens more than kCreaseNeeded off, its twisted quads are creased
+  // (kept where that flattens it closer).
+  if (opt.crease_twisted && !patch.flat && out.max_angle_error > kCreaseNeeded) {
+    std::vector<Crease> creases = twist_creases(lp);
+    if (!creases.empty()) {
+      PatchFlattening creased = flatten_local(lp, patch, opt, std::move(creases));
+      if (creased.max_angle_error < out.max_angle_error) out = std::move(creased);
+    }
+  }
   if (opt.mimic_3d) out.deformed_3d = deform_to_flat_metric(lp, out.points);
   return out;
 }
