@@ -6,6 +6,7 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -161,6 +162,21 @@ std::optional<RayHit> TargetSurface::nearest_hit_along_line(const Vec3& origin,
       best = RayHit{q, t, static_cast<int>(it - impl_->triangles.cbegin())};
   }
   return best;
+}
+
+VertexDistances vertex_distances(const PolyMesh& mesh, const TargetSurface& target) {
+  VertexDistances out;
+  double sum = 0;
+  int count = 0;
+  for (auto v : mesh.vertices()) {
+    if (mesh.is_isolated(v)) continue;
+    const double d = target.closest(to_eigen(mesh.point(v))).distance;
+    out.max = std::max(out.max, d);
+    sum += d;
+    ++count;
+  }
+  out.mean = count ? sum / count : 0.0;
+  return out;
 }
 
 }  // namespace kerfab

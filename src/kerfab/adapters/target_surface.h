@@ -58,4 +58,10 @@ class TargetSurface {
   std::unique_ptr<Impl> impl_;
 };
 
+/// How far the vertices of \p mesh that faces use lie from \p target [mm] (0 where none).
+struct VertexDistances {
+  double max = 0, mean = 0;
+};
+VertexDistances vertex_distances(const PolyMesh& mesh, const TargetSurface& target);
+
 }  // namespace kerfab

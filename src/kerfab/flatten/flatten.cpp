@@ -288,11 +288,9 @@ std::vector<Corner> quad_corners(const LocalPatch& lp, const std::vector<Crease>
       const Vec3 &p = lp.p3[q[c]], &next = lp.p3[q[(c + 1) % 4]], &prev = lp.p3[q[(c + 3) % 4]];
       if ((next - p).norm() <= none || (prev - p).norm() <= none) continue;
       double target = corner_angle_3d(p, next, prev);
-      if (diagonal >= 0) {
+      if (c % 2 == diagonal) {
         const Vec3& across = lp.p3[q[(c + 2) % 4]];
-        target = c % 2 == diagonal
-                     ? corner_angle_3d(p, next, across) + corner_angle_3d(p, across, prev)
-                     : target;
+        target = corner_angle_3d(p, next, across) + corner_angle_3d(p, across, prev);
       }
       out.push_back({q[c], q[(c + 1) % 4], q[(c + 3) % 4], target});
     }

@@ -486,22 +486,14 @@ void attach_quads(PreparedInput& out, PolyMesh quads, const InputOptions& option
   out.quad_summary = summarize(out.quads);
 
   // The quad mesh must lie on (near) the target.
-  double max_d = 0, sum_d = 0;
-  int count = 0;
-  for (auto v : out.quads.vertices()) {
-    if (out.quads.is_isolated(v)) continue;
-    const double d = out.surface.closest(to_eigen(out.quads.point(v))).distance;
-    max_d = std::max(max_d, d);
-    sum_d += d;
-    ++count;
-  }
-  out.quad_max_distance = max_d;
-  out.quad_mean_distance = count ? sum_d / count : 0.0;
+  const VertexDistances off = vertex_distances(out.quads, out.surface);
+  out.quad_max_distance = off.max;
+  out.quad_mean_distance = off.mean;
   const double diag = out.target_summary.bbox.diagonal();
-  if (max_d > options.max_quad_distance * diag)
-    throw InvalidInput("quad mesh is far from the target: a vertex lies " + fmt(max_d) +
-                       " mm away (" + fmt(100.0 * max_d / diag) + "% of the target's " + fmt(diag) +
-                       " mm diagonal, limit " + fmt(100.0 * options.max_quad_distance) +
+  if (off.max > options.max_quad_distance * diag)
+    throw InvalidInput("quad mesh is far from the target: a vertex lies " + fmt(off.max) +
+                       " mm away (" + fmt(100.0 * off.max / diag) + "% of the target's " +
+                       fmt(diag) + " mm diagonal, limit " + fmt(100.0 * options.max_quad_distance) +
                        "%); are both meshes in the same frame and units?");
 }
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 
+#include "kerfab/core/geometry2d.h"
 #include "kerfab/joints/border_pieces.h"
 #include "kerfab/joints/corners.h"
 
@@ -522,7 +523,7 @@ class GlueBuilder {
       const Vec2 u = a - b, v = c - b;
       const double lu = u.norm(), lv = v.norm();
       if (!(lu > 0 && lv > 0)) continue;
-      const double turn = sign * ((b - a).x() * (c - b).y() - (b - a).y() * (c - b).x());
+      const double turn = sign * cross2(b - a, c - b);
       const double angle = std::acos(std::clamp(u.dot(v) / (lu * lv), -1.0, 1.0));
       if (!(turn < 0) || !(angle < M_PI / 2) || !(angle > 0)) continue;  // a notch under 90 deg
       const double reach = r / std::sin(0.5 * angle);  // along a side to where it is 2r wide

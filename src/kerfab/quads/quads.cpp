@@ -443,13 +443,6 @@ bool sound_face(const PolyMesh& q, OpenMesh::FaceHandle f, const TargetSurface& 
   return false;
 }
 
-/// The mean distance of \p q's corners to the target [mm].
-double mean_corner_distance(const PolyMesh& q, const TargetSurface& target) {
-  double sum = 0;
-  for (auto v : q.vertices()) sum += target.closest(to_eigen(q.point(v))).distance;
-  return q.n_vertices() > 0 ? sum / static_cast<double>(q.n_vertices()) : 0.0;
-}
-
 /// What is wrong with \p q as a quad mesh of \p mesh (empty: nothing): not all quads, another
 /// topology, or a folded, reflex or flat corner.
 std::string check(const PolyMesh& q, const TriangleMesh& mesh, const TargetSurface& target,
@@ -668,8 +661,8 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
             std::max(pure->first.feature_length, 1e-9);
         const double on_split = feature_length_on_edges(r.quads, remeshed, r.size.size) /
                                 std::max(r.feature_length, 1e-9);
-        const double off_pure = mean_corner_distance(pure->first.quads, target);
-        const double off_split = mean_corner_distance(r.quads, target);
+        const double off_pure = vertex_distances(pure->first.quads, target).mean;
+        const double off_split = vertex_distances(r.quads, target).mean;
         keep_pure = std::abs(on_pure - on_split) > kFeatureMargin
                         ? on_pure > on_split
                         : off_split - off_pure > kCloserMargin * r.size.size ||
@@ -715,8 +708,7 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
     r.irregular_vertices += val != 4 ? 1 : 0;
   }
   r.valences.assign(valences.begin(), valences.end());
-  for (auto v : q.vertices())
-    r.max_distance = std::max(r.max_distance, target.closest(to_eigen(q.point(v))).distance);
+  r.max_distance = vertex_distances(q, target).max;
 
   r.feature_length_on_quads = feature_length_on_edges(q, remeshed, r.size.size);
   return r;
