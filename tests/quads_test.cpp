@@ -79,6 +79,26 @@ double worst_edge_angle(const PolyMesh& q, Directions directions) {
   return worst;
 }
 
+/// Mean |corner - 90 deg| over the corners of \p q [deg] and the share of corners outside
+/// 45-135 deg, measured here from the points.
+std::pair<double, double> corner_skew(const PolyMesh& q) {
+  double sum = 0;
+  int n = 0, skewed = 0;
+  for (auto f : q.faces()) {
+    std::vector<Vec3> p;
+    for (auto v : q.fv_range(f)) p.push_back(to_eigen(q.point(v)));
+    for (std::size_t c = 0; c < p.size(); ++c) {
+      const Vec3 a = p[(c + 1) % p.size()] - p[c], b = p[(c + p.size() - 1) % p.size()] - p[c];
+      const double angle =
+          std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / M_PI;
+      sum += std::abs(angle - 90);
+      skewed += std::abs(angle - 90) > 45 ? 1 : 0;
+      ++n;
+    }
+  }
+  return {sum / n, static_cast<double>(skewed) / n};
+}
+
 TEST(Quads, CylinderEdgesRunAlongTheAxisAndAroundIt) {
   const auto s = test::open_cylinder(50, 100, 24, 8);
   const QuadMeshResult r = mesh_of(s.target, {.quad_size = 10});
@@ -93,6 +113,10 @@ TEST(Quads, CylinderEdgesRunAlongTheAxisAndAroundIt) {
                      Vec3(Vec3::UnitZ().cross(Vec3(mid.x(), mid.y(), 0)).normalized())};
   });
   EXPECT_LT(worst, 5 * kPi / 180) << "worst edge direction off by " << worst * 180 / kPi << " deg";
+  // Edges along and around the axis make nearly square corners: the report's skew says so.
+  EXPECT_LT(r.mean_corner_deviation, 2 * kPi / 180);
+  EXPECT_EQ(r.skewed_corners, 0.0);
+  EXPECT_NEAR(r.mean_corner_deviation * 180 / kPi, corner_skew(r.quads).first, 1e-9);
   // The 10 mm size: circumference 314 mm in about 31 quads, 100 mm height in about 10.
   EXPECT_NEAR(static_cast<double>(r.quads.n_faces()), 31.4 * 10, 31.4 * 10 * 0.15);
   // All vertices on the cylinder (the target is its 192-gon: chordal error 0.067 mm).
@@ -419,6 +443,15 @@ TEST(Quads, SpotsQuadsHaveNoSliverCorners) {
   EXPECT_GT(lo, 20.0);
   EXPECT_LT(hi, 160.0);
   EXPECT_GT(edges.front(), 0.08 * edges[edges.size() / 2]);
+  // The stage's own measures of skew (the report's quads.corner_deviation_deg and
+  // quads.corners_outside_45_135) are those measured here.
+  EXPECT_NEAR(r.min_corner_angle * 180 / M_PI, lo, 1e-9);
+  EXPECT_NEAR(r.max_corner_angle * 180 / M_PI, hi, 1e-9);
+  const auto [deviation, skewed] = corner_skew(r.quads);
+  EXPECT_NEAR(r.mean_corner_deviation * 180 / M_PI, deviation, 1e-9);
+  EXPECT_NEAR(r.skewed_corners, skewed, 1e-12);
+  EXPECT_GT(deviation, 5.0);  // irregular vertices leave corners off square
+  EXPECT_LT(skewed, 0.15);
 }
 
 }  // namespace

@@ -75,7 +75,9 @@ json quads_section(const QuadMeshResult& q) {
           {"feature_length_mm", q.feature_length},
           {"feature_length_on_quad_edges_mm", q.feature_length_on_quads},
           {"max_distance_mm", q.max_distance},
-          {"corner_angle_deg", {q.min_corner_angle * 180 / M_PI, q.max_corner_angle * 180 / M_PI}}};
+          {"corner_angle_deg", {q.min_corner_angle * 180 / M_PI, q.max_corner_angle * 180 / M_PI}},
+          {"corner_deviation_deg", q.mean_corner_deviation * 180 / M_PI},
+          {"corners_outside_45_135", q.skewed_corners}};
 }
 
 json coarsen_section(const CoarsenResult& c) {

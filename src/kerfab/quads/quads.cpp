@@ -692,11 +692,19 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
 
   PolyMesh& q = r.quads;
   r.min_corner_angle = kPi;
+  int corners = 0, skewed = 0;
   for (auto f : q.faces())
     for (double angle : corner_angles(q, f)) {
       r.min_corner_angle = std::min(r.min_corner_angle, angle);
       r.max_corner_angle = std::max(r.max_corner_angle, angle);
+      r.mean_corner_deviation += std::abs(angle - kPi / 2);
+      skewed += std::abs(angle - kPi / 2) > kPi / 4 ? 1 : 0;
+      ++corners;
     }
+  if (corners > 0) {
+    r.mean_corner_deviation /= corners;
+    r.skewed_corners = static_cast<double>(skewed) / corners;
+  }
   std::map<int, int> valences;
   for (auto v : q.vertices()) {
     const int val = static_cast<int>(q.valence(v));

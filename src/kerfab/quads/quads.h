@@ -66,6 +66,8 @@ struct QuadMeshResult {
   double max_distance = 0;             ///< farthest quad vertex from the target [mm]
   double min_corner_angle = 0;         ///< smallest quad corner angle [rad]
   double max_corner_angle = 0;         ///< largest quad corner angle [rad]
+  double mean_corner_deviation = 0;    ///< mean |corner angle - 90 deg| over all corners [rad]
+  double skewed_corners = 0;           ///< share of the corners outside 45-135 deg [-]
   std::vector<std::string> repairs;    ///< what was done to the input, one line each
 };
 
