@@ -697,8 +697,9 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
     for (double angle : corner_angles(q, f)) {
       r.min_corner_angle = std::min(r.min_corner_angle, angle);
       r.max_corner_angle = std::max(r.max_corner_angle, angle);
-      r.mean_corner_deviation += std::abs(angle - kPi / 2);
-      skewed += std::abs(angle - kPi / 2) > kPi / 4 ? 1 : 0;
+      const double off_square = std::abs(angle - kPi / 2);
+      r.mean_corner_deviation += off_square;
+      skewed += off_square > kPi / 4 ? 1 : 0;
       ++corners;
     }
   if (corners > 0) {
