@@ -395,14 +395,25 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
         << (r.time_limited ? "; the loop stopped at its time limit before it reached them)" : ")");
       sep = "; ";
     }
-    if (r.small_parts_after > 0) {
-      w << sep << r.small_parts_after
+    // Parts that flatten distorted are named apart: their quads' angles are the same at every
+    // size, so the size named for the others is no cure for them.
+    const int sized = r.small_parts_after - r.distorted_parts_after;
+    if (sized > 0) {
+      w << sep << sized
         << " parts stay too small or narrow to handle (resolve.changes, \"unresolved\")";
       if (r.small_parts_size_mm > kLargestSize)
         w << ", which no --size up to " << kLargestSize / 1000 << " m would hold";
       else if (r.small_parts_size_mm > r.current_size_mm + 0.5)
         w << ", which would hold at --size " << whole_mm(r.small_parts_size_mm), named = true;
+      sep = "; ";
     }
+    if (r.distorted_parts_after > 0)
+      w << sep << r.distorted_parts_after
+        << " parts flatten distorted (resolve.changes, \"unresolved\": quads that do not lie flat "
+           "together, or a strip that twists more than a sheet bends), which no --size cures: "
+        << "the quads there would need to lie flatter"
+        << (quads_made ? " (model/quads.obj edited, passed back with --quad)"
+                       : " (the quad mesh edited there)");
     if (r.min_size_mm > r.current_size_mm + 0.5) {
       if (r.min_size_mm > kLargestSize)
         w << "; the tightest bends need a change at every --size up to " << kLargestSize / 1000

@@ -509,6 +509,11 @@ class Resolver {
       const PatchFlattening& flat = build_.flat.flattening.patches[p];
       double size_factor = area > 0 ? std::max(1.0, std::sqrt(r_.min_part_area / area)) : 0.0;
       if (distorted(build_, p, max_angle)) {
+        // Its quads' angles are the same at every scale: no size cures it (fertility at 250 mm
+        // named --size 336 for four parts, two of them facets flattening 44 deg off and
+        // inverted; run there with its quads, the twisted one was still 36 deg off).
+        size_factor = 0;
+        ++out_.distorted_parts_after;
         why << (strips().patches[p].flat ? "facet " : "part ") << p << " flattens "
             << (flat.inverted_quads > 0 ? "with an inverted quad"
                 : !flat.outline_simple

@@ -87,12 +87,16 @@ struct MaterialSize {
 };
 
 struct ResolveResult {
-  int rounds = 0;                     ///< rebuilds made
-  bool time_limited = false;          ///< the loop stopped at its time limit with regions left
-  double seconds = 0;                 ///< the loop's wall time [s]
-  int critical_before = 0;            ///< critical regions of the first build
-  int critical_after = 0;             ///< left at the end (listed in kerf.critical)
-  int small_parts_after = 0;          ///< parts still too small or narrow to handle at the end
+  int rounds = 0;             ///< rebuilds made
+  bool time_limited = false;  ///< the loop stopped at its time limit with regions left
+  double seconds = 0;         ///< the loop's wall time [s]
+  int critical_before = 0;    ///< critical regions of the first build
+  int critical_after = 0;     ///< left at the end (listed in kerf.critical)
+  int small_parts_after = 0;  ///< parts still too small or narrow to handle at the end
+  /// Of those, the parts that flatten distorted (an inverted quad, an outline crossing itself, a
+  /// corner off by the flattening's limit): their quads' angles do not change with the model's
+  /// size, so no --size cures them (they count in no size factor).
+  int distorted_parts_after = 0;
   std::vector<int> unresolved_parts;  ///< which (the parts of the final build), ascending
   int parts_before = 0, parts_after = 0;
   double minutes_before = 0, minutes_after = 0;  ///< estimated cutting time [min]
