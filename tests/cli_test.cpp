@@ -1259,6 +1259,21 @@ TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
   EXPECT_EQ(all.find("would hold"), std::string::npos) << all;
   EXPECT_NE(all.find("would need to lie flatter (the quad mesh edited there)"), std::string::npos)
       << all;
+  // Parts that fell apart where their joints leave them whole have no size: it is named for
+  // the others alone.
+  r.distorted_parts_after = 0;
+  r.unsized_parts_after = 2;
+  r.small_parts_size_mm = 819.2;
+  const std::string unsized = notes(r, KerfOptions{}).warnings.at(0);
+  EXPECT_NE(unsized.find("8 parts stay too small or narrow to handle (resolve.changes, "
+                         "\"unresolved\"), 6 of which would hold at --size 820; for 2 no size "
+                         "is known"),
+            std::string::npos)
+      << unsized;
+  r.unsized_parts_after = 8;
+  const std::string none = notes(r, KerfOptions{}).warnings.at(0);
+  EXPECT_EQ(none.find("would hold"), std::string::npos) << none;
+  EXPECT_NE(none.find("; for 8 no size is known"), std::string::npos) << none;
 }
 
 // Parts that flatten distorted are no matter of size: their quads' angles are the same at
@@ -1267,6 +1282,10 @@ TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
 // four, and run there with its quads passed back the twisted facet was still 36 deg off. The
 // size is now named for the parts too small alone, the distorted ones are counted apart
 // (resolve.distorted_parts_after) with no size factor, and the warning says no size cures them.
+// The size named holds: one of the parts too small fell apart at its slots, and the size its
+// inscribed circle gave (336) left it falling apart again where it is narrower; the size at
+// which its outline, cut back all round by its joints' depth, is one piece is named instead,
+// and run there with the quads passed back no part is left unresolved.
 TEST(Cli, DistortedPartsAreNotPromisedASize) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
   const fs::path scratch = test::fresh_dir();
@@ -1296,11 +1315,23 @@ TEST(Cli, DistortedPartsAreNotPromisedASize) {
   EXPECT_NE(r.err.find(std::to_string(distorted) + " parts flatten distorted"), std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("which no --size cures"), std::string::npos) << r.err;
-  if (small > 0) {
-    EXPECT_NE(r.err.find(std::to_string(small) + " parts stay too small or narrow to handle"),
-              std::string::npos)
-        << r.err;
-  }
+  ASSERT_GE(small, 1);
+  EXPECT_NE(r.err.find(std::to_string(small) + " parts stay too small or narrow to handle"),
+            std::string::npos)
+      << r.err;
+  const double size = res["small_parts_min_size_mm"].get<double>();
+  ASSERT_GT(size, 250.0);
+  const int at = static_cast<int>(std::ceil(size));
+  EXPECT_NE(r.err.find("would hold at --size " + std::to_string(at)), std::string::npos) << r.err;
+  const CliRun there =
+      run_cli("run --target " + (test::shared_meshes() / "fertility.off").string() + " --quad " +
+                  (scratch / "f" / "model" / "quads.obj").string() + " --size " +
+                  std::to_string(at) + " --out " + (scratch / "g").string(),
+              scratch);
+  ASSERT_EQ(there.exit_code, 0) << there.err;
+  const auto held = read_report(scratch / "g");
+  EXPECT_TRUE(held["resolve"]["unresolved_parts"].empty()) << held["resolve"]["unresolved_parts"];
+  EXPECT_EQ(held["resolve"]["small_parts_after"].get<int>(), 0);
 }
 
 // Kerf options that leave no room for the cuts a bend needs are named. A ring of radius 44 mm,

@@ -394,6 +394,7 @@ json resolve_section(const ResolveResult& r, const ResolveOptions& options) {
           {"critical_after", r.critical_after},
           {"small_parts_after", r.small_parts_after},
           {"distorted_parts_after", r.distorted_parts_after},
+          {"unsized_parts_after", r.unsized_parts_after},
           {"unresolved_parts", r.unresolved_parts},
           {"parts_before", r.parts_before},
           {"parts_after", r.parts_after},

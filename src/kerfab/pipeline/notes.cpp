@@ -401,10 +401,18 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
     if (sized > 0) {
       w << sep << sized
         << " parts stay too small or narrow to handle (resolve.changes, \"unresolved\")";
-      if (r.small_parts_size_mm > kLargestSize)
-        w << ", which no --size up to " << kLargestSize / 1000 << " m would hold";
-      else if (r.small_parts_size_mm > r.current_size_mm + 0.5)
-        w << ", which would hold at --size " << whole_mm(r.small_parts_size_mm), named = true;
+      // Those that fell apart where their joints leave them whole have no size: the size is
+      // named for the others alone.
+      const int known = sized - r.unsized_parts_after;
+      const std::string which =
+          r.unsized_parts_after > 0 ? ", " + std::to_string(known) + " of which" : ", which";
+      if (known > 0 && r.small_parts_size_mm > kLargestSize)
+        w << which << " no --size up to " << kLargestSize / 1000 << " m would hold";
+      else if (known > 0 && r.small_parts_size_mm > r.current_size_mm + 0.5)
+        w << which << " would hold at --size " << whole_mm(r.small_parts_size_mm), named = true;
+      if (r.unsized_parts_after > 0)
+        w << "; for " << r.unsized_parts_after << " no size is known (fallen apart at their "
+          << "slots where they are wide enough for their joints' depth)";
       sep = "; ";
     }
     if (r.distorted_parts_after > 0)

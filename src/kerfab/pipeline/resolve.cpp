@@ -530,7 +530,10 @@ class Resolver {
         // model: at its sharpest fold the most. It holds where it is that deep plus half the
         // narrowest part a maker can handle across (its inscribed circle's radius).
         const CutBack cut = deepest_cut_back(p);
-        const double across = inscribed_radius(flat_outline(strips(), build_.flat.flattening, p));
+        const Polygon2 outline = flat_outline(strips(), build_.flat.flattening, p);
+        const double across = inscribed_radius(outline);
+        const bool apart = build_.joints.parts[p].repaired;
+        double whole = 0;  // of a part that fell apart: one_piece_factor(), or 1000 past it
         if (cut.depth > 0 && across > 0) {
           const double hold = hold_factor(cut, across);
           why << "; its joints cut it back up to " << cut.depth << " mm (beside part " << cut.other
@@ -539,6 +542,16 @@ class Resolver {
             why << ", folded back " << std::lround(cut.fold * 180 / M_PI)
                 << " deg onto that part: the shape is thinner there than the sheets";
           size_factor = std::max(size_factor, hold);
+          // Fallen apart: where the part is narrowest, not at its widest place. Not one piece
+          // up to 40 times the size: a thousand times it, past any size stderr names.
+          if (apart) whole = one_piece_factor(outline, cut, hold);
+          if (apart && whole == 0) whole = 1000.0;
+        }
+        // One that fell apart although cut back all round it is one piece at this size broke
+        // where no rule here sees (a tip between two slots): no size is known for it.
+        if (apart) {
+          size_factor = whole > 1 ? std::max(size_factor, whole) : 0.0;
+          if (size_factor == 0) ++out_.unsized_parts_after;
         }
         why << (out_.time_limited ? "; left when the loop reached its time limit)"
                                   : "; no flat plate around it is big enough)");
@@ -614,6 +627,30 @@ class Resolver {
   /// [mm]). 0 where either is unknown.
   double hold_factor(const CutBack& cut, double radius) const {
     return cut.depth > 0 && radius > 0 ? (cut.depth + 0.5 * r_.min_part_width) / radius : 0.0;
+  }
+
+  /// The factor on the model's size from which on \p outline (a part's, as flattened [mm]), cut
+  /// back all round by \p cut's depth plus half the narrowest part a maker can handle, stays
+  /// one piece: a part that fell apart at its slots did so where it is narrower than at its
+  /// inscribed circle, so hold_factor() can name a size at which it falls apart again
+  /// (fertility from its triangles at 250 mm named --size 336 for a part 9.2 mm across, cut
+  /// back 4.7 mm; run there with its quads it fell apart once more). Scanned from \p from in
+  /// steps of 2 % up to 40 times the size; 0 where it is not one piece even there.
+  double one_piece_factor(const Polygon2& outline, const CutBack& cut, double from) const {
+    const double inset = cut.depth + 0.5 * r_.min_part_width;
+    double found = 0;
+    for (double f = std::max(from, 1.0); f <= 40; f *= 1.02) {
+      Polygon2 scaled = outline;
+      for (Vec2& v : scaled) v *= f;
+      int pieces = 0;
+      for (const Polygon2& core : polygon_offset_round({scaled}, -inset, 0.01))
+        pieces += std::abs(polygon_area(core)) > 1e-6;
+      if (pieces != 1)
+        found = 0;
+      else if (found == 0)
+        found = f;
+    }
+    return found;
   }
 
   /// True when part \p p has nothing left to cut once its joints are cut (under a square

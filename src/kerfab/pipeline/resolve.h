@@ -97,6 +97,10 @@ struct ResolveResult {
   /// corner off by the flattening's limit): their quads' angles do not change with the model's
   /// size, so no --size cures them (they count in no size factor).
   int distorted_parts_after = 0;
+  /// Of the others, parts that fell apart at their slots although cut back all round by their
+  /// deepest cut-back they are one piece at this size (a tip broke off between two slots): no
+  /// size is known for them (size factor 0).
+  int unsized_parts_after = 0;
   std::vector<int> unresolved_parts;  ///< which (the parts of the final build), ascending
   int parts_before = 0, parts_after = 0;
   double minutes_before = 0, minutes_after = 0;  ///< estimated cutting time [min]
