@@ -353,7 +353,8 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
   os << "); parts " << r.parts_before << " -> " << r.parts_after << ", cutting " << r.minutes_before
      << " -> " << r.minutes_after << " min";
   n.lines.push_back(os.str());
-  const int changed = static_cast<int>(r.changes.size()) - actions["unresolved"];
+  // Flat panels cut as plates are how such a model is cut, not changes to make it buildable.
+  const int changed = static_cast<int>(r.changes.size()) - actions["unresolved"] - actions["plate"];
   if (r.time_limited) {
     Line w(3);
     w << "the resolve step stopped at its time limit after " << r.seconds << " s and " << r.rounds

@@ -23,6 +23,16 @@ namespace {
 
 constexpr int kNone = -1;
 
+/// A flat region of the model (plates_for_flat_regions): every corner of its quads within this
+/// of the plane of the quad it grew from [mm], every quad facing within kPlateTilt of it [rad];
+/// cut as one plate where at least kPlateBounded of its outline's length lies on folds sharper
+/// than kPlateFold [rad] or on the model's border (a panel, not a flat stretch that a bent strip
+/// runs on from).
+constexpr double kPlateFlatness = 0.05;
+constexpr double kPlateTilt = 0.5 * M_PI / 180;
+constexpr double kPlateBounded = 0.75;
+constexpr double kPlateFold = 20 * M_PI / 180;
+
 /// A critical region as it sits on the strips.
 struct Region {
   int patch = kNone;
@@ -305,6 +315,7 @@ class Resolver {
     std::vector<int> small;
     for (const bool draft : {true, false}) {
       draft_ = draft;
+      if (draft && r_.enabled) plates_for_flat_regions();
       if (!draft) {
         if (!build_.joints.draft) break;
         // The quads of the draft's critical regions and parts too small.
@@ -839,6 +850,105 @@ class Resolver {
           << " deg off its corners' angles at most)";
       out_.changes.back().reason = why.str();
     }
+  }
+
+  /// Flat panels of the model cut as one plate each, before the loop: a box from its
+  /// triangles came out as 48 strips, 8 to a face, each a row of flat quads joined to the next
+  /// by dovetail tabs along its whole length, where a maker expects 6 panels. Quads connected
+  /// across edges whose corners all lie within kPlateFlatness of a seed quad's plane, facing
+  /// its way, form a region; one of at least two quads, bounded by folds (bounded_by_folds() at
+  /// least kPlateBounded: fandisk's flat sides, not a flat stretch that a bent strip runs on
+  /// from, where plates only cut the strips short), that is a plate (plate(): a disk with a
+  /// simple outline on its plane), a part a maker can handle (big_enough()) and fits the sheet
+  /// becomes a facet, its edges stiff, as the loop's facets are. Curved ground never qualifies:
+  /// neighbouring quads on a curve are at an angle (a sphere of 125 mm radius in quads of
+  /// 20 mm: 9 deg), far over what the flatness allows. Kept where the build has no more
+  /// defects after it (critical regions and parts too small).
+  void plates_for_flat_regions() {
+    const int n = static_cast<int>(m_.n_faces());
+    std::vector<char> seen(n, 0);
+    Added trial = accepted_;
+    std::vector<std::set<int>> plates;
+    for (int seed = 0; seed < n; ++seed) {
+      if (seen[seed] || accepted_.facet_quads.count(seed)) continue;
+      seen[seed] = 1;
+      const Vec3 normal = quad_normal(seed);
+      if (!(normal.norm() > 0)) continue;
+      const Vec3 origin = corner(quad_vertices(m_, m_.face_handle(seed))[0]);
+      auto on_plane = [&](int q) {
+        if (quad_normal(q).dot(normal) < std::cos(kPlateTilt)) return false;
+        for (int v : quad_vertices(m_, m_.face_handle(q)))
+          if (std::abs((corner(v) - origin).dot(normal)) > kPlateFlatness) return false;
+        return true;
+      };
+      if (!on_plane(seed)) continue;
+      std::set<int> group = {seed};
+      std::vector<int> todo = {seed};
+      while (!todo.empty()) {
+        const int q = todo.back();
+        todo.pop_back();
+        for (auto f : m_.ff_range(m_.face_handle(q))) {
+          const int g = f.idx();
+          if (seen[g] || accepted_.facet_quads.count(g) || !on_plane(g)) continue;
+          seen[g] = 1;
+          group.insert(g);
+          todo.push_back(g);
+        }
+      }
+      if (group.size() < 2 || bounded_by_folds(group, normal) < kPlateBounded || !plate(group) ||
+          !big_enough(group) || !fits_sheet(plane_outline(group), o_.usable))
+        continue;
+      std::vector<int> list(group.begin(), group.end());
+      for (int q : list) {
+        trial.facet_quads.insert(q);
+        for (int e : quad_edges(m_, m_.face_handle(q))) {
+          if (trial.stiff.count(e) || user_bendable_.count(e)) continue;
+          const auto v = ends(m_, e);
+          trial.stiff.insert(e);
+          trial.guidance.edges.push_back({v[0], v[1], false});
+        }
+      }
+      trial.guidance.facets.push_back(list);
+      plates.push_back(std::move(group));
+    }
+    if (plates.empty()) return;
+    std::optional<PartsBuild> tried;
+    try {
+      tried = rebuild(trial);
+    } catch (const InvalidInput&) {  // the strips refuse the mix (a user's merge across one)
+      return;
+    }
+    ++out_.rounds;
+    if (defects(*tried) > defects(build_)) return;
+    build_ = std::move(*tried);
+    accepted_ = std::move(trial);
+    for (const std::set<int>& group : plates) {
+      Region r;
+      r.quads.assign(group.begin(), group.end());
+      int corners = 0;
+      for (int q : group)
+        for (int v : quad_vertices(m_, m_.face_handle(q))) r.centre += corner(v), ++corners;
+      r.centre /= corners;
+      record(r, "plate");
+      out_.changes.back().reason = "a flat panel of the model, cut as one plate";
+    }
+  }
+
+  /// The share of the outline of the quads \p group (facing \p normal) that lies on a fold
+  /// sharper than kPlateFold or on the model's border, by length.
+  double bounded_by_folds(const std::set<int>& group, const Vec3& normal) const {
+    double folded = 0, all = 0;
+    for (int q : group)
+      for (auto h : m_.fh_range(m_.face_handle(q))) {
+        const auto other = m_.opposite_face_handle(h);
+        if (other.is_valid() && group.count(other.idx())) continue;
+        const double length =
+            (corner(m_.to_vertex_handle(h).idx()) - corner(m_.from_vertex_handle(h).idx())).norm();
+        all += length;
+        if (!other.is_valid() || quad_normal(other.idx()).dot(normal) < std::cos(kPlateFold))
+          folded += length;
+      }
+    return all > 0 ? folded / all : 0.0;
   }
 
   /// Critical regions and parts too small or narrow to handle in \p b.

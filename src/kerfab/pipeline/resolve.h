@@ -67,7 +67,8 @@ struct RegionChange {
   std::vector<int> quads;     ///< quad-mesh faces of the region
   std::string action;         ///< "split", "merge", "restiffen", "facets", "outline" (a facet
                               ///< cut along its outline alone, flatten_facet_by_outline), "omit"
-                              ///< (the part left out), or "unresolved"
+                              ///< (the part left out), "plate" (a flat panel of the model cut
+                              ///< as one plate, before the loop), or "unresolved"
   double spacing = 0;         ///< the beam spacing the bend needed there before [mm]
   double stress_ratio = 0;    ///< its largest beam stress over the allowed stress, before [-]
   double size_factor = 1;     ///< the model scale at which the region would need no change [-]
