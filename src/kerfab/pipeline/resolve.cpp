@@ -555,8 +555,10 @@ class Resolver {
           size_factor = std::max(size_factor, hold);
           // Fallen apart: where the part is narrowest, not at its widest place. Not one piece
           // up to 40 times the size: a thousand times it, past any size stderr names.
-          if (apart) whole = one_piece_factor(outline, cut, hold);
-          if (apart && whole == 0) whole = 1000.0;
+          if (apart) {
+            const double f = one_piece_factor(outline, cut, hold);
+            whole = f > 0 ? f : 1000.0;
+          }
         }
         // One that fell apart although cut back all round it is one piece at this size broke
         // where no rule here sees (a tip between two slots): no size is known for it.
@@ -898,17 +900,7 @@ class Resolver {
       if (group.size() < 2 || bounded_by_folds(group, normal) < kPlateBounded || !plate(group) ||
           !big_enough(group) || !fits_sheet(plane_outline(group), o_.usable))
         continue;
-      std::vector<int> list(group.begin(), group.end());
-      for (int q : list) {
-        trial.facet_quads.insert(q);
-        for (int e : quad_edges(m_, m_.face_handle(q))) {
-          if (trial.stiff.count(e) || user_bendable_.count(e)) continue;
-          const auto v = ends(m_, e);
-          trial.stiff.insert(e);
-          trial.guidance.edges.push_back({v[0], v[1], false});
-        }
-      }
-      trial.guidance.facets.push_back(list);
+      add_facet({group.begin(), group.end()}, trial, nullptr);
       plates.push_back(std::move(group));
     }
     if (plates.empty()) return;
@@ -1555,24 +1547,32 @@ class Resolver {
     for (const Group& g : groups) {
       if (g.quads.empty()) continue;
       if (!big_enough(g.quads)) stuck_.insert(g.quads.begin(), g.quads.end());
-      std::vector<int> list(g.quads.begin(), g.quads.end());
-      for (int q : list) {
-        state.facet_quads.insert(q);
-        own.facet_quads.insert(q);
-        for (int e : quad_edges(m_, m_.face_handle(q))) {
-          if (state.stiff.count(e) || user_bendable_.count(e)) continue;
-          const auto v = ends(m_, e);
-          state.stiff.insert(e);
-          own.stiff.insert(e);
-          state.guidance.edges.push_back({v[0], v[1], false});
-          own.guidance.edges.push_back({v[0], v[1], false});
-        }
-      }
-      state.guidance.facets.push_back(list);
-      own.guidance.facets.push_back(list);
+      add_facet({g.quads.begin(), g.quads.end()}, state, &own);
       ++made;
     }
     return made > 0;
+  }
+
+  /// Adds the quads \p list as one flat facet to \p state and, where given, to \p own: every
+  /// edge of its quads forced stiff (but the user's bendable ones), so neighbours meet it along
+  /// straight borders.
+  void add_facet(const std::vector<int>& list, Added& state, Added* own) const {
+    for (int q : list) {
+      state.facet_quads.insert(q);
+      if (own) own->facet_quads.insert(q);
+      for (int e : quad_edges(m_, m_.face_handle(q))) {
+        if (state.stiff.count(e) || user_bendable_.count(e)) continue;
+        const auto v = ends(m_, e);
+        state.stiff.insert(e);
+        state.guidance.edges.push_back({v[0], v[1], false});
+        if (own) {
+          own->stiff.insert(e);
+          own->guidance.edges.push_back({v[0], v[1], false});
+        }
+      }
+    }
+    state.guidance.facets.push_back(list);
+    if (own) own->guidance.facets.push_back(list);
   }
 
   /// The best-fit plane of the quads' corners (as the facet will be flattened onto it): its
