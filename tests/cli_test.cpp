@@ -222,6 +222,40 @@ TEST(Cli, ABoxFromItsTrianglesIsCutAsOnePanelPerFace) {
   EXPECT_EQ(test::read_sheet_parts(paper / "cut").size(), 6u);
 }
 
+// A house from its 16 triangles (200 x 150 mm floor, walls 120 mm high, a gable roof along the
+// 200 mm side): with a steep roof (ridge at 240 mm) its eaves fold 28 degrees, with a flat one
+// (ridge at 150 mm) its ridge folds 44, both under --quad-feature-angle (60). Those folds are
+// feature lines because planes reach far on both sides (docs/quad-meshing.md), so every face is
+// one plate: 7 parts, nothing kerfed. Before, rows of quads crossed those folds and the planes
+// beside them were cut as kerfed strips: 36 parts and 138 kerf cuts, 17 parts and 66 cuts.
+TEST(Cli, AHouseFromItsTrianglesIsCutAsOnePanelPerFace) {
+  const fs::path scratch = test::fresh_dir();
+  for (const double ridge : {240.0, 150.0}) {
+    SCOPED_TRACE(ridge);
+    const fs::path target = scratch / "house.obj";
+    {
+      std::ofstream f(target);
+      f << "v 0 0 0\nv 200 0 0\nv 200 150 0\nv 0 150 0\nv 0 0 120\nv 200 0 120\n"
+        << "v 200 150 120\nv 0 150 120\nv 0 75 " << ridge << "\nv 200 75 " << ridge << "\n";
+      // floor, front and back walls, the two roof planes, each as two triangles; the gables
+      // as three.
+      f << "f 1 4 3\nf 1 3 2\nf 1 2 6\nf 1 6 5\nf 3 4 8\nf 3 8 7\nf 5 6 10\nf 5 10 9\n"
+        << "f 7 8 9\nf 7 9 10\nf 2 3 7\nf 2 7 6\nf 6 7 10\nf 4 1 5\nf 4 5 8\nf 8 5 9\n";
+    }
+    const fs::path out = scratch / ("out" + std::to_string(static_cast<int>(ridge)));
+    const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto report = read_report(out);
+    EXPECT_EQ(report["resolve"]["parts_after"].get<int>(), 7);
+    EXPECT_EQ(report["kerf"]["cuts"].get<int>(), 0);
+    EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+    EXPECT_LT(report["quality"]["hausdorff_mm"].get<double>(), 0.01);
+    const auto audit = test::audit_sheets(out / "cut");
+    EXPECT_TRUE(audit.findings.empty()) << audit.findings.front();
+    EXPECT_EQ(test::read_sheet_parts(out / "cut").size(), 7u);
+  }
+}
+
 // Paper sizes by name; paper models go on A4 pages of true size unless told otherwise. A 120 mm
 // cube (whose quality stage once needed more than 50 million distance samples and failed) runs
 // in paper; the report says the sample spacing it used.

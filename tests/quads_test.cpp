@@ -149,6 +149,39 @@ TEST(Quads, ClosedShapesKeepTheirTopology) {
   }
 }
 
+// A fold under --quad-feature-angle (60 deg) is a feature line too where both its sides are
+// planes reaching three quad sizes across it (a house's eaves, a box's bevels): a 12-sided
+// prism (radius 50, facets 25.9 mm wide, folding 30 deg) has no feature but its two border
+// rings at 10 mm quads (its facets are narrower than 30 mm: a coarse cylinder, whose quads
+// follow the axis), and its 12 folds as well at 4 mm quads (facets wider than 12 mm: panels),
+// each then lying along quad edges.
+TEST(Quads, ShallowFoldsBetweenWidePlanesAreFeatures) {
+  const TriangleMesh prism = test::open_cylinder(50, 100, 12, 4, 1).target;
+  const double ring = 12 * 2 * 50 * std::sin(kPi / 12), folds = 12 * 100.0;
+  const QuadMeshResult coarse = mesh_of(prism, {.quad_size = 10});
+  expect_sound_quads(coarse.quads);
+  // (The remeshed border rings come out up to 2 % shorter: their corners are cut.)
+  EXPECT_GT(coarse.feature_length, 0.97 * 2 * ring);
+  EXPECT_LT(coarse.feature_length, 2 * ring + 1);
+  const QuadMeshResult fine = mesh_of(prism, {.quad_size = 4});
+  expect_sound_quads(fine.quads);
+  EXPECT_GT(fine.feature_length, 0.97 * 2 * ring + folds);
+  EXPECT_LT(fine.feature_length, 2 * ring + folds + 1);
+  EXPECT_GT(fine.feature_length_on_quads, 0.95 * fine.feature_length);
+  // Every quad corner within 0.01 mm of a facet's plane: no quad is bent round a fold.
+  for (auto f : fine.quads.faces()) {
+    const auto corners = quad_vertices(fine.quads, f);
+    Vec3 centre = Vec3::Zero();
+    for (int c : corners) centre += to_eigen(fine.quads.point(OpenMesh::VertexHandle(c))) / 4;
+    const double facet = std::round(std::atan2(centre.y(), centre.x()) / (kPi / 6) - 0.5) + 0.5;
+    const Vec3 n(std::cos(facet * kPi / 6), std::sin(facet * kPi / 6), 0);
+    for (int c : corners) {
+      const Vec3 p = to_eigen(fine.quads.point(OpenMesh::VertexHandle(c)));
+      EXPECT_LT(std::abs(p.dot(n) - 50 * std::cos(kPi / 12)), 0.01) << p.transpose();
+    }
+  }
+}
+
 // A lattice of one spacing cannot wrap a torus's inner and outer circles (40 against 80 mm
 // from the axis here) without dislocations; the global integer step (dislocations.h) pairs
 // them off, so the lattice stretches instead: every vertex regular, every edge along a

@@ -149,7 +149,8 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->check(kPositive);
   cmd.add_option("--quad-feature-angle", f.quad_feature_angle_deg,
                  "With a triangle target and no --quad: target edges folding more than this are "
-                 "sharp features the quad edges follow [deg, (0, 180)]")
+                 "sharp features the quad edges follow (shallower folds over 20 deg between "
+                 "two wide planes too) [deg, (0, 180)]")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 179.999));
   cmd.add_option("--max-quad-distance", in.max_quad_distance,

@@ -20,6 +20,7 @@ struct QuadMeshOptions {
   std::optional<int> quads;           ///< set: about this many quads [-], 20..20000
   std::optional<double> quad_size;    ///< set: quad edge length [mm], > 0 (wins over quads)
   double feature_angle = 1.05;        ///< edges folding more are sharp features [rad], (0, pi)
+                                      ///< (and shallower ones between wide planes)
   double min_cut_spacing = 0.9;       ///< the laser's closest cuts [mm] (the size rule), > 0
   double tolerance = 0.002;           ///< wanted deviation of a straight ruling from the
                                       ///< surface, fraction of the bbox diagonal [-], > 0
