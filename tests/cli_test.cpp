@@ -223,14 +223,16 @@ TEST(Cli, ABoxFromItsTrianglesIsCutAsOnePanelPerFace) {
 }
 
 // A house from its 16 triangles (200 x 150 mm floor, walls 120 mm high, a gable roof along the
-// 200 mm side): with a steep roof (ridge at 240 mm) its eaves fold 28 degrees, with a flat one
-// (ridge at 150 mm) its ridge folds 44, both under --quad-feature-angle (60). Those folds are
-// feature lines because planes reach far on both sides (docs/quad-meshing.md), so every face is
-// one plate: 7 parts, nothing kerfed. Before, rows of quads crossed those folds and the planes
-// beside them were cut as kerfed strips: 36 parts and 138 kerf cuts, 17 parts and 66 cuts.
+// 200 mm side): with a steep roof (ridge at 240 mm) its eaves fold 28 degrees, at 190 mm 47,
+// with a flat roof (ridge at 150 mm) its ridge folds 44, all under --quad-feature-angle (60).
+// Those folds are feature lines because planes reach far on both sides (docs/quad-meshing.md),
+// so every face is one plate: 7 parts, nothing kerfed. Before, rows of quads crossed those
+// folds and the planes beside them were cut as kerfed strips: 36 parts and 138 kerf cuts, 33
+// and 339, 17 and 66; at 190 mm, until a corner could stop just short of a feature line, two
+// roof quads beside the gable stayed folded 2.4 mm: 9 parts, 12 kerf cuts.
 TEST(Cli, AHouseFromItsTrianglesIsCutAsOnePanelPerFace) {
   const fs::path scratch = test::fresh_dir();
-  for (const double ridge : {240.0, 150.0}) {
+  for (const double ridge : {240.0, 190.0, 150.0}) {
     SCOPED_TRACE(ridge);
     const fs::path target = scratch / "house.obj";
     {

@@ -388,6 +388,12 @@ class FeatureLines {
 /// at 0.3, 87.7 % at 0.2). Its critical regions of the first build: 66 -> 36, its largest
 /// flattening angle error 56 -> 19.6 degrees.
 constexpr double kFeatureSnap = 0.3;
+/// How far short of a feature line a corner stops where on it one of its quads would be flat
+/// [mm] (the plate step takes quads within 0.05 mm of a plane, resolve.cpp).
+constexpr double kSnapShort = 0.01;
+/// A quad corner whose sides' cross product is under this share of the squared quad size is
+/// flat [-].
+constexpr double kFlatCorner = 1e-6;
 
 /// Quad corners \p p of one face: convex, none under \p min_corner [rad], and facing the way
 /// \p normal does.
@@ -439,11 +445,22 @@ int snap_to_features(PolyMesh& q, const FeatureTriangleMesh& features, double si
                         {sum_of(corner_normals(quad_points(q, f))),
                          *std::min_element(angles.begin(), angles.end())}});
     }
-    const Vec3& to = near[i].point;
-    q.set_point(v, {to.x(), to.y(), to.z()});
-    bool ok = true;
-    for (const auto& [f, was] : before)
-      ok = ok && sound_quad(quad_points(q, f), std::min(min_corner, was.second), was.first);
+    // Onto the line, or else just short of it: where another quad round the corner has two
+    // more corners on the line, the corner on it would leave that quad flat (a house's gable
+    // where it meets the roof line at the eave: two roof quads stayed folded 2.4 mm and were
+    // cut as kerfed parts beside the roof's plate).
+    const Vec3 at = to_eigen(from), on = near[i].point;
+    bool ok = false;
+    for (const Vec3& to : {on, Vec3(on + kSnapShort * (at - on).normalized())}) {
+      q.set_point(v, to_openmesh(to));
+      ok = true;
+      for (const auto& [f, was] : before) {
+        const auto p = quad_points(q, f);
+        ok = ok && sound_quad(p, std::min(min_corner, was.second), was.first);
+        for (const Vec3& n : corner_normals(p)) ok = ok && n.norm() >= kFlatCorner * size * size;
+      }
+      if (ok) break;
+    }
     if (ok) {
       ++moved;
     } else {
@@ -513,7 +530,8 @@ bool sound_face(const PolyMesh& q, OpenMesh::FaceHandle f, const TargetSurface& 
   const auto corner_n = corner_normals(p);
   const Vec3 quad_n = sum_of(corner_n);
   for (int c = 0; c < 4; ++c)  // convex, no flat corner
-    if (!(corner_n[c].norm() >= 1e-6 * size * size && corner_n[c].dot(quad_n) > 0)) return false;
+    if (!(corner_n[c].norm() >= kFlatCorner * size * size && corner_n[c].dot(quad_n) > 0))
+      return false;
   // Not inside out: the target's normal at one of the corners (they lie on the target)
   // agrees (near thin parts the centre's nearest facet may be the other side's).
   if (quad_n.normalized().dot(target.closest(0.25 * (p[0] + p[1] + p[2] + p[3])).normal) > 0)
