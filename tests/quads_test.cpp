@@ -182,6 +182,46 @@ TEST(Quads, ShallowFoldsBetweenWidePlanesAreFeatures) {
   }
 }
 
+/// A 200 mm cube with its four vertical edges chamfered by \p c [mm] (an octagonal prism, the
+/// chamfers folding 45 degrees from the sides), as triangles.
+TriangleMesh chamfered_cube(double c) {
+  const double s = 200;
+  const std::vector<std::array<double, 2>> ring = {{c, 0},     {s - c, 0}, {s, c},     {s, s - c},
+                                                   {s - c, s}, {c, s},     {0, s - c}, {0, c}};
+  TriangleMesh m;
+  for (double z : {0.0, s})
+    for (const auto& [x, y] : ring) m.vertices.push_back({x, y, z});
+  m.vertices.push_back({s / 2, s / 2, 0});
+  m.vertices.push_back({s / 2, s / 2, s});
+  const int n = 8, bottom = 2 * n, top = 2 * n + 1;
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    m.triangles.push_back({i, j, j + n});
+    m.triangles.push_back({i, j + n, i + n});
+    m.triangles.push_back({bottom, j, i});
+    m.triangles.push_back({top, i + n, j + n});
+  }
+  return m;
+}
+
+// A chamfer is a plane too where it is a quad wide and folds close it all round: a 200 mm cube
+// with 20 mm chamfers (28.3 mm wide, folding 45 deg from the sides) at 18 mm quads has its 8
+// chamfer folds as feature lines beside the rims (3106 mm in all, each face then a plate); with
+// 10 mm chamfers (14.1 mm wide, under a quad) only the rims (1553 mm).
+TEST(Quads, ChamfersAQuadWideAreFeatures) {
+  const double rims20 = 2 * (4 * 160 + 4 * 20 * std::sqrt(2.0));
+  const double rims10 = 2 * (4 * 180 + 4 * 10 * std::sqrt(2.0));
+  const QuadMeshResult wide = mesh_of(chamfered_cube(20), {.quad_size = 18});
+  expect_sound_quads(wide.quads);
+  EXPECT_NEAR(wide.feature_length, rims20 + 8 * 200, 0.01 * (rims20 + 8 * 200));
+  EXPECT_GT(wide.feature_length_on_quads, 0.95 * wide.feature_length);
+  const QuadMeshResult narrow = mesh_of(chamfered_cube(10), {.quad_size = 18});
+  expect_sound_quads(narrow.quads);
+  // (The remeshed rims come out up to 2 % shorter: their corners are cut.)
+  EXPECT_GT(narrow.feature_length, 0.97 * rims10);
+  EXPECT_LT(narrow.feature_length, rims10 + 1);
+}
+
 // A lattice of one spacing cannot wrap a torus's inner and outer circles (40 against 80 mm
 // from the axis here) without dislocations; the global integer step (dislocations.h) pairs
 // them off, so the lattice stretches instead: every vertex regular, every edge along a

@@ -116,37 +116,58 @@ constexpr double kCreaseAngle = 20 * kPi / 180;
 constexpr double kCreaseFlatness = 0.25;
 /// ... in quad sizes [-] ...
 constexpr double kCreaseReach = 3.0;
+/// ... or, on one side, a plane this many quad sizes across that folds over kCreaseAngle close
+/// all round (a chamfer: a 200 mm cube's 28 mm chamfers at 23.9 mm quads, 39 -> 10 parts;
+/// fandisk's sharp lines fade into shallow folds beside planes a quad wide that curve away
+/// beyond, and with those its run came out no more buildable) [-] ...
+constexpr double kCreaseNearReach = 1.0;
 /// ... and the lines they make count where this many quad sizes long [-]. The sheets of the
 /// twelve shared triangle meshes at 250 mm come out byte-identical with and without them.
 constexpr double kCreaseLine = 3.0;
 
 /// Edges folding more than kCreaseAngle but at most \p angle [rad] between two flat sides
-/// (kCreaseFlatness), both reaching \p reach [mm] across the edge.
-std::vector<std::array<int, 2>> shallow_creases(const Folds& folds, double angle, double reach) {
+/// (kCreaseFlatness), each a plane reaching kCreaseReach quad sizes \p size [mm] across the edge
+/// or, on one side, a narrower plane (at least kCreaseNearReach across) closed all round by
+/// such folds or sharper ones (a chamfer).
+std::vector<std::array<int, 2>> shallow_creases(const Folds& folds, double angle, double size) {
   using Edge = Folds::Edge;
   const TriangleMesh& mesh = folds.mesh;
   const auto normal = [&](int t) { return folds.normal(t); };
   const auto edge_of = [&](int t, int k) { return folds.edge_of(t, k); };
+  struct Side {
+    bool wide = false;    // reaches kCreaseReach quad sizes across
+    bool closed = false;  // else reaches kCreaseNearReach and is closed by folds
+  };
   // The triangles joined to \p start facing within \p flat of it (a plane, not just a smooth
-  // surface) reach \p reach from the line of \p crease, across it (a bounded search: it stops
-  // there).
-  const auto reaches = [&](int start, const Edge& crease, double flat) {
+  // surface), how far they reach from the line of \p crease, across it, and whether every edge
+  // round them folds more than kCreaseAngle (a bounded search: it stops once wide).
+  const auto side = [&](int start, const Edge& crease, double flat) {
     const Vec3 a = mesh.vertices[crease.first];
     const Vec3 along = (mesh.vertices[crease.second] - a).normalized();
     std::vector<int> queue{start};
     std::set<int> seen{start};
-    for (std::size_t i = 0; i < queue.size() && i < 4096; ++i) {
+    double reach = 0;
+    bool closed = true;
+    for (std::size_t i = 0; i < queue.size(); ++i) {
+      if (i == 4096) return Side{};
       const int t = queue[i];
       for (int k = 0; k < 3; ++k) {
-        if ((mesh.vertices[mesh.triangles[t][k]] - a).cross(along).norm() >= reach) return true;
+        reach = std::max(reach, (mesh.vertices[mesh.triangles[t][k]] - a).cross(along).norm());
+        if (reach >= kCreaseReach * size) return Side{true, false};
         const Edge e = edge_of(t, k);
         if (e == crease) continue;
-        for (int n : folds.faces_of.at(e))
-          if (angle_between(normal(n), normal(start)) < flat && seen.insert(n).second)
+        for (int n : folds.faces_of.at(e)) {
+          if (n == t || seen.count(n)) continue;
+          if (angle_between(normal(n), normal(start)) < flat) {
+            seen.insert(n);
             queue.push_back(n);
+          } else if (!(folds.fold.at(e) > kCreaseAngle)) {
+            closed = false;
+          }
+        }
       }
     }
-    return false;
+    return Side{false, closed && reach >= kCreaseNearReach * size};
   };
   std::vector<std::array<int, 2>> out;
   for (const auto& [edge, faces] : folds.faces_of) {
@@ -159,8 +180,10 @@ std::vector<std::array<int, 2>> shallow_creases(const Folds& folds, double angle
         flat_sides = flat_sides && (edge_of(t, k) == edge || there < kCreaseFlatness * here ||
                                     there > kCreaseAngle);
       }
-    if (flat_sides && reaches(faces[0], edge, kCreaseFlatness * here) &&
-        reaches(faces[1], edge, kCreaseFlatness * here))
+    if (!flat_sides) continue;
+    const Side one = side(faces[0], edge, kCreaseFlatness * here),
+               two = side(faces[1], edge, kCreaseFlatness * here);
+    if ((one.wide && (two.wide || two.closed)) || (two.wide && one.closed))
       out.push_back({edge.first, edge.second});
   }
   return out;
@@ -608,8 +631,7 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
   const Folds folds(mesh);
   std::vector<std::array<int, 2>> features = sharp_edges(folds, o.feature_angle);
   for (const auto& e : drop_short_features(
-           mesh, shallow_creases(folds, o.feature_angle, kCreaseReach * r.size.size),
-           kCreaseLine * r.size.size))
+           mesh, shallow_creases(folds, o.feature_angle, r.size.size), kCreaseLine * r.size.size))
     features.push_back(e);
   const FeatureTriangleMesh input{
       mesh, drop_short_features(mesh, std::move(features), 0.5 * r.size.size)};
