@@ -923,6 +923,7 @@ class Resolver {
       kept = std::move(plates);
     } else if (plates.size() > 1) {
       for (std::set<int>& group : plates) {
+        if (out_of_time()) break;  // a rebuild each: a model of many faces could take minutes
         Added one = accepted_;
         add_facet({group.begin(), group.end()}, one, nullptr);
         std::optional<PartsBuild> b = try_build(one);
