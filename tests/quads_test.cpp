@@ -153,7 +153,7 @@ TEST(Quads, ClosedShapesKeepTheirTopology) {
 // planes reaching three quad sizes across it (a house's eaves, a box's bevels): a 12-sided
 // prism (radius 50, facets 25.9 mm wide, folding 30 deg) has no feature but its two border
 // rings at 10 mm quads (its facets are narrower than 30 mm: a coarse cylinder, whose quads
-// follow the axis), and its 12 folds as well at 4 mm quads (facets wider than 12 mm: panels),
+// follow the axis), and its 12 folds as well at 6 mm quads (facets wider than 18 mm: panels),
 // each then lying along quad edges.
 TEST(Quads, ShallowFoldsBetweenWidePlanesAreFeatures) {
   const TriangleMesh prism = test::open_cylinder(50, 100, 12, 4, 1).target;
@@ -163,7 +163,7 @@ TEST(Quads, ShallowFoldsBetweenWidePlanesAreFeatures) {
   // (The remeshed border rings come out up to 2 % shorter: their corners are cut.)
   EXPECT_GT(coarse.feature_length, 0.97 * 2 * ring);
   EXPECT_LT(coarse.feature_length, 2 * ring + 1);
-  const QuadMeshResult fine = mesh_of(prism, {.quad_size = 4});
+  const QuadMeshResult fine = mesh_of(prism, {.quad_size = 6});
   expect_sound_quads(fine.quads);
   EXPECT_GT(fine.feature_length, 0.97 * 2 * ring + folds);
   EXPECT_LT(fine.feature_length, 2 * ring + folds + 1);
