@@ -154,6 +154,23 @@ void expect_inside_margins(const test::SheetPart& part, double w, double h) {
   }
 }
 
+/// The run in \p out made each of a flat-faced model's \p faces one plate: that many parts, no
+/// kerf cut, \p borders borders all box-jointed, the plates on the faces (Hausdorff under
+/// 0.01 mm), the sheets clean. Returns the parts read back from the sheets.
+std::vector<test::SheetPart> expect_one_plate_per_face(const fs::path& out, int faces,
+                                                       std::size_t borders) {
+  const auto report = read_report(out);
+  EXPECT_EQ(report["resolve"]["parts_after"].get<int>(), faces);
+  EXPECT_EQ(report["kerf"]["cuts"].get<int>(), 0);
+  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+  EXPECT_EQ(report["joints"]["borders"].size(), borders);
+  for (const auto& b : report["joints"]["borders"]) EXPECT_EQ(b["joint"], "box") << b;
+  EXPECT_LT(report["quality"]["hausdorff_mm"].get<double>(), 0.01);
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_TRUE(audit.findings.empty()) << audit.findings.front();
+  return test::read_sheet_parts(out / "cut");
+}
+
 // A box, the simplest thing a maker models, from its triangles (each face 2 x 2 squares, cut
 // in two, as an exporter writes it): kerfab meshed it in 8 x 8 quads a face and cut 48 strips,
 // each a row of flat quads joined to the next by dovetail tabs along its whole 200 mm, where a
@@ -183,16 +200,7 @@ TEST(Cli, ABoxFromItsTrianglesIsCutAsOnePanelPerFace) {
   const fs::path out = scratch / "out";
   const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto report = read_report(out);
-  EXPECT_EQ(report["resolve"]["parts_after"].get<int>(), 6);
-  EXPECT_EQ(report["kerf"]["cuts"].get<int>(), 0);
-  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
-  EXPECT_EQ(report["joints"]["borders"].size(), 12u);
-  for (const auto& b : report["joints"]["borders"]) EXPECT_EQ(b["joint"], "box") << b;
-  EXPECT_LT(report["quality"]["hausdorff_mm"].get<double>(), 0.01);
-  const auto audit = test::audit_sheets(out / "cut");
-  EXPECT_TRUE(audit.findings.empty()) << audit.findings.front();
-  const auto parts = test::read_sheet_parts(out / "cut");
+  const auto parts = expect_one_plate_per_face(out, 6, 12);
   ASSERT_EQ(parts.size(), 6u);
   // The laser path runs half the kerf (0.15 mm) outside the part: up to 0.075 mm times its
   // length more.
@@ -249,21 +257,12 @@ TEST(Cli, AHouseFromItsTrianglesIsCutAsOnePanelPerFace) {
     const fs::path out = scratch / ("out" + std::to_string(static_cast<int>(ridge)));
     const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    const auto report = read_report(out);
-    EXPECT_EQ(report["resolve"]["parts_after"].get<int>(), 7);
-    EXPECT_EQ(report["kerf"]["cuts"].get<int>(), 0);
-    EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
-    EXPECT_EQ(report["joints"]["borders"].size(), 15u);
-    for (const auto& b : report["joints"]["borders"]) EXPECT_EQ(b["joint"], "box") << b;
-    EXPECT_LT(report["quality"]["hausdorff_mm"].get<double>(), 0.01);
-    const auto audit = test::audit_sheets(out / "cut");
-    EXPECT_TRUE(audit.findings.empty()) << audit.findings.front();
-    EXPECT_EQ(test::read_sheet_parts(out / "cut").size(), 7u);
+    EXPECT_EQ(expect_one_plate_per_face(out, 7, 15).size(), 7u);
   }
   // At 150 mm the quads cross the folds at two corners of the house, and all seven plates at
   // once leave one defect more (a critical region or a part too small), so none was kept (58
   // parts); now they are tried one by one where that happens, each kept where it adds none.
-  const fs::path small = scratch / "out150";
+  const fs::path small = scratch / "size150";
   const CliRun r150 =
       run_cli("run --target " + (fs::path(KERFAB_EXAMPLE_DIR) / "house" / "house.obj").string() +
                   " --size 150 --out " + small.string(),

@@ -908,8 +908,8 @@ class Resolver {
     // (a house at 150 mm: all seven gave a defect more and none was kept, so 58 parts).
     const auto try_build = [&](const Added& state) -> std::optional<PartsBuild> {
       try {
-        ++out_.rounds;
         std::optional<PartsBuild> b = rebuild(state);
+        ++out_.rounds;
         if (defects(*b) > defects(build_)) return std::nullopt;
         return b;
       } catch (const InvalidInput&) {  // the strips refuse the mix (a user's merge across one)

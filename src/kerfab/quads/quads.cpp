@@ -132,8 +132,6 @@ constexpr double kCreaseLine = 3.0;
 std::vector<std::array<int, 2>> shallow_creases(const Folds& folds, double angle, double size) {
   using Edge = Folds::Edge;
   const TriangleMesh& mesh = folds.mesh;
-  const auto normal = [&](int t) { return folds.normal(t); };
-  const auto edge_of = [&](int t, int k) { return folds.edge_of(t, k); };
   struct Side {
     bool wide = false;    // reaches kCreaseReach quad sizes across
     bool closed = false;  // else reaches kCreaseNearReach and is closed by folds
@@ -144,6 +142,7 @@ std::vector<std::array<int, 2>> shallow_creases(const Folds& folds, double angle
   const auto side = [&](int start, const Edge& crease, double flat) {
     const Vec3 a = mesh.vertices[crease.first];
     const Vec3 along = (mesh.vertices[crease.second] - a).normalized();
+    const Vec3 facing = folds.normal(start);
     std::vector<int> queue{start};
     std::set<int> seen{start};
     double reach = 0;
@@ -154,11 +153,11 @@ std::vector<std::array<int, 2>> shallow_creases(const Folds& folds, double angle
       for (int k = 0; k < 3; ++k) {
         reach = std::max(reach, (mesh.vertices[mesh.triangles[t][k]] - a).cross(along).norm());
         if (reach >= kCreaseReach * size) return Side{true, false};
-        const Edge e = edge_of(t, k);
+        const Edge e = folds.edge_of(t, k);
         if (e == crease) continue;
         for (int n : folds.faces_of.at(e)) {
           if (n == t || seen.count(n)) continue;
-          if (angle_between(normal(n), normal(start)) < flat) {
+          if (angle_between(folds.normal(n), facing) < flat) {
             seen.insert(n);
             queue.push_back(n);
           } else if (!(folds.fold.at(e) > kCreaseAngle)) {
@@ -176,9 +175,10 @@ std::vector<std::array<int, 2>> shallow_creases(const Folds& folds, double angle
     bool flat_sides = true;
     for (int t : faces)
       for (int k = 0; k < 3; ++k) {
-        const double there = folds.fold.at(edge_of(t, k));
-        flat_sides = flat_sides && (edge_of(t, k) == edge || there < kCreaseFlatness * here ||
-                                    there > kCreaseAngle);
+        const Edge other = folds.edge_of(t, k);
+        const double there = folds.fold.at(other);
+        flat_sides =
+            flat_sides && (other == edge || there < kCreaseFlatness * here || there > kCreaseAngle);
       }
     if (!flat_sides) continue;
     const Side one = side(faces[0], edge, kCreaseFlatness * here),
@@ -418,14 +418,14 @@ constexpr double kSnapShort = 0.01;
 /// flat [-].
 constexpr double kFlatCorner = 1e-6;
 
-/// Quad corners \p p of one face: convex, none under \p min_corner [rad], and facing the way
-/// \p normal does.
-bool sound_quad(const std::array<Vec3, 4>& p, double min_corner, const Vec3& normal) {
+/// Quad corners \p p of one face (quads of about \p size [mm]): convex, none flat
+/// (kFlatCorner) or under \p min_corner [rad], and facing the way \p normal does.
+bool sound_quad(const std::array<Vec3, 4>& p, double size, double min_corner, const Vec3& normal) {
   const auto n = corner_normals(p);
   const Vec3 sum = sum_of(n);
   if (!(sum.dot(normal) > 0)) return false;
   for (int c = 0; c < 4; ++c)
-    if (!(n[c].dot(sum) > 0) ||
+    if (!(n[c].dot(sum) > 0) || !(n[c].norm() >= kFlatCorner * size * size) ||
         angle_between(p[(c + 1) % 4] - p[c], p[(c + 3) % 4] - p[c]) < min_corner)
       return false;
   return true;
@@ -477,11 +477,8 @@ int snap_to_features(PolyMesh& q, const FeatureTriangleMesh& features, double si
     for (const Vec3& to : {on, Vec3(on + kSnapShort * (at - on).normalized())}) {
       q.set_point(v, to_openmesh(to));
       ok = true;
-      for (const auto& [f, was] : before) {
-        const auto p = quad_points(q, f);
-        ok = ok && sound_quad(p, std::min(min_corner, was.second), was.first);
-        for (const Vec3& n : corner_normals(p)) ok = ok && n.norm() >= kFlatCorner * size * size;
-      }
+      for (const auto& [f, was] : before)
+        ok = ok && sound_quad(quad_points(q, f), size, std::min(min_corner, was.second), was.first);
       if (ok) break;
     }
     if (ok) {
