@@ -18,6 +18,7 @@
 #include <tuple>
 
 #include "cli_util.h"
+#include "kerfab/adapters/target_surface.h"
 #include "kerfab/io/mesh_io.h"
 #include "kerfab/pipeline/notes.h"
 #include "kerfab/pipeline/stages.h"
@@ -880,7 +881,12 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
   EXPECT_TRUE(strip_property);
   EXPECT_EQ(nv, st["vertices"].get<long>());
   ASSERT_EQ(nf, st["sub_quads"].get<long>());
-  for (long i = 0; i < nv; ++i) std::getline(ply, line);
+  TriangleMesh strip_mesh;
+  for (long i = 0; i < nv; ++i) {
+    Vec3 p;
+    ply >> p.x() >> p.y() >> p.z();
+    strip_mesh.vertices.push_back(p);
+  }
   std::vector<int> faces_per_strip(strips, 0);
   for (long i = 0; i < nf; ++i) {
     int n = 0, v[4], strip = -1, rgb[3];
@@ -889,7 +895,29 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     ASSERT_GE(strip, 0);
     ASSERT_LT(strip, strips);
     ++faces_per_strip[strip];
-    for (int k = 0; k < 4; ++k) EXPECT_LT(v[k], nv);
+    for (int k = 0; k < 4; ++k) ASSERT_LT(v[k], nv);
+    strip_mesh.triangles.push_back({v[0], v[1], v[2]});
+    strip_mesh.triangles.push_back({v[0], v[2], v[3]});
+  }
+  // Where the distances are largest, read back from the written meshes: the point the report
+  // names on each surface lies on it, at the distance it states from the other (to 0.1 um: the
+  // strip mesh is written to ten significant digits).
+  {
+    constexpr double kWritten = 1e-4;
+    const TargetSurface strips_surface(without_degenerate(strip_mesh));
+    const TargetSurface target(triangulate(read_mesh(out / "model" / "target.obj")));
+    const auto at = [&](const char* key) {
+      const auto& p = q[key];
+      return Vec3(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+    };
+    const Vec3 on_strips = at("strips_to_target_max_at_mm"),
+               on_target = at("target_to_strips_max_at_mm");
+    EXPECT_LT(strips_surface.closest(on_strips).distance, kWritten);
+    EXPECT_NEAR(target.closest(on_strips).distance, q["strips_to_target_max_mm"].get<double>(),
+                kWritten);
+    EXPECT_LT(target.closest(on_target).distance, kWritten);
+    EXPECT_NEAR(strips_surface.closest(on_target).distance,
+                q["target_to_strips_max_mm"].get<double>(), kWritten);
   }
   for (int p = 0; p < strips; ++p) {
     char name[32];

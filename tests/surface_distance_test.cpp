@@ -63,6 +63,15 @@ TEST(SurfaceDistance, TheTrueHausdorffLiesWithinTheStatedBound) {
     EXPECT_GE(d.hausdorff_upper_bound(), 40 - 1e-9) << spacing;
     EXPECT_GE(d.hausdorff, 40 - 0.25 * spacing) << spacing;
     EXPECT_LE(d.hausdorff_gap, 0.25 * spacing + 1e-9) << spacing;
+    // The point named is on the strip, as far from the squares as stated: x = 50 within a
+    // quarter of the spacing, where the distance is min(x - 10, 90 - x).
+    const Vec3 at = d.a_to_b_at;
+    EXPECT_TRUE(d.hausdorff_on_a) << spacing;
+    EXPECT_NEAR(at.z(), 0, 1e-12) << spacing;
+    EXPECT_GE(at.y(), -1e-12) << spacing;
+    EXPECT_LE(at.y(), 10 + 1e-12) << spacing;
+    EXPECT_NEAR(std::min(at.x() - 10, 90 - at.x()), d.a_to_b_max, 1e-9) << spacing;
+    EXPECT_NEAR(at.x(), 50, 0.25 * spacing + 1e-9) << spacing;
   }
 }
 
@@ -120,6 +129,10 @@ TEST(SurfaceDistance, OneSidedDistancesDifferForASmallerPatch) {
   EXPECT_NEAR(d.b_to_a_max, 0, 1e-9);
   EXPECT_NEAR(d.a_to_b_max, 50 * std::sqrt(2.0), 1e-9);
   EXPECT_NEAR(d.hausdorff, 50 * std::sqrt(2.0), 1e-9);
+  // Where: A's far corner, the only point that far.
+  EXPECT_TRUE(d.hausdorff_on_a);
+  EXPECT_NEAR((d.a_to_b_at - Vec3(100, 100, 0)).norm(), 0, 1e-9);
+  EXPECT_NEAR((d.hausdorff_at() - Vec3(100, 100, 0)).norm(), 0, 1e-9);
   // Mean over A of the distance to the quarter: (1/4)*0 + 2*(1/4)*25 + (1/4)*E|corner dist|,
   // E of |(x, y)| over [0,50]^2 = 50 * 0.7652 (mean distance from a square's corner).
   const double corner_mean = 50 * (std::sqrt(2.0) + std::asinh(1.0)) / 3;

@@ -213,8 +213,9 @@ double upper_bound(const Cell& c, const Vec3& m, double dm, int tm, const Triang
 }
 
 struct Max {
-  double max = 0;  ///< the largest distance found at a point [mm]
-  double gap = 0;  ///< the true maximum is at most max + gap [mm]
+  double max = 0;    ///< the largest distance found at a point [mm]
+  Vec3 at{0, 0, 0};  ///< that point (the first found, in a fixed order) [mm]
+  double gap = 0;    ///< the true maximum is at most max + gap [mm]
   long samples = 0;
 };
 
@@ -238,8 +239,16 @@ Max max_distance(const TriangleMesh& from, const TargetSurface& to, double toler
     at_vertex[v] = sp.distance;
     near_vertex[v] = sp.triangle;
   });
+  // A larger distance than the largest so far moves the point there (in index order, so the
+  // point does not depend on the threads' timing).
+  auto found = [&](double d, const Vec3& p) {
+    if (d > out.max || out.samples == 0) {
+      out.max = std::max(out.max, d);
+      out.at = p;
+    }
+  };
   for (std::size_t v = 0; v < used.size(); ++v)
-    if (used[v]) out.max = std::max(out.max, at_vertex[v]), ++out.samples;
+    if (used[v]) found(at_vertex[v], from.vertices[v]), ++out.samples;
   // Each cell's bound needs its centroid's distance: computed in batches, in parallel.
   auto bound_all = [&](std::vector<Cell>& cells) {
     std::vector<double> centroid(cells.size());
@@ -250,7 +259,8 @@ Max max_distance(const TriangleMesh& from, const TargetSurface& to, double toler
       centroid[i] = sp.distance;
       c.upper = upper_bound(c, m, sp.distance, sp.triangle, other);
     });
-    for (double d : centroid) out.max = std::max(out.max, d);
+    for (std::size_t i = 0; i < cells.size(); ++i)
+      found(centroid[i], (cells[i].p[0] + cells[i].p[1] + cells[i].p[2]) / 3.0);
     out.samples += static_cast<long>(cells.size());
   };
   std::vector<Cell> first;
@@ -297,7 +307,7 @@ Max max_distance(const TriangleMesh& from, const TargetSurface& to, double toler
         m[k] = 0.5 * (c.p[k] + c.p[(k + 1) % 3]);
         md[k] = mid[i][k].distance;
         mt[k] = mid[i][k].triangle;
-        out.max = std::max(out.max, md[k]);
+        found(md[k], m[k]);
       }
       children.push_back({{c.p[0], m[0], m[2]}, {c.d[0], md[0], md[2]}, {c.near[0], mt[0], mt[2]}});
       children.push_back({{m[0], c.p[1], m[1]}, {md[0], c.d[1], md[1]}, {mt[0], c.near[1], mt[1]}});
@@ -366,10 +376,13 @@ SurfaceDistance surface_distance(const TriangleMesh& a_in, const TriangleMesh& b
   const Mean ba_coarse = mean_distance(b, sa, 2 * spacing);
   SurfaceDistance d;
   d.a_to_b_max = ab.max;
+  d.a_to_b_at = ab.at;
+  d.b_to_a_at = ba.at;
   d.a_to_b_mean = ab_mean.value();
   d.b_to_a_max = ba.max;
   d.b_to_a_mean = ba_mean.value();
   d.hausdorff = std::max(d.a_to_b_max, d.b_to_a_max);
+  d.hausdorff_on_a = d.a_to_b_max >= d.b_to_a_max;
   d.hausdorff_gap = std::max(ab.max + ab.gap, ba.max + ba.gap) - d.hausdorff;
   d.mean = 0.5 * (d.a_to_b_mean + d.b_to_a_mean);
   d.mean_error_estimate = std::abs(d.mean - 0.5 * (ab_coarse.value() + ba_coarse.value()));

@@ -17,10 +17,16 @@ struct SurfaceDistance {
   double a_to_b_mean = 0;  ///< area-weighted mean of dist(x, B) over A [mm]
   double b_to_a_max = 0;
   double b_to_a_mean = 0;
-  double hausdorff = 0;  ///< max of the two maxima [mm]
-  double mean = 0;       ///< mean of the two means (symmetric mean distance) [mm]
-  long samples = 0;      ///< distance queries made
-  double spacing = 0;    ///< the means' sample spacing [mm] (the requested one unless widened)
+  Vec3 a_to_b_at{0, 0, 0};  ///< the point of A at distance a_to_b_max from B [mm]
+  Vec3 b_to_a_at{0, 0, 0};  ///< the point of B at distance b_to_a_max from A [mm]
+  double hausdorff = 0;     ///< max of the two maxima [mm]
+  /// Where the Hausdorff distance is reached: a_to_b_at or b_to_a_at, whichever is farther
+  /// (A's where they tie).
+  bool hausdorff_on_a = true;
+  const Vec3& hausdorff_at() const { return hausdorff_on_a ? a_to_b_at : b_to_a_at; }
+  double mean = 0;     ///< mean of the two means (symmetric mean distance) [mm]
+  long samples = 0;    ///< distance queries made
+  double spacing = 0;  ///< the means' sample spacing [mm] (the requested one unless widened)
   /// The true Hausdorff distance lies in [hausdorff, hausdorff + hausdorff_gap]: the maxima
   /// are found by branch and bound until no triangle can hold a distance more than a quarter
   /// of the spacing above the largest one found (the distance to a surface moves by at most

@@ -511,6 +511,8 @@ json quality_section(const SurfaceDistance& q, double diagonal) {
           {"strips_to_target_mean_mm", q.a_to_b_mean},
           {"target_to_strips_max_mm", q.b_to_a_max},
           {"target_to_strips_mean_mm", q.b_to_a_mean},
+          {"strips_to_target_max_at_mm", {q.a_to_b_at.x(), q.a_to_b_at.y(), q.a_to_b_at.z()}},
+          {"target_to_strips_max_at_mm", {q.b_to_a_at.x(), q.b_to_a_at.y(), q.b_to_a_at.z()}},
           {"target_diagonal_mm", diagonal},
           {"sample_spacing_mm", q.spacing},
           {"hausdorff_upper_bound_mm", q.hausdorff_upper_bound()},

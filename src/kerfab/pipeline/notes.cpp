@@ -515,8 +515,14 @@ StageNotes notes(const SurfaceDistance& q, double diagonal) {
   StageNotes n;
   Line os;
   os << "strips vs target: Hausdorff " << q.hausdorff << " mm (" << 100 * q.hausdorff / diagonal
-     << "% of diagonal), mean " << q.mean << " mm (" << 100 * q.mean / diagonal << "%), "
-     << q.samples << " distance queries (true Hausdorff at most " << q.hausdorff_upper_bound()
+     << "% of diagonal)";
+  if (q.hausdorff > 0) {  // where: the point of the surface farthest from the other
+    const Vec3& at = q.hausdorff_at();
+    os << " at (" << at.x() << ", " << at.y() << ", " << at.z() << ") mm on the "
+       << (q.hausdorff_on_a ? "strips (model/strips.ply)" : "target (model/target.obj)");
+  }
+  os << ", mean " << q.mean << " mm (" << 100 * q.mean / diagonal << "%), " << q.samples
+     << " distance queries (true Hausdorff at most " << q.hausdorff_upper_bound()
      << " mm; mean from samples " << q.spacing << " mm apart, off by about "
      << q.mean_error_estimate << " mm)";
   n.lines.push_back(os.str());
