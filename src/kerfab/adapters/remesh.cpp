@@ -26,7 +26,8 @@ FeatureTriangleMesh isotropic_remesh(const FeatureTriangleMesh& input, double ed
   SurfaceMesh sm;
   std::vector<VertexIndex> vh;
   vh.reserve(input.mesh.vertices.size());
-  for (const Vec3& p : input.mesh.vertices) vh.push_back(sm.add_vertex(Point3(p.x(), p.y(), p.z())));
+  for (const Vec3& p : input.mesh.vertices)
+    vh.push_back(sm.add_vertex(Point3(p.x(), p.y(), p.z())));
   for (std::size_t t = 0; t < input.mesh.triangles.size(); ++t) {
     const auto& tri = input.mesh.triangles[t];
     if (sm.add_face(vh[tri[0]], vh[tri[1]], vh[tri[2]]) == SurfaceMesh::null_face())
@@ -47,6 +48,9 @@ FeatureTriangleMesh isotropic_remesh(const FeatureTriangleMesh& input, double ed
     for (auto h : sm.halfedges_around_target(sm.halfedge(v))) n += constrained[sm.edge(h)] ? 1 : 0;
     corner[v] = n != 0 && n != 2;
   }
+  auto given = sm.add_property_map<VertexIndex, bool>("v:kerfab_given_corner", false).first;
+  for (int v : input.corners)
+    if (v >= 0 && v < static_cast<int>(vh.size())) corner[vh[v]] = given[vh[v]] = true;
   PMP::isotropic_remeshing(sm.faces(), edge_length, sm,
                            PMP::parameters::number_of_iterations(iterations)
                                .edge_is_constrained_map(constrained)
@@ -61,6 +65,7 @@ FeatureTriangleMesh isotropic_remesh(const FeatureTriangleMesh& input, double ed
     id[v] = static_cast<int>(out.mesh.vertices.size());
     const Point3& p = sm.point(v);
     out.mesh.vertices.emplace_back(p.x(), p.y(), p.z());
+    if (given[v]) out.corners.push_back(id[v]);
   }
   for (auto f : sm.faces()) {
     std::array<int, 3> tri{};
@@ -69,8 +74,7 @@ FeatureTriangleMesh isotropic_remesh(const FeatureTriangleMesh& input, double ed
     out.mesh.triangles.push_back(tri);
   }
   for (EdgeIndex e : sm.edges())
-    if (constrained[e])
-      out.features.push_back({id[sm.vertex(e, 0)], id[sm.vertex(e, 1)]});
+    if (constrained[e]) out.features.push_back({id[sm.vertex(e, 0)], id[sm.vertex(e, 1)]});
   return out;
 }
 

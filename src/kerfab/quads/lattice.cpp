@@ -64,6 +64,8 @@ class Extractor {
       nb.erase(std::unique(nb.begin(), nb.end()), nb.end());
       rank_[v] = nb.empty() ? kFree : nb.size() == 2 ? kFeature : kCorner;
     }
+    for (int v : in.corners)
+      if (v >= 0 && v < static_cast<int>(n)) rank_[v] = kCorner;
   }
 
   LatticeResult run() {

@@ -17,10 +17,10 @@ namespace kerfab::quads {
 
 struct LatticeInput {
   const Surface* surface = nullptr;
-  std::vector<Vec3> cross;      ///< per vertex
-  std::vector<Vec3> positions;  ///< per vertex: its lattice point
+  std::vector<Vec3> cross;                   ///< per vertex
+  std::vector<Vec3> positions;               ///< per vertex: its lattice point
   std::vector<std::array<int, 2>> features;  ///< feature (sharp or border) edges
-  double spacing = 0;  ///< lattice spacing [mm]
+  double spacing = 0;                        ///< lattice spacing [mm]
   /// Pure: the paired quads, triangles left over made quads in pairs by splitting the row of
   /// quads between them (none if that fails);
   /// split: every face split (quads into 4, triangles into 3), only well-shaped pairs made;
@@ -40,6 +40,9 @@ struct LatticeInput {
   /// The lattice offsets between neighbours, as the dislocation step left them (edges whose
   /// ends share a lattice point collapse by these); null: measured from the positions.
   const IntegerLattice* offsets = nullptr;
+  /// Vertices that stay corners of the quads besides those where feature lines meet or end (a
+  /// border's sharp turns, quads.cpp).
+  std::vector<int> corners;
 };
 
 struct LatticeResult {
@@ -47,7 +50,7 @@ struct LatticeResult {
   int lattice_quads = 0;
   int lattice_triangles = 0;
   bool split = false;  ///< the faces were split (the quads are half the lattice spacing)
-  int rows = 0;  ///< pure: rows of quads split to make left-over triangles quads (bridges.h)
+  int rows = 0;        ///< pure: rows of quads split to make left-over triangles quads (bridges.h)
   int rotations = 0, collapses = 0;  ///< pure: changes that removed irregular vertices (cleanup.h)
 };
 

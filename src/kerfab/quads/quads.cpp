@@ -39,6 +39,13 @@ constexpr double kCloserMargin = 0.05;
 /// The dislocation step's longest path, in triangles crossed (about 30 remeshed edges, eight
 /// lattice spacings: a lattice of 1/3.5 spacing remeshing edges).
 constexpr int kMaxDislocationPath = 100;
+/// A border that turns by more than this [rad] between its points a quarter of the quad size
+/// (kBorderCornerReach) before and after a vertex has a corner there (border_corners()).
+constexpr double kBorderCornerTurn = 40.0 * kPi / 180.0;
+constexpr double kBorderCornerReach = 1.0;
+/// ... where the border on either side stays within this share of that reach of the straight
+/// line from the vertex.
+constexpr double kBorderCornerStraight = 0.1;
 
 std::string fmt(double v) {
   std::ostringstream os;
@@ -231,6 +238,79 @@ std::vector<std::array<int, 2>> drop_short_features(const TriangleMesh& mesh,
     edges = std::move(kept);
   }
   return edges;
+}
+
+/// The vertices of \p folds' mesh where its border turns sharply: the corners of an open
+/// patch (a square panel's four), which the quads must keep as corners. The remesher and the
+/// lattice keep the vertices where feature lines meet or end, but a border is one line that
+/// turns, and without this its corners slid along it and were cut off (a saddle patch at 250 mm
+/// lost 2.6 mm at each, a terrain tile 6.3 mm). A vertex is a corner where the border turns by
+/// more than kBorderCornerTurn between the points of the border \p reach [mm] before and after
+/// it along the border (a scan's jagged hole turns at single vertices, not over that reach),
+/// the most within \p reach either way.
+std::vector<int> border_corners(const Folds& folds, double reach) {
+  const TriangleMesh& m = folds.mesh;
+  std::map<int, std::vector<int>> next;  // border vertex -> its border neighbours
+  for (const auto& [edge, faces] : folds.faces_of)
+    if (faces.size() == 1) {
+      next[edge.first].push_back(edge.second);
+      next[edge.second].push_back(edge.first);
+    }
+  // The point \p reach along the border from v, leaving it towards w; the vertices passed.
+  auto along = [&](int v, int w, std::vector<int>* passed) {
+    Vec3 at = m.vertices[v];
+    double left = reach;
+    for (int from = v, to = w, steps = 0; steps < 10000; ++steps) {
+      const Vec3 d = m.vertices[to] - m.vertices[from];
+      const double length = d.norm();
+      if (length >= left) return Vec3(m.vertices[from] + d * (left / length));
+      left -= length;
+      at = m.vertices[to];
+      if (passed) passed->push_back(to);
+      const auto it = next.find(to);
+      if (it == next.end() || it->second.size() != 2 || to == v) break;
+      const int after = it->second[0] == from ? it->second[1] : it->second[0];
+      from = to;
+      to = after;
+    }
+    return at;
+  };
+  std::map<int, double> turn;
+  for (const auto& [v, nb] : next) {
+    if (nb.size() != 2) continue;  // where borders meet the remesher keeps the vertex anyway
+    const Vec3 before = along(v, nb[0], nullptr), after = along(v, nb[1], nullptr);
+    turn[v] = angle_between(m.vertices[v] - before, after - m.vertices[v]);
+  }
+  std::vector<int> out;
+  for (const auto& [v, t] : turn) {
+    if (!(t > kBorderCornerTurn)) continue;
+    // Both arms nearly straight: a corner between two lines, not a jagged or winding stretch
+    // (a scan's hole) that turns as much.
+    std::vector<int> near;
+    const auto& nb = next.at(v);
+    bool straight = true;
+    for (int k = 0; k < 2; ++k) {
+      std::vector<int> arm;
+      const Vec3 end = along(v, nb[k], &arm);
+      const Vec3 d = end - m.vertices[v];
+      for (int u : arm) {
+        const Vec3 p = m.vertices[u] - m.vertices[v];
+        const double along_d =
+            d.squaredNorm() > 0 ? std::clamp(p.dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+        straight = straight && (p - along_d * d).norm() <= kBorderCornerStraight * reach;
+      }
+      near.insert(near.end(), arm.begin(), arm.end());
+    }
+    if (!straight) continue;
+    bool most = true;
+    for (int u : near) {
+      const auto it = turn.find(u);
+      if (u != v && it != turn.end() && (it->second > t || (it->second == t && u < v)))
+        most = false;
+    }
+    if (most) out.push_back(v);
+  }
+  return out;
 }
 
 struct Topology {
@@ -630,8 +710,9 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
   for (const auto& e : drop_short_features(
            mesh, shallow_creases(folds, o.feature_angle, r.size.size), kCreaseLine * r.size.size))
     features.push_back(e);
-  const FeatureTriangleMesh input{
-      mesh, drop_short_features(mesh, std::move(features), 0.5 * r.size.size)};
+  const FeatureTriangleMesh input{mesh,
+                                  drop_short_features(mesh, std::move(features), 0.5 * r.size.size),
+                                  border_corners(folds, kBorderCornerReach * r.size.size)};
   FeatureTriangleMesh remeshed;
   using Mode = quads::LatticeInput::Mode;
   // The safe net tries finer triangles until every face is sound (each edge becomes two quad
@@ -723,7 +804,8 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
                                [&](const Vec3& p) { return target.closest(p).point; },
                                [&](const Vec3& p) { return target.closest(p).normal; },
                                polish,
-                               candidate.offsets};
+                               candidate.offsets,
+                               remeshed.corners};
         quads::LatticeResult lattice = quads::extract_quads(li);
         c.lattice_quads = lattice.lattice_quads;
         c.lattice_triangles = lattice.lattice_triangles;
