@@ -279,6 +279,55 @@ TEST(Cli, AHouseFromItsTrianglesIsCutAsOnePanelPerFace) {
   EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
 }
 
+// A square frame from its triangles (200 mm outside, a 120 mm hole, 40 mm deep: genus one, all
+// flat faces). Its walls were plates, but its top and bottom are rings, no disk, so no plate
+// either, and came out a part per quad: 97 parts. A flat face with a hole is now cut in two
+// across its middle, each half a plate: 12 parts (8 walls, 2 halves of each ring), nothing
+// kerfed, the walls box-jointed, each ring's two cuts joined by dovetail tabs (the halves lie
+// in one plane), the plates on the faces, the sheets clean.
+TEST(Cli, AFrameFromItsTrianglesIsCutInPlates) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "frame.obj";
+  {
+    std::ofstream f(target);
+    for (const double z : {0.0, 40.0})
+      for (const double r : {100.0, 60.0})
+        f << "v " << -r << " " << -r << " " << z << "\nv " << r << " " << -r << " " << z << "\nv "
+          << r << " " << r << " " << z << "\nv " << -r << " " << r << " " << z << "\n";
+    // Outer corners k (1-4 at z 0, 9-12 at z 40), inner corners 5-8 and 13-16.
+    for (int k = 0; k < 4; ++k) {
+      const int j = (k + 1) % 4;
+      const int o0 = 1 + k, o1 = 1 + j, O0 = 9 + k, O1 = 9 + j;    // outer, bottom and top
+      const int i0 = 5 + k, i1 = 5 + j, I0 = 13 + k, I1 = 13 + j;  // inner
+      f << "f " << o0 << " " << o1 << " " << O1 << "\nf " << o0 << " " << O1 << " " << O0 << "\n"
+        << "f " << i1 << " " << i0 << " " << I0 << "\nf " << i1 << " " << I0 << " " << I1 << "\n"
+        << "f " << O0 << " " << O1 << " " << I1 << "\nf " << O0 << " " << I1 << " " << I0 << "\n"
+        << "f " << o1 << " " << o0 << " " << i0 << "\nf " << o1 << " " << i0 << " " << i1 << "\n";
+    }
+  }
+  const fs::path out = scratch / "out";
+  const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  EXPECT_EQ(report["resolve"]["parts_after"].get<int>(), 12);
+  int plates = 0;
+  for (const auto& c : report["resolve"]["changes"]) plates += c["action"] == "plate" ? 1 : 0;
+  EXPECT_EQ(plates, 12);
+  EXPECT_EQ(report["kerf"]["cuts"].get<int>(), 0);
+  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+  int box = 0, tab = 0;
+  for (const auto& b : report["joints"]["borders"]) {
+    box += b["joint"] == "box" ? 1 : 0;
+    tab += b["joint"] == "tab" ? 1 : 0;
+  }
+  EXPECT_EQ(box + tab, static_cast<int>(report["joints"]["borders"].size()));
+  EXPECT_EQ(tab, 4);  // each ring cut at two places, its halves in one plane
+  EXPECT_LT(report["quality"]["hausdorff_mm"].get<double>(), 0.01);
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_TRUE(audit.findings.empty()) << audit.findings.front();
+  EXPECT_EQ(test::read_sheet_parts(out / "cut").size(), 12u);
+}
+
 // Paper sizes by name; paper models go on A4 pages of true size unless told otherwise. A 120 mm
 // cube (whose quality stage once needed more than 50 million distance samples and failed) runs
 // in paper; the report says the sample spacing it used.

@@ -23,6 +23,9 @@ namespace {
 
 constexpr int kNone = -1;
 
+/// A flat region with holes is cut in two, and its pieces again, at most this many times deep
+/// (plates_for_flat_regions).
+constexpr int kPlateCuts = 3;
 /// A flat region of the model (plates_for_flat_regions): every corner of its quads within this
 /// of the plane of the quad it grew from [mm], every quad facing within kPlateTilt of it [rad];
 /// cut as one plate where at least kPlateBounded of its outline's length lies on folds sharper
@@ -897,11 +900,16 @@ class Resolver {
           todo.push_back(g);
         }
       }
-      if (group.size() < 2 || bounded_by_folds(group, normal) < kPlateBounded || !plate(group) ||
-          !big_enough(group) || !fits_sheet(plane_outline(group), o_.usable))
-        continue;
-      add_facet({group.begin(), group.end()}, trial, nullptr);
-      plates.push_back(std::move(group));
+      if (group.size() < 2 || bounded_by_folds(group, normal) < kPlateBounded) continue;
+      std::vector<std::set<int>> pieces = plate_pieces(group, kPlateCuts);
+      bool handy = !pieces.empty();
+      for (const std::set<int>& piece : pieces)
+        handy = handy && big_enough(piece) && fits_sheet(plane_outline(piece), o_.usable);
+      if (!handy) continue;
+      for (std::set<int>& piece : pieces) {
+        add_facet({piece.begin(), piece.end()}, trial, nullptr);
+        plates.push_back(std::move(piece));
+      }
     }
     if (plates.empty()) return;
     // All at once; where that leaves more defects, one by one, each kept where it adds none
@@ -943,6 +951,50 @@ class Resolver {
       record(r, "plate");
       out_.changes.back().reason = "a flat panel of the model, cut as one plate";
     }
+  }
+
+  /// A flat region \p group as plates: itself where it is one (plate()); where it is not a disk
+  /// (a face with a hole, as the top of a square frame, came out as a part per quad) the pieces
+  /// on either side of a line through its middle across its longer side, each connected piece
+  /// cut again the same way where it still is not a disk, at most \p cuts deep. Empty where a
+  /// piece is a disk but no plate, or still not a disk at that depth.
+  std::vector<std::set<int>> plate_pieces(const std::set<int>& group, int cuts) const {
+    if (plate(group)) return {group};
+    if (cuts == 0 || disk(group)) return {};
+    const Plane p = plane_of(group);
+    auto centre = [&](int q) {
+      Vec3 c = Vec3::Zero();
+      for (int v : quad_vertices(m_, m_.face_handle(q))) c += 0.25 * corner(v);
+      return c;
+    };
+    double lo_u = std::numeric_limits<double>::infinity(), hi_u = -lo_u, lo_w = lo_u, hi_w = -lo_u;
+    for (int q : group) {
+      const Vec3 d = centre(q) - p.mean;
+      lo_u = std::min(lo_u, d.dot(p.u)), hi_u = std::max(hi_u, d.dot(p.u));
+      lo_w = std::min(lo_w, d.dot(p.w)), hi_w = std::max(hi_w, d.dot(p.w));
+    }
+    const Vec3 across = hi_u - lo_u >= hi_w - lo_w ? p.u : p.w;
+    std::array<std::set<int>, 2> sides;
+    for (int q : group) sides[(centre(q) - p.mean).dot(across) > 0 ? 1 : 0].insert(q);
+    std::vector<std::set<int>> out;
+    for (const std::set<int>& side : sides) {
+      std::set<int> left = side;
+      while (!left.empty()) {  // each connected piece of the side
+        std::set<int> piece = {*left.begin()};
+        std::vector<int> todo = {*left.begin()};
+        left.erase(left.begin());
+        while (!todo.empty()) {
+          const int q = todo.back();
+          todo.pop_back();
+          for (auto f : m_.ff_range(m_.face_handle(q)))
+            if (left.erase(f.idx()) > 0) piece.insert(f.idx()), todo.push_back(f.idx());
+        }
+        std::vector<std::set<int>> more = plate_pieces(piece, cuts - 1);
+        if (more.empty()) return {};
+        for (std::set<int>& m : more) out.push_back(std::move(m));
+      }
+    }
+    return out;
   }
 
   /// The share of the outline of the quads \p group (facing \p normal) that lies on a fold
