@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the generated triangle meshes the README's "Other shapes" runs use (OBJ, millimetres).
 
-    python3 scripts/shapes.py DIR        # vase, terrain, ellipsoid, saddle, cone
+    python3 scripts/shapes.py DIR        # vase, terrain, ellipsoid, saddle, cone, vault
     build/kerfab run --target DIR/vase.obj --size 250 --out out/vase
 
 Each is a plain grid of triangles on an exact surface, so a run's distances can be read
@@ -11,6 +11,8 @@ against the shape itself:
   ellipsoid  semi-axes 150, 80, 60
   saddle     an open patch z = (x^2 - y^2)/200 over 160 x 160
   cone       base radius 80, height 150, with its base disc (the apex a point)
+  vault      half a cylinder of radius 100 over 200, open (a barrel vault: its border's four
+             corners turn by 90 degrees)
 """
 import math
 import os
@@ -107,6 +109,22 @@ def cone():
     return vertices, faces
 
 
+def vault():
+    nu, nv = 40, 40
+    vertices = []
+    for j in range(nv + 1):
+        for i in range(nu + 1):
+            a = math.pi * i / nu
+            vertices.append((100 * math.cos(a), 200 * j / nv, 100 * math.sin(a)))
+    faces = []
+    for j in range(nv):
+        for i in range(nu):
+            a = j * (nu + 1) + i
+            b, c, d = a + 1, a + nu + 2, a + nu + 1
+            faces += [(a, c, b), (a, d, c)]
+    return vertices, faces
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -119,6 +137,7 @@ def main():
         "ellipsoid": ellipsoid(),
         "saddle": grid(50, lambda x, y: (x * x - y * y) / 200, 80),
         "cone": cone(),
+        "vault": vault(),
     }
     for name, (vertices, faces) in shapes.items():
         write(os.path.join(out, name + ".obj"), vertices, faces)
