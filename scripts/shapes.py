@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the generated triangle meshes the README's "Other shapes" runs use (OBJ, millimetres).
 
-    python3 scripts/shapes.py DIR        # vase, terrain, ellipsoid, saddle, cone, vault
+    python3 scripts/shapes.py DIR        # vase, terrain, ellipsoid, saddle, cone, vault, holed-block
     build/kerfab run --target DIR/vase.obj --size 250 --out out/vase
 
 Each is a plain grid of triangles on an exact surface, so a run's distances can be read
@@ -13,6 +13,8 @@ against the shape itself:
   cone       base radius 80, height 150, with its base disc (the apex a point)
   vault      half a cylinder of radius 100 over 200, open (a barrel vault: its border's four
              corners turn by 90 degrees)
+  holed-block  200 x 200 x 60 with a round hole of radius 50 through it (its top and bottom
+             flat faces with a hole)
 """
 import math
 import os
@@ -125,6 +127,38 @@ def vault():
     return vertices, faces
 
 
+def holed_block():
+    """200 x 200 x 60 with a round hole of radius 50 through it; each face of the square
+    outline in 16 segments, joined to the hole's 64-gon by one row of quads (two triangles)."""
+    n, half, r, h = 64, 100.0, 50.0, 60.0
+    outer = []
+    for side in range(4):
+        for k in range(16):
+            t = k / 16
+            outer.append([(-half + 2 * half * t, -half), (half, -half + 2 * half * t),
+                          (half - 2 * half * t, half), (-half, half - 2 * half * t)][side])
+    hole = []
+    for x, y in outer:
+        a = math.atan2(y, x)
+        hole.append((r * math.cos(a), r * math.sin(a)))
+    vertices = []
+    for z in (0.0, h):
+        vertices += [(x, y, z) for x, y in outer] + [(x, y, z) for x, y in hole]
+    index = lambda layer, ring, k: layer * 2 * n + ring * n + k % n
+    faces = []
+    for k in range(n):
+        j = k + 1
+        faces += [(index(0, 0, k), index(0, 0, j), index(1, 0, j)),
+                  (index(0, 0, k), index(1, 0, j), index(1, 0, k)),   # outside
+                  (index(0, 1, j), index(0, 1, k), index(1, 1, k)),
+                  (index(0, 1, j), index(1, 1, k), index(1, 1, j)),   # the hole
+                  (index(1, 0, k), index(1, 0, j), index(1, 1, j)),
+                  (index(1, 0, k), index(1, 1, j), index(1, 1, k)),   # top
+                  (index(0, 0, j), index(0, 0, k), index(0, 1, k)),
+                  (index(0, 0, j), index(0, 1, k), index(0, 1, j))]   # bottom
+    return vertices, faces
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -138,6 +172,7 @@ def main():
         "saddle": grid(50, lambda x, y: (x * x - y * y) / 200, 80),
         "cone": cone(),
         "vault": vault(),
+        "holed-block": holed_block(),
     }
     for name, (vertices, faces) in shapes.items():
         write(os.path.join(out, name + ".obj"), vertices, faces)

@@ -1,9 +1,5 @@
 #include "kerfab/quads/lattice.h"
 
-#include "kerfab/adapters/matching_program.h"
-#include "kerfab/quads/bridges.h"
-#include "kerfab/quads/cleanup.h"
-
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <algorithm>
 #include <cmath>
@@ -12,6 +8,10 @@
 #include <map>
 #include <numeric>
 #include <optional>
+
+#include "kerfab/adapters/matching_program.h"
+#include "kerfab/quads/bridges.h"
+#include "kerfab/quads/cleanup.h"
 
 namespace kerfab::quads {
 namespace {
@@ -49,8 +49,7 @@ class Extractor {
     const auto& m = *s_.mesh;
     mesh_.reserve(m.vertices.size(), 3 * m.vertices.size(), m.triangles.size());
     for (const Vec3& p : m.vertices) mesh_.add_vertex(to_openmesh(p));
-    for (const auto& t : m.triangles)
-      mesh_.add_face(VH(t[0]), VH(t[1]), VH(t[2]));
+    for (const auto& t : m.triangles) mesh_.add_face(VH(t[0]), VH(t[1]), VH(t[2]));
     const std::size_t n = m.vertices.size();
     feature_nb_.assign(n, {});
     for (const auto& [a, b] : in.features) {
@@ -96,9 +95,8 @@ class Extractor {
 
   LatticeOffset offset(int a, int b) const {
     if (offsets_ && offsets_->has(a, b)) return {offsets_->offset(a, b), 0.0, {}};
-    return lattice_offset(point(VH(a)), normal_[a], cross_[a], pos_[a],
-                          point(VH(b)), normal_[b], cross_[b], pos_[b],
-                          in_.spacing);
+    return lattice_offset(point(VH(a)), normal_[a], cross_[a], pos_[a], point(VH(b)), normal_[b],
+                          cross_[b], pos_[b], in_.spacing);
   }
 
   /// Faces around \p v keep their orientation (and some area) when \p v moves to \p to, or,
@@ -289,8 +287,10 @@ class Extractor {
       if (d == Eigen::Vector2i(1, 1)) bonus += 1.0;
       for (auto [x, y] : {std::pair{a, cb}, {cb, b}, {b, ca}, {ca, a}})
         if (offset(x, y).offset.cwiseAbs().sum() == 1) bonus += 0.25;
-      candidates.push_back({quality + bonus, face_id[mesh_.face_handle(h).idx()],
-                            face_id[mesh_.face_handle(o).idx()], {a, cb, b, ca}});
+      candidates.push_back({quality + bonus,
+                            face_id[mesh_.face_handle(h).idx()],
+                            face_id[mesh_.face_handle(o).idx()],
+                            {a, cb, b, ca}});
     }
     std::stable_sort(candidates.begin(), candidates.end(),
                      [](const Candidate& x, const Candidate& y) { return x.weight > y.weight; });
@@ -330,7 +330,9 @@ class Extractor {
       }
     }
     // Augmenting paths (alternating, any length) from each unpaired triangle.
-    auto other = [&](int c, int f) { return candidates[c].a == f ? candidates[c].b : candidates[c].a; };
+    auto other = [&](int c, int f) {
+      return candidates[c].a == f ? candidates[c].b : candidates[c].a;
+    };
     std::vector<int> parent(nf, -1), seen(nf, -1);
     for (int round = 0; round < 3; ++round)
       for (int u = 0; u < nf; ++u) {
@@ -436,8 +438,8 @@ class Extractor {
     const auto feature = [&](int x, int y) {
       return x < n && y < n ? is_feature(x, y) : pinned[x] && pinned[y];
     };
-    CleanupResult c = clean_up_valences(std::move(faces), std::move(at), pinned, feature,
-                                        in_.normal_at);
+    CleanupResult c =
+        clean_up_valences(std::move(faces), std::move(at), pinned, feature, in_.normal_at);
     r.rotations = c.rotations;
     r.collapses = c.collapses;
     PolyMesh& out = r.quads;
@@ -704,9 +706,8 @@ class Extractor {
         const std::array<int, 4> m = {a[1], a[2], a[3], b[2]};
         bool convex = true;
         for (int i = 0; i < 4; ++i)
-          convex = convex && (at(m[(i + 1) % 4]) - at(m[i]))
-                                     .cross(at(m[(i + 3) % 4]) - at(m[i]))
-                                     .dot(n) > 0;
+          convex = convex &&
+                   (at(m[(i + 1) % 4]) - at(m[i])).cross(at(m[(i + 3) % 4]) - at(m[i])).dot(n) > 0;
         if (!convex) continue;
         faces[f1] = {a[1], a[2], a[3], b[2]};
         gone_face[f2] = 1;
@@ -768,8 +769,12 @@ class Extractor {
   double quality(const PolyMesh& out, OpenMesh::FaceHandle f, OpenMesh::VertexHandle moved,
                  const Vec3& at, bool edges) const {
     std::array<Vec3, 4> c;
+    std::array<int, 4> id{-1, -1, -1, -1};
     int k = 0;
-    for (auto w : out.fv_range(f)) c[k++ & 3] = w == moved ? at : to_eigen(out.point(w));
+    for (auto w : out.fv_range(f)) {
+      if (k < 4) id[k] = w.idx();
+      c[k++ & 3] = w == moved ? at : to_eigen(out.point(w));
+    }
     if (k != 4) return -1;
     std::array<Vec3, 4> corner_n;
     Vec3 n = Vec3::Zero();
@@ -799,8 +804,23 @@ class Extractor {
     // Facing the way the target does at one of its corners at least (near a thin part the
     // nearest facet of some corner may be the other side's).
     double agree = -1;
-    for (const Vec3& p : c) agree = std::max(agree, n.dot(in_.normal_at(p)));
+    for (int i = 0; i < 4; ++i) agree = std::max(agree, n.dot(normal_at(id[i], c[i])));
     return std::min(q, agree);
+  }
+
+  /// The target's normal near \p p (LatticeInput::normal_at), kept per vertex \p v for as long
+  /// as it is asked at the same point: untangle() asks for the corners of the same quads over
+  /// and over, and each answer is a query of the target (a block with a round hole, of long
+  /// thin triangles: 124 s in the quads stage, nearly all of it in those queries).
+  Vec3 normal_at(int v, const Vec3& p) const {
+    if (v < 0) return in_.normal_at(p);
+    if (normals_at_.size() <= static_cast<std::size_t>(v)) normals_at_.resize(v + 1);
+    auto& [where, normal] = normals_at_[v];
+    if (!where || *where != p) {
+      where = p;
+      normal = in_.normal_at(p);
+    }
+    return normal;
   }
 
   /// Free vertices of quads whose quality() is under \p good (0.05: a corner under about 3
@@ -897,6 +917,8 @@ class Extractor {
   std::vector<std::array<int, 3>> faces_;
   std::vector<std::array<int, 4>> quads_;
   std::vector<std::array<int, 3>> triangles_;
+  /// normal_at(v, p): per vertex, the point last asked and the normal there.
+  mutable std::vector<std::pair<std::optional<Vec3>, Vec3>> normals_at_;
 };
 
 }  // namespace
