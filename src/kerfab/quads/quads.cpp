@@ -39,9 +39,11 @@ constexpr double kCloserMargin = 0.05;
 /// The dislocation step's longest path, in triangles crossed (about 30 remeshed edges, eight
 /// lattice spacings: a lattice of 1/3.5 spacing remeshing edges).
 constexpr int kMaxDislocationPath = 100;
-/// A border that turns by more than this [rad] between its points a quarter of the quad size
-/// (kBorderCornerReach) before and after a vertex has a corner there (border_corners()).
+/// A border that turns by more than this [rad] between its points kBorderCornerReach quad
+/// sizes before and after a vertex has a corner there (border_corners()) ...
 constexpr double kBorderCornerTurn = 40.0 * kPi / 180.0;
+/// ... one quad size: at a quarter or half of it, stanford-bunny's scan holes had 3-8 such
+/// points and its run came out worse.
 constexpr double kBorderCornerReach = 1.0;
 /// ... where the border on either side stays within this share of that reach of the straight
 /// line from the vertex.
