@@ -1,5 +1,6 @@
 #include "kerfab/core/mesh.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <map>
@@ -110,6 +111,13 @@ std::array<int, 4> quad_vertices(const PolyMesh& mesh, OpenMesh::FaceHandle f) {
 
 double angle_between(const Vec3& a, const Vec3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return a + t * d;
 }
 
 Vec3 corner_normal(const std::vector<Vec3>& points, const std::array<int, 4>& f, int v) {

@@ -77,6 +77,9 @@ std::array<int, 4> quad_vertices(const PolyMesh& mesh, OpenMesh::FaceHandle f);
 /// Angle between two vectors [rad], accurate near 0 and pi.
 double angle_between(const Vec3& a, const Vec3& b);
 
+/// The point of the segment from \p a to \p b nearest to \p p (\p a where they coincide).
+Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b);
+
 /// Unit normal of quad \p f (vertex ids into \p points) at its corner holding vertex \p v;
 /// zero when that corner is degenerate or \p v is not a corner of \p f.
 Vec3 corner_normal(const std::vector<Vec3>& points, const std::array<int, 4>& f, int v);

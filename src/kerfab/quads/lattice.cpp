@@ -30,13 +30,6 @@ enum Rank : int { kFree = 0, kFeature = 1, kCorner = 2 };
 
 Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c) { return (b - a).cross(c - a); }
 
-Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 d = b - a;
-  const double len2 = d.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return a + t * d;
-}
-
 double corner_angle(const Vec3& at, const Vec3& prev, const Vec3& next) {
   return angle_between(prev - at, next - at);
 }

@@ -294,13 +294,10 @@ std::vector<int> border_corners(const Folds& folds, double reach) {
     for (int k = 0; k < 2; ++k) {
       std::vector<int> arm;
       const Vec3 end = along(v, nb[k], &arm);
-      const Vec3 d = end - m.vertices[v];
-      for (int u : arm) {
-        const Vec3 p = m.vertices[u] - m.vertices[v];
-        const double along_d =
-            d.squaredNorm() > 0 ? std::clamp(p.dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
-        straight = straight && (p - along_d * d).norm() <= kBorderCornerStraight * reach;
-      }
+      for (int u : arm)
+        straight = straight &&
+                   (m.vertices[u] - closest_on_segment(m.vertices[u], m.vertices[v], end)).norm() <=
+                       kBorderCornerStraight * reach;
       near.insert(near.end(), arm.begin(), arm.end());
     }
     if (!straight) continue;
