@@ -1354,6 +1354,16 @@ TEST(Cli, AnUnseenBustEndsItsResolveLoopAndNamesNoAbsurdSize) {
     EXPECT_TRUE(seen.insert({c["action"], quads, c["reason"]}).second) << c;
   }
   EXPECT_GT(seen.size(), 100u);
+  // Two facets of its hair flattened with an inverted quad or 12 deg off (corners shared with
+  // facets at other angles). Cut along their outlines they lie flat, though one still falls
+  // apart at its slots: the loop kept that only where the parts too small or distorted became
+  // fewer, so both stayed distorted, with three borders beside them left without a joint
+  // (6 in all, 7.9 mm^2 lost). As many defects with fewer distorted is now kept as well.
+  int outline_cuts = 0;
+  for (const auto& c : report["resolve"]["changes"]) outline_cuts += c["action"] == "outline";
+  EXPECT_GE(outline_cuts, 1);
+  EXPECT_LE(report["joints"]["borders_without_joint"].get<int>(), 3);
+  EXPECT_LT(report["joints"]["lost_area_mm2"].get<double>(), 1.0);
   for (std::size_t at = r.err.find("--size "); at != std::string::npos;
        at = r.err.find("--size ", at + 1)) {
     const std::string rest = r.err.substr(at + 7, 20);

@@ -823,7 +823,9 @@ class Resolver {
   /// the target) are cut along their outline alone where that flattens them within the limits
   /// (flatten_facet_by_outline): a horse's ears were capped by facets of quads up to 85 deg off
   /// their planes, flattened 130 to 280 deg off, with inverted quads. Kept where the build has
-  /// fewer defects after it. \p small: small_now(), updated.
+  /// fewer defects after it, or as many with fewer parts distorted (demosthenes: a hair facet
+  /// cut so lay flat but fell apart at its slots; kept distorted, three borders beside it had
+  /// no joint). \p small: small_now(), updated.
   void cut_bent_facets_by_outline(std::vector<int>& small) {
     CuttablePatches flat = build_.flat;
     std::vector<int> changed;
@@ -844,7 +846,16 @@ class Resolver {
     } catch (const InvalidInput&) {
       return;
     }
-    if (defects(tried) >= defects(build_)) return;
+    // Fewer defects, or as many with fewer of them distorted: a part that falls apart at its
+    // slots keeps its largest piece, one flattened distorted does not fit its neighbours.
+    const auto distorted_count = [&](const PartsBuild& b) {
+      std::size_t n = 0;
+      for (std::size_t p = 0; p < b.flat.flattening.patches.size(); ++p)
+        n += distorted(b, static_cast<int>(p), o_.flatten.max_angle_error) ? 1 : 0;
+      return n;
+    };
+    const std::size_t now = defects(build_), after = defects(tried);
+    if (after > now || (after == now && distorted_count(tried) >= distorted_count(build_))) return;
     build_ = std::move(tried);
     small = small_now();
     for (int p : changed) {
