@@ -1542,6 +1542,12 @@ TEST(Cli, DistortedPartsAreNotPromisedASize) {
   EXPECT_NE(r.err.find(std::to_string(distorted) + " parts flatten distorted"), std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("which no --size cures"), std::string::npos) << r.err;
+  // The part that fell apart (part 307, a 13.1 mm^2 crumb lost) had three borders left without
+  // a joint: on the one with 5.9 mm of free room a stub tooth's slot took 0.19 mm^2 more with
+  // the crumb, over the 0.05 mm^2 that counted as losing the same. Up to 0.5 mm^2 more is taken
+  // now (the slot clear of the crumb): 5 -> 4 borders without a joint, the crumb alone lost.
+  EXPECT_LE(report["joints"]["borders_without_joint"].get<int>(), 4);
+  EXPECT_LT(report["joints"]["lost_area_mm2"].get<double>(), 13.1 + 0.5);
   ASSERT_GE(small, 1);
   EXPECT_NE(r.err.find(std::to_string(small) + " parts stay too small or narrow to handle"),
             std::string::npos)
