@@ -187,6 +187,21 @@ TEST(Bending, GuidanceForcesEdgesAndRejectsBadReferences) {
   BendingOptions neg;
   neg.alignment = -0.1;
   EXPECT_THROW(choose_bending_edges(m, target, neg), InvalidInput);
+  // A huge bias made every weight ~1e300 and CLP aborted on an assertion (the run crashed);
+  // the largest accepted still solves, to as many bendable edges as a bias merely large (where
+  // the edges' own weights only break ties).
+  BendingOptions huge;
+  huge.alignment = 1e300;
+  EXPECT_THROW(choose_bending_edges(m, target, huge), InvalidInput);
+  huge.alignment = kMaxAlignment;
+  BendingOptions large;
+  large.alignment = 100;
+  const BendingResult a = choose_bending_edges(m, target, huge),
+                      b = choose_bending_edges(m, target, large);
+  EXPECT_EQ(a.status, PackingStatus::kOptimal);
+  EXPECT_EQ(std::count(a.bendable.begin(), a.bendable.end(), 1),
+            std::count(b.bendable.begin(), b.bendable.end(), 1));
+  EXPECT_GT(std::count(a.bendable.begin(), a.bendable.end(), 1), 0);
 }
 
 TEST(Bending, GuidanceFileIsReadAndBadFilesAreNamed) {

@@ -160,9 +160,10 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->check(kPositive);
   cmd.add_option("--alignment", b.alignment,
                  "Alignment bias c: w0 = c * max edge weight is added to every edge weight; "
-                 "larger c gives fewer, longer strips (paper Sec. 3.1) [ratio, >= 0]")
+                 "larger c gives fewer, longer strips (paper Sec. 3.1); past about 100 the edges' "
+                 "own weights only break ties [ratio, 0..1000]")
       ->capture_default_str()
-      ->check(kNonNegative);
+      ->check(CLI::Range(0.0, 1000.0));
   cmd.add_option("--edge-samples", b.edge_samples,
                  "Signed-distance samples per quad edge for its weight (variance) [count, >= 2]")
       ->capture_default_str()
@@ -222,11 +223,11 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "Sheet thickness h, overrides the material's, 0 (paper) to 25 [mm]")
       ->check(kNonNegative);
   cmd.add_option("--shear-modulus", f.shear_modulus,
-                 "Shear modulus G, overrides the material's [MPa]")
-      ->check(kPositive);
+                 "Shear modulus G, overrides the material's (steel is 80000) [MPa, 1..200000]")
+      ->check(CLI::Range(1.0, 200000.0));
   cmd.add_option("--yield-strength", f.yield_strength,
-                 "Shear yield strength tau, overrides the material's [MPa]")
-      ->check(kPositive);
+                 "Shear yield strength tau, overrides the material's [MPa, 0.01..2000]")
+      ->check(CLI::Range(0.01, 2000.0));
   cmd.add_option(
          "--safety", f.safety,
          "Safety factor dividing the yield strength, overrides the material's [ratio, >= 1]")
@@ -288,13 +289,14 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "(the paper's baseline) [count]")
       ->check(CLI::Range(0, 1000));
   cmd.add_option("--cut-speed", f.options.machine.speed,
-                 "Laser cutting speed for the time estimate [mm/s]")
+                 "Laser cutting speed for the time estimate [mm/s, 0.01..10000]")
       ->capture_default_str()
-      ->check(kPositive);
+      ->check(CLI::Range(0.01, 10000.0));
   cmd.add_option("--per-cut-time", f.options.machine.per_cut,
-                 "Overhead per separate cut path (pierce, travel) for the time estimate [s]")
+                 "Overhead per separate cut path (pierce, travel) for the time estimate "
+                 "[s, 0..3600]")
       ->capture_default_str()
-      ->check(kNonNegative);
+      ->check(CLI::Range(0.0, 3600.0));
   f.sheet_option = cmd.add_option("--sheet", f.sheet,
                                   "Sheet size WxH of the laser bed or stock, e.g. 600x450, or a "
                                   "paper size A4, A3, letter (portrait) [mm]; A4 with "

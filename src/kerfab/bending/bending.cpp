@@ -135,8 +135,10 @@ double separate_odd_cycles(PackingProblem& problem, PackingRelaxationSolver& rel
 BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& target,
                                    const BendingOptions& options) {
   if (!is_all_quads(quads)) throw InvalidInput("bending directions need an all-quad mesh");
-  if (!(options.alignment >= 0.0) || !std::isfinite(options.alignment))
-    throw InvalidInput("--alignment must be >= 0");
+  // Past 1000 the edges' own weights only break ties, and w0 ~ 1e25 and up aborts CLP (an
+  // assertion on the objective's size; --alignment 1e300 crashed the run).
+  if (!(options.alignment >= 0.0 && options.alignment <= kMaxAlignment))
+    throw InvalidInput("--alignment must be in [0, 1000]");
   if (options.edge_samples < 2) throw InvalidInput("--edge-samples must be >= 2");
   if (!(options.time_limit_s > 0.0)) throw InvalidInput("--ilp-time-limit must be > 0 s");
   if (!(options.relative_gap >= 0.0)) throw InvalidInput("--ilp-gap must be >= 0");
@@ -228,9 +230,9 @@ BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& t
   // 30 % of it) and the branch and bound.
   PackingRelaxationSolver relaxation(problem);
   bool exhausted = false;
-  const double first_lp = separate_odd_cycles(problem, relaxation, r,
-                                              std::max(r.start_objective, 0.0),
-                                              0.3 * options.time_limit_s - elapsed(), exhausted);
+  const double first_lp =
+      separate_odd_cycles(problem, relaxation, r, std::max(r.start_objective, 0.0),
+                          0.3 * options.time_limit_s - elapsed(), exhausted);
   r.cut_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - cuts_start).count();
   const double left = options.time_limit_s - elapsed();
@@ -249,10 +251,10 @@ BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& t
   // optimality within the limit.
   const bool large = problem.weights.size() > 10000;
   const bool search = (first_lp < 0 || left > 1.5 * first_lp) && !(large && exhausted);
-  PackingResult solved = solve_packing(
-      problem, {.time_limit_s = std::max(0.05 * options.time_limit_s, left),
-                .relative_gap = options.relative_gap,
-                .search = search});
+  PackingResult solved =
+      solve_packing(problem, {.time_limit_s = std::max(0.05 * options.time_limit_s, left),
+                              .relative_gap = options.relative_gap,
+                              .search = search});
   if (!search) {
     if (!std::isfinite(first_lp) && left > 0) {
       const PackingRelaxation lp = relaxation.solve(0.9 * left);

@@ -12,8 +12,11 @@
 
 namespace kerfab {
 
+/// The largest alignment bias c accepted: past it the edges' own weights only break ties [-].
+constexpr double kMaxAlignment = 1000;
+
 struct BendingOptions {
-  double alignment = 0.3;     ///< c in w0 = c * max_e w_e, the alignment bias [-], >= 0
+  double alignment = 0.3;     ///< c in w0 = c * max_e w_e, the alignment bias [-], 0..1000
   int edge_samples = 24;      ///< signed-distance samples per edge for its variance [-], >= 2;
                               ///< 24 keeps every weight within 1% (of the largest) of the
                               ///< value at 48 samples on spot (measured: 0.61%)
