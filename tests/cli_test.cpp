@@ -104,14 +104,19 @@ TEST(Cli, ExitCodesForMissingFileBadOptionAndUnits) {
   EXPECT_EQ(r.exit_code, 1) << r.err;
   // Absurd but positive numbers: --alignment 1e300 aborted inside CLP (exit 134); a cutting
   // speed of 1e-300 mm/s reported 8.6e302 minutes. Each is one line now, before any stage.
-  for (const char* absurd : {"--alignment 1e300", "--cut-speed 1e-300", "--per-cut-time 1e300",
-                             "--shear-modulus 1e-300", "--yield-strength 1e300"}) {
-    r = run_cli("run --target " + spot + " --quad " + cage + " --subdivide 1 --size 250 " + absurd +
-                    " --out " + (scratch / "b2").string(),
+  // A 1e9 mm stroke kept the sheet writers drawing for over 5 minutes; a 1e-6 deg feature angle
+  // kept the quads stage busy as long (every edge of the target sharp; the triangles alone).
+  for (const char* absurd :
+       {"--alignment 1e300", "--cut-speed 1e-300", "--per-cut-time 1e300", "--shear-modulus 1e-300",
+        "--yield-strength 1e300", "--stroke 1e9", "--quad-feature-angle 1e-6"}) {
+    const bool quads_stage = std::string(absurd).starts_with("--quad-feature");
+    r = run_cli("run --target " + spot + (quads_stage ? "" : " --quad " + cage + " --subdivide 1") +
+                    " --size 250 " + absurd + " --out " + (scratch / "b2").string(),
                 scratch);
     EXPECT_EQ(r.exit_code, 1) << absurd << ": " << r.err;
-    EXPECT_EQ(message_lines(r.err).size(), 1u) << absurd << ": " << r.err;
-    EXPECT_EQ(r.err.rfind("kerfab: error: ", 0), 0u) << absurd << ": " << r.err;
+    const auto lines = message_lines(r.err);
+    ASSERT_EQ(lines.size(), 1u) << absurd << ": " << r.err;
+    EXPECT_EQ(lines[0].rfind("kerfab: error: ", 0), 0u) << absurd << ": " << r.err;
   }
   r = run_cli("run --target " + spot + " --quad " + cage + " --subdivide 1 --out " +
                   (scratch / "c").string(),

@@ -310,9 +310,9 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
   f.stroke_option = cmd.add_option("--stroke", f.output.style.stroke,
                                    "Line width of cut, engrave and fold lines in the SVG and PDF "
                                    "sheets; the default hairline is what laser drivers expect; "
-                                   "0.2 with --material paper, for printing [mm]")
+                                   "0.2 with --material paper, for printing [mm, up to 2]")
                         ->capture_default_str()
-                        ->check(kPositive);
+                        ->check(CLI::Range(1e-6, 2.0));
   const auto colour = CLI::Validator(
       [](std::string& c) {
         const bool ok = c.size() == 7 && c[0] == '#' &&

@@ -48,6 +48,9 @@ constexpr double kBorderCornerReach = 1.0;
 /// ... where the border on either side stays within this share of that reach of the straight
 /// line from the vertex.
 constexpr double kBorderCornerStraight = 0.1;
+/// The sharp edges may be at most this many times the area over the quad size long: a quarter
+/// of the quads' edges (make_quad_mesh) [-].
+constexpr double kMaxFeatureShare = 0.5;
 
 std::string fmt(double v) {
   std::ostringstream os;
@@ -712,6 +715,25 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
   const FeatureTriangleMesh input{mesh,
                                   drop_short_features(mesh, std::move(features), 0.5 * r.size.size),
                                   border_corners(folds, kBorderCornerReach * r.size.size)};
+  // Sharp edges the quads must follow, against the quads' own edges (about 2 area / size long
+  // in all): past a quarter of those the lattice is mostly constraint. Spot from its triangles
+  // at 250 mm with --quad-feature-angle 20 marks 5.0 m of its edges (0.69 of area / size) and
+  // ran for over 10 minutes; at 25, 2.7 m (0.37) took 28 s; fandisk's 3.2 m at the default
+  // 60 deg are 0.44, a cube's 3 m 0.24.
+  double feature_length = 0;
+  for (const auto& [u, v] : input.features)
+    feature_length += (mesh.vertices[u] - mesh.vertices[v]).norm();
+  const double most = kMaxFeatureShare * r.size.area / r.size.size,
+               finer = kMaxFeatureShare * r.size.area / std::max(feature_length, 1e-9);
+  if (feature_length > most)
+    throw InvalidInput("--quad-feature-angle " + fmt(o.feature_angle * 180 / kPi) + " deg marks " +
+                       fmt(feature_length) +
+                       " mm of the target's edges as sharp, more than quads of " +
+                       fmt(r.size.size) + " mm can follow (" + fmt(most) +
+                       " mm, a quarter of their edges): raise --quad-feature-angle" +
+                       (finer * finer * kMaxQuads >= r.size.area
+                            ? ", or pass --quad-size " + fmt(finer) + " or less"
+                            : std::string()));
   FeatureTriangleMesh remeshed;
   using Mode = quads::LatticeInput::Mode;
   // The safe net tries finer triangles until every face is sound (each edge becomes two quad
