@@ -163,7 +163,7 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "larger c gives fewer, longer strips (paper Sec. 3.1); past about 100 the edges' "
                  "own weights only break ties [ratio, 0..1000]")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(CLI::Range(0.0, kerfab::kMaxAlignment));
   cmd.add_option("--edge-samples", b.edge_samples,
                  "Signed-distance samples per quad edge for its weight (variance) [count, >= 2]")
       ->capture_default_str()

@@ -138,7 +138,7 @@ BendingResult choose_bending_edges(const PolyMesh& quads, const TargetSurface& t
   // Past 1000 the edges' own weights only break ties, and w0 ~ 1e25 and up aborts CLP (an
   // assertion on the objective's size; --alignment 1e300 crashed the run).
   if (!(options.alignment >= 0.0 && options.alignment <= kMaxAlignment))
-    throw InvalidInput("--alignment must be in [0, 1000]");
+    throw InvalidInput("--alignment must be in [0, " + std::to_string(int(kMaxAlignment)) + "]");
   if (options.edge_samples < 2) throw InvalidInput("--edge-samples must be >= 2");
   if (!(options.time_limit_s > 0.0)) throw InvalidInput("--ilp-time-limit must be > 0 s");
   if (!(options.relative_gap >= 0.0)) throw InvalidInput("--ilp-gap must be >= 0");

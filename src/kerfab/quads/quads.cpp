@@ -52,6 +52,13 @@ constexpr double kBorderCornerStraight = 0.1;
 /// of the quads' edges (make_quad_mesh) [-].
 constexpr double kMaxFeatureShare = 0.5;
 
+/// The 3D length of \p edges (vertex pairs of \p mesh) in all [mm].
+double edges_length(const TriangleMesh& mesh, const std::vector<std::array<int, 2>>& edges) {
+  double length = 0;
+  for (const auto& [u, v] : edges) length += (mesh.vertices[u] - mesh.vertices[v]).norm();
+  return length;
+}
+
 std::string fmt(double v) {
   std::ostringstream os;
   os.precision(3);
@@ -720,9 +727,7 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
   // at 250 mm with --quad-feature-angle 20 marks 5.0 m of its edges (0.69 of area / size) and
   // ran for over 10 minutes; at 25, 2.7 m (0.37) took 28 s; fandisk's 3.2 m at the default
   // 60 deg are 0.44, a cube's 3 m 0.24.
-  double feature_length = 0;
-  for (const auto& [u, v] : input.features)
-    feature_length += (mesh.vertices[u] - mesh.vertices[v]).norm();
+  const double feature_length = edges_length(mesh, input.features);
   const double most = kMaxFeatureShare * r.size.area / r.size.size,
                finer = kMaxFeatureShare * r.size.area / std::max(feature_length, 1e-9);
   if (feature_length > most)
@@ -772,12 +777,11 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
       direction[i] = k.weak_direction[i];
     }
     std::vector<std::vector<int>> feature_nb(n);
-    r.feature_length = 0;
     for (const auto& [a, b] : remeshed.features) {
       feature_nb[a].push_back(b);
       feature_nb[b].push_back(a);
-      r.feature_length += (remeshed.mesh.vertices[a] - remeshed.mesh.vertices[b]).norm();
     }
+    r.feature_length = edges_length(remeshed.mesh, remeshed.features);
     for (int i = 0; i < n; ++i) {
       if (feature_nb[i].size() != 2) continue;
       const Vec3 t =
