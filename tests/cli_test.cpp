@@ -217,6 +217,10 @@ TEST(Cli, ABoxFromItsTrianglesIsCutAsOnePanelPerFace) {
   const fs::path out = scratch / "out";
   const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Panels meeting at right angles are the mitres' work: no two parts closer than the sheets.
+  const auto clearance = read_report(out)["quality"]["clearance"];
+  EXPECT_TRUE(clearance["contacts"].empty()) << clearance.dump();
+  EXPECT_GT(clearance["samples"].get<long>(), 6 * 200 * 200 / 9 / 2);
   const auto parts = expect_one_plate_per_face(out, 6, 12);
   ASSERT_EQ(parts.size(), 6u);
   // The laser path runs half the kerf (0.15 mm) outside the part: up to 0.075 mm times its
@@ -245,6 +249,53 @@ TEST(Cli, ABoxFromItsTrianglesIsCutAsOnePanelPerFace) {
   EXPECT_EQ(pj["joints"]["fold_lines"]["valley"].get<int>(), 0);
   EXPECT_GE(pj["joints"]["fold_lines"]["mountain"].get<int>(), 12);
   EXPECT_EQ(test::read_sheet_parts(paper / "cut").size(), 6u);
+}
+
+// A slab 120 x 60 x 1 mm from its 12 triangles, in 3 mm MDF: its top and bottom are 1 mm
+// apart, so their sheets, each standing 1.5 mm to either side of its face, would overlap by
+// 2 mm. The run says so, names the parts and where, and the size at which they clear
+// (120 x 3 / 1 = 360 mm); the same slab 40 mm thick has no such place.
+TEST(Cli, ASlabThinnerThanItsSheetsIsNamedWithTheSizeThatClearsIt) {
+  const fs::path scratch = test::fresh_dir();
+  for (const double thick : {1.0, 40.0}) {
+    const fs::path target = scratch / "slab.obj";
+    {
+      std::ofstream f(target);
+      for (int i = 0; i < 8; ++i)
+        f << "v " << (i & 1 ? 120 : 0) << " " << (i & 2 ? 60 : 0) << " " << (i & 4 ? thick : 0)
+          << "\n";
+      // Outward faces of the box (1-based vertex ids).
+      f << "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n"
+        << "f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
+    }
+    const fs::path out = scratch / ("out" + std::to_string(static_cast<int>(thick)));
+    const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto c = read_report(out)["quality"]["clearance"];
+    if (thick > 3) {
+      EXPECT_TRUE(c["contacts"].empty()) << c.dump();
+      EXPECT_EQ(r.err.find("thinner than its"), std::string::npos) << r.err;
+      continue;
+    }
+    ASSERT_FALSE(c["contacts"].empty()) << r.err;
+    // The faces lie on the target, so no gap is wider than the slab.
+    const double gap = c["min_thin_gap_mm"].get<double>();
+    EXPECT_GT(gap, 0);
+    EXPECT_LE(gap, thick + 1e-6);
+    EXPECT_NEAR(c["size_factor"].get<double>(), 3 / gap, 1e-9);
+    for (const auto& k : c["contacts"]) {
+      EXPECT_EQ(k["inside_out"].get<int>(), -1) << k;  // thin, not folded over
+      // The two points lie on the slab's two faces (z = 0 and z = 1), above one another.
+      EXPECT_LE(k["gap_mm"].get<double>(), thick + 1e-6) << k;
+    }
+    // Most of the two faces (2 x 120 x 60 mm^2) lie over the other; the rim, within the
+    // mitres' reach of the edges, does not count.
+    EXPECT_GT(c["area_mm2"].get<double>(), 0.5 * 2 * 120 * 60);
+    EXPECT_LE(c["area_mm2"].get<double>(), 2 * 120 * 60 + 1);
+    const std::string size = "at --size " + std::to_string(static_cast<long>(std::ceil(120 * 3 / gap)));
+    EXPECT_NE(r.err.find("the shape is thinner than its 3 mm sheets"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(size), std::string::npos) << size << "\n" << r.err;
+  }
 }
 
 // A house from its 16 triangles (200 x 150 mm floor, walls 120 mm high, a gable roof along the

@@ -115,6 +115,22 @@ TEST(TargetSurface, RayHitAlongNormal) {
   EXPECT_FALSE(surface.nearest_hit_along_line(Vec3(100, 0, 0), Vec3(0, 0, 1), 5.0).has_value());
 }
 
+TEST(TargetSurface, EveryHitAlongALineNearestFirst) {
+  // A sphere of radius 10 about the origin: a line through (2, 0, 0) along x meets it at
+  // x = +-10, i.e. t = 8 and t = -12; out to 11 only the first.
+  const auto shape = test::sphere(10.0, 4, 4);
+  const TargetSurface surface(shape.target);
+  const auto hits = surface.hits_along_line(Vec3(2, 0, 0), Vec3(1, 0, 0), 100.0);
+  ASSERT_EQ(hits.size(), 2u);
+  EXPECT_NEAR(hits[0].t, 8.0, 0.5);
+  EXPECT_NEAR(hits[1].t, -12.0, 0.5);
+  EXPECT_NEAR((hits[1].point - Vec3(-10, 0, 0)).norm(), 0.0, 0.5);
+  EXPECT_EQ(surface.hits_along_line(Vec3(2, 0, 0), Vec3(1, 0, 0), 11.0).size(), 1u);
+  const auto nearest = surface.nearest_hit_along_line(Vec3(2, 0, 0), Vec3(1, 0, 0), 100.0);
+  ASSERT_TRUE(nearest.has_value());
+  EXPECT_EQ(nearest->t, hits[0].t);
+}
+
 TEST(TargetSurface, RejectsEmptyAndZeroArea) {
   EXPECT_THROW(TargetSurface(TriangleMesh{}), InvalidInput);
   TriangleMesh flat{{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)}, {{0, 1, 2}}};

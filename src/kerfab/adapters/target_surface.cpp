@@ -145,23 +145,38 @@ Vec3 TargetSurface::smooth_normal(const SurfacePoint& at) const {
   return len > 0 ? Vec3(n / len) : impl_->face_normals[at.triangle];
 }
 
-std::optional<RayHit> TargetSurface::nearest_hit_along_line(const Vec3& origin,
-                                                            const Vec3& direction,
-                                                            double max_distance) const {
+std::vector<RayHit> TargetSurface::hits_along_line(const Vec3& origin, const Vec3& direction,
+                                                   double max_distance) const {
   const Kernel::Segment_3 segment(to_cgal(origin - max_distance * direction),
                                   to_cgal(origin + max_distance * direction));
   std::vector<Tree::Intersection_and_primitive_id<Kernel::Segment_3>::Type> hits;
   impl_->tree.all_intersections(segment, std::back_inserter(hits));
-  std::optional<RayHit> best;
+  std::vector<RayHit> out;
   for (const auto& [object, it] : hits) {
     const Point3* p = boost::get<Point3>(&object);
     if (p == nullptr) continue;  // segment lying in a triangle's plane: ignore
     const Vec3 q = from_cgal(*p);
-    const double t = (q - origin).dot(direction);
-    if (!best || std::abs(t) < std::abs(best->t))
-      best = RayHit{q, t, static_cast<int>(it - impl_->triangles.cbegin())};
+    out.push_back(
+        {q, (q - origin).dot(direction), static_cast<int>(it - impl_->triangles.cbegin())});
   }
-  return best;
+  // Ties in the tree's order (the nearest hit has always been the first of them found).
+  std::stable_sort(out.begin(), out.end(),
+                   [](const RayHit& a, const RayHit& b) { return std::abs(a.t) < std::abs(b.t); });
+  // A crossing at an edge or a vertex once, as its first triangle found.
+  std::vector<RayHit> once;
+  for (const RayHit& hit : out)
+    if (std::none_of(once.begin(), once.end(),
+                     [&](const RayHit& o) { return (o.point - hit.point).norm() <= 1e-9; }))
+      once.push_back(hit);
+  return once;
+}
+
+std::optional<RayHit> TargetSurface::nearest_hit_along_line(const Vec3& origin,
+                                                            const Vec3& direction,
+                                                            double max_distance) const {
+  const std::vector<RayHit> hits = hits_along_line(origin, direction, max_distance);
+  if (hits.empty()) return std::nullopt;
+  return hits.front();
 }
 
 VertexDistances vertex_distances(const PolyMesh& mesh, const TargetSurface& target) {

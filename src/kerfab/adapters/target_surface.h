@@ -3,6 +3,7 @@
 /// behind this interface; no CGAL type leaks out).
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "kerfab/core/mesh.h"
 
@@ -47,6 +48,13 @@ class TargetSurface {
   /// |t| <= max_distance. \pre direction has unit length.
   std::optional<RayHit> nearest_hit_along_line(const Vec3& origin, const Vec3& direction,
                                                double max_distance) const;
+
+  /// Every intersection of the line origin + t * direction with |t| <= max_distance, nearest
+  /// to the origin first, a crossing at an edge or vertex once (as the first of its triangles
+  /// the tree finds; a segment lying in a triangle's plane is not counted).
+  /// \pre direction has unit length.
+  std::vector<RayHit> hits_along_line(const Vec3& origin, const Vec3& direction,
+                                      double max_distance) const;
 
   /// Unit normal interpolated from area-weighted vertex normals (smooth shading normal).
   Vec3 smooth_normal(const SurfacePoint& at) const;

@@ -35,6 +35,8 @@ std::string report_json(const RunResult& run, const OutputOptions& output) {
   if (run.assembly && run.layout)
     r["assembly"] = report::assembly_section(*run.assembly, *run.layout);
   if (run.quality) r["quality"] = report::quality_section(*run.quality, diagonal);
+  if (run.quality && run.clearance)
+    r["quality"]["clearance"] = report::clearance_section(*run.clearance);
   // A run that dropped geometry does not call itself ok: pieces of parts that fell apart, parts
   // that fit no sheet.
   json incomplete = json::array();

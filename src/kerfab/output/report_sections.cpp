@@ -521,6 +521,25 @@ json quality_section(const SurfaceDistance& q, double diagonal) {
           {"samples", q.samples}};
 }
 
+json clearance_section(const ShellClearance& c) {
+  json contacts = json::array();
+  for (const ClearanceContact& k : c.contacts)
+    contacts.push_back({{"parts", {k.part_a, k.part_b}},
+                        {"gap_mm", k.gap},
+                        {"area_mm2", k.area},
+                        {"inside_out", k.inside_out},
+                        {"at_mm", {k.at.x(), k.at.y(), k.at.z()}},
+                        {"across_mm", {k.across.x(), k.across.y(), k.across.z()}}});
+  return {{"thickness_mm", c.thickness},
+          {"sample_spacing_mm", c.spacing},
+          {"samples", c.samples},
+          {"min_gap_mm", c.min_gap()},
+          {"min_thin_gap_mm", c.min_thin_gap()},
+          {"size_factor", c.size_factor()},
+          {"area_mm2", c.area()},
+          {"contacts", contacts}};
+}
+
 json timings_section(const std::vector<StageTiming>& timings, double total_seconds) {
   json j = json::object();
   for (const auto& t : timings) j[t.stage] = t.seconds;

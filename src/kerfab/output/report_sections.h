@@ -29,6 +29,8 @@ json layout_section(const LayoutResult& layout, const LayoutOptions& options,
 json split_to_fit_section(const SplitToFitResult& s);
 json assembly_section(const AssemblyPlan& assembly, const LayoutResult& layout);
 json quality_section(const SurfaceDistance& quality, double target_diagonal);
+/// Where two stretches of the strips come closer than the sheets are thick.
+json clearance_section(const ShellClearance& clearance);
 json timings_section(const std::vector<StageTiming>& timings, double total_seconds);
 
 }  // namespace kerfab::report

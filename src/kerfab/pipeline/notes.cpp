@@ -529,4 +529,86 @@ StageNotes notes(const SurfaceDistance& q, double diagonal) {
   return n;
 }
 
+StageNotes notes(const ShellClearance& c, double size_mm, bool quads_made) {
+  StageNotes n;
+  if (!(c.thickness > 0)) return n;
+  Line os;
+  os << "shell clearance: " << c.samples << " samples " << c.spacing << " mm apart; ";
+  if (c.contacts.empty()) {
+    os << "no two stretches of the surface closer than the " << c.thickness << " mm sheets";
+    n.lines.push_back(os.str());
+    return n;
+  }
+  os << c.contacts.size() << " pairs of parts closer than the " << c.thickness
+     << " mm sheets, the narrowest " << c.min_gap() << " mm apart";
+  n.lines.push_back(os.str());
+  std::vector<const ClearanceContact*> thin;
+  std::map<int, std::vector<const ClearanceContact*>> reversed;  // part inside out -> contacts
+  double thin_area = 0;
+  for (const ClearanceContact& k : c.contacts)
+    if (k.inside_out >= 0)
+      reversed[k.inside_out].push_back(&k);
+    else
+      thin.push_back(&k), thin_area += k.area;
+  auto where = [](Line& w, const ClearanceContact& k) {
+    w << k.gap << " mm apart at (" << k.at.x() << ", " << k.at.y() << ", " << k.at.z() << ") mm";
+  };
+  if (!thin.empty()) {
+    Line w;
+    w << "the shape is thinner than its " << c.thickness << " mm sheets in " << thin.size()
+      << (thin.size() == 1 ? " place" : " places") << " (" << whole_mm(thin_area)
+      << " mm^2 of surface): two stretches of it, apart along the surface, come closer than the "
+         "sheets are thick, so two parts' sheets would stand in the same place "
+         "(quality.clearance); ";
+    for (std::size_t i = 0; i < thin.size() && i < kBordersNamed; ++i) {
+      const ClearanceContact& k = *thin[i];
+      w << (i ? ", " : "");
+      if (k.part_a == k.part_b)
+        w << "part " << k.part_a << " against itself ";
+      else
+        w << "parts " << k.part_a << " and " << k.part_b << " ";
+      where(w, k);
+    }
+    if (thin.size() > kBordersNamed) w << ", ...";
+    const double factor = c.size_factor();
+    if (factor <= 0)
+      w << "; the surface meets itself there, which no --size cures (the target intersects "
+           "itself)";
+    else if (factor * size_mm > kLargestSize)
+      w << "; no --size up to " << kLargestSize / 1000 << " m clears them";
+    else
+      w << "; at --size " << whole_mm(factor * size_mm) << " every gap reaches the thickness, "
+        << "and at this size sheets of at most " << c.min_thin_gap()
+        << " mm (--thickness) would clear";
+    n.warnings.push_back(w.str());
+  }
+  if (!reversed.empty()) {
+    Line w;
+    const bool one = reversed.size() == 1;
+    w << reversed.size()
+      << (one ? " part lies inside out over the parts beside it, its"
+              : " parts lie inside out over the parts beside them, their")
+      << " faces turned against the target's (quality.clearance, \"inside_out\"): ";
+    std::size_t named = 0;
+    for (const auto& [part, list] : reversed) {
+      if (named++ == kBordersNamed) {
+        w << ", ...";
+        break;
+      }
+      w << (named > 1 ? "; " : "") << "part " << part << " over part";
+      w << (list.size() > 1 ? "s " : " ");
+      for (std::size_t i = 0; i < list.size(); ++i)
+        w << (i ? ", " : "") << (list[i]->part_a == part ? list[i]->part_b : list[i]->part_a);
+      w << " ";
+      where(w, *list.front());
+    }
+    w << "; the quads fold over there, which no --size cures: the quads there would need to lie "
+         "flat"
+      << (quads_made ? " (model/quads.obj edited, passed back with --quad, or another --quads)"
+                     : " (the quad mesh edited there)");
+    n.warnings.push_back(w.str());
+  }
+  return n;
+}
+
 }  // namespace kerfab

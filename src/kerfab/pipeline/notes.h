@@ -46,5 +46,8 @@ StageNotes notes(const LayoutResult& layout, const LayoutOptions& options);
 StageNotes notes(const SplitToFitResult& split);
 StageNotes notes(const AssemblyPlan& assembly);
 StageNotes notes(const SurfaceDistance& quality, double target_diagonal);
+/// \p size_mm: the model's largest bounding-box side as run; \p quads_made: kerfab made the quad
+/// mesh (model/quads.obj).
+StageNotes notes(const ShellClearance& clearance, double size_mm, bool quads_made);
 
 }  // namespace kerfab

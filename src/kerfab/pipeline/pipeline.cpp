@@ -315,7 +315,17 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
          r.quality = surface_distance(triangulate(r.flat->strips), r.input->surface.mesh(),
                                       {.sample_spacing = o.quality_sample_spacing * diag(),
                                        .max_samples = kQualitySampleBudget});
-         return notes(*r.quality, diag());
+         StageNotes n = notes(*r.quality, diag());
+         const Strips& built = r.flat->strips;
+         r.clearance = shell_clearance(
+             {built.vertices, built.faces, built.face_patch, built.edge_vertices},
+             {.thickness = o.material.thickness, .max_fold = kMaxJointFold}, &r.input->surface);
+         const StageNotes c =
+             notes(*r.clearance, bounding_box(r.input->surface.mesh()).largest_side(),
+                   r.quads.has_value());
+         n.lines.insert(n.lines.end(), c.lines.begin(), c.lines.end());
+         n.warnings.insert(n.warnings.end(), c.warnings.begin(), c.warnings.end());
+         return n;
        }},
   };
   for (const auto& [id, body] : stages)

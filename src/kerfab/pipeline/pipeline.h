@@ -11,6 +11,7 @@
 #include "kerfab/assembly/assembly.h"
 #include "kerfab/bending/bending.h"
 #include "kerfab/core/material.h"
+#include "kerfab/eval/shell_clearance.h"
 #include "kerfab/eval/surface_distance.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/joints/joints.h"
@@ -100,6 +101,8 @@ struct RunResult {
   std::optional<SplitToFitResult> split_to_fit;
   std::optional<AssemblyPlan> assembly;
   std::optional<SurfaceDistance> quality;  ///< strip mesh vs target [mm]
+  /// Where two stretches of the strips come closer than the sheets are thick (quality stage).
+  std::optional<ShellClearance> clearance;
   std::vector<StageTiming> timings;
   double total_seconds = 0;
   std::vector<std::string> warnings;
