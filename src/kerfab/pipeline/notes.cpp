@@ -368,8 +368,9 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
       if (c.action == "omit") farthest = std::max(farthest, c.local_distance);
     Line w(3);
     w << actions["omit"] << " parts were left out (resolve.changes, \"omit\"): faces folded back "
-      << "thinner than the sheets, slivers narrower than --min-part-width, or parts of which "
-      << "their joints left nothing; the surface there lies within " << farthest
+      << "thinner than the sheets, slivers narrower than --min-part-width, parts of which "
+      << "their joints left nothing, or parts inside out (their quads folded over the parts "
+      << "beside them); the surface there lies within " << farthest
       << " mm of the parts kept, whose borders with them are free edges";
     if (r.gone_parts > 0) {
       w << "; " << r.gone_parts << " had nothing left once their joints were cut";

@@ -689,7 +689,7 @@ class Resolver {
   /// and parts too small), or as many and fewer borders without a joint, after it: returns
   /// whether it was. \p small: small_now(), updated.
   bool omit_thin_parts(std::vector<int>& small) {
-    enum class Why { kGone, kFolded, kSliver };
+    enum class Why { kGone, kFolded, kSliver, kInsideOut };
     struct Omitted {
       int part;
       Why why;
@@ -711,6 +711,13 @@ class Resolver {
       else if (gone)
         omitted.push_back({p, Why::kGone, cut, across, gone});
     }
+    // Parts inside out, small or not: no size cures them, and where they lie over the parts
+    // beside them (checked below), those hold the surface.
+    const std::vector<int> turned = inside_out_parts(build_);
+    for (int p : turned)
+      if (std::none_of(omitted.begin(), omitted.end(),
+                       [&](const Omitted& o) { return o.part == p; }))
+        omitted.push_back({p, Why::kInsideOut, deepest_cut_back(p), 0.0, false});
     if (omitted.empty()) return false;
     // How far the surface that was there lies from the parts kept, sampled on a 4 x 4 grid in
     // each of its sub-quads: left out only where the sheets a maker builds stand within a
@@ -748,7 +755,8 @@ class Resolver {
                                                u * v * x[q[2]] + (1 - u) * v * x[q[3]])
                                       .distance);
       }
-      if (o.distance > o_.material.thickness && !o.gone) continue;
+      const double reach = (o.why == Why::kInsideOut ? 2 : 1) * o_.material.thickness;
+      if (o.distance > reach && !o.gone) continue;
       for (int q : patch.all_quads()) trial.guidance.omit.push_back(q);
       left.push_back(std::move(o));
     }
@@ -764,7 +772,7 @@ class Resolver {
       return false;
     }
     const auto score = [&](const PartsBuild& b) {
-      return std::pair(defects(b), b.joints.borders_without_joint);
+      return std::pair(defects(b) + inside_out_parts(b).size(), b.joints.borders_without_joint);
     };
     if (score(tried) >= score(build_)) return false;
     ++out_.rounds;
@@ -810,6 +818,11 @@ class Resolver {
           break;
         case Why::kSliver:
           why << "a sliver " << o.across << " mm across, narrower than --min-part-width";
+          break;
+        case Why::kInsideOut:
+          why << "inside out: its faces are turned against the target's (its quads fold over "
+                 "the parts beside it, within "
+              << o.distance << " mm of them)";
           break;
       }
       why << "; its neighbours' borders with it are free edges";
@@ -1023,6 +1036,31 @@ class Resolver {
           folded += length;
       }
     return all > 0 ? folded / all : 0.0;
+  }
+
+  /// Parts of \p b that lie inside out: over more than half their area their faces are turned
+  /// against the target's normal at the nearest point (quads folded over their neighbours: a
+  /// quad of bunny_closed's own mesh bridged an ear's base, and the part cut from it lay 0.04 mm
+  /// over three others, facing them).
+  std::vector<int> inside_out_parts(const PartsBuild& b) const {
+    const Strips& s = b.flat.strips;
+    std::vector<double> turned(s.patches.size(), 0.0), all(s.patches.size(), 0.0);
+    for (std::size_t f = 0; f < s.faces.size(); ++f) {
+      const int p = s.face_patch[f];
+      if (p < 0 || p >= static_cast<int>(s.patches.size())) continue;
+      const auto& q = s.faces[f];
+      const auto& x = s.vertices;
+      const Vec3 n = 0.5 * (x[q[2]] - x[q[0]]).cross(x[q[3]] - x[q[1]]);
+      const double area = n.norm();
+      if (!(area > 0)) continue;
+      const Vec3 centre = 0.25 * (x[q[0]] + x[q[1]] + x[q[2]] + x[q[3]]);
+      all[p] += area;
+      if (n.dot(in_.surface.closest(centre).normal) < 0) turned[p] += area;
+    }
+    std::vector<int> out;
+    for (std::size_t p = 0; p < all.size(); ++p)
+      if (turned[p] > 0.5 * all[p]) out.push_back(static_cast<int>(p));
+    return out;
   }
 
   /// Critical regions and parts too small or narrow to handle in \p b.
