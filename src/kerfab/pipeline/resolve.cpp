@@ -684,10 +684,12 @@ class Resolver {
   /// part was). A part of which its joints left nothing (nothing_left()) is left out wherever it
   /// is: it is missing from the sheets either way, but kept, its neighbours are cut back for a
   /// part that is not there and their borders with it have no joint (the bunny's ear tips at
-  /// 250 mm: 12 such borders, and mitres 17 mm deep beside nothing). Their neighbours' borders
-  /// with them become free edges. Kept only where the build has fewer defects (critical regions
-  /// and parts too small), or as many and fewer borders without a joint, after it: returns
-  /// whether it was. \p small: small_now(), updated.
+  /// 250 mm: 12 such borders, and mitres 17 mm deep beside nothing). So is a part of any size
+  /// inside out (inside_out_parts(): quads folded over their neighbours, which no size cures)
+  /// where the parts kept stand within two sheets of it. Their neighbours' borders with them
+  /// become free edges. Kept only where the build has fewer defects (critical regions
+  /// and parts too small, parts inside out counted among them), or as many and fewer borders
+  /// without a joint, after it: returns whether it was. \p small: small_now(), updated.
   bool omit_thin_parts(std::vector<int>& small) {
     enum class Why { kGone, kFolded, kSliver, kInsideOut };
     struct Omitted {
