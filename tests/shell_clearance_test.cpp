@@ -14,7 +14,9 @@ namespace {
 
 ShellClearance clearance(const Strips& s, const ClearanceOptions& o,
                          const TargetSurface* target = nullptr) {
-  return shell_clearance({s.vertices, s.faces, s.face_patch, s.edge_vertices}, o, target);
+  const TriangleMesh triangles = triangulate(s);
+  return shell_clearance({s.vertices, s.faces, s.face_patch, s.edge_vertices, triangles}, o,
+                         target);
 }
 
 /// Adds an n x n grid of sub-quads over the parallelogram origin + s u + t w, s, t in [0, 1],

@@ -41,21 +41,16 @@ ShellClearance shell_clearance(const Shell& shell, const ClearanceOptions& optio
     return std::array<Vec3, 4>{v[faces[f][0]], v[faces[f][1]], v[faces[f][2]], v[faces[f][3]]};
   };
 
-  // The sub-quads as triangles of positive area, each knowing its sub-quad.
+  // The sub-quads' triangles of positive area, each knowing its sub-quad.
   TriangleMesh mesh;
   mesh.vertices = v;
   std::vector<int> triangle_face;
-  for (int f = 0; f < nf; ++f) {
-    const auto& q = faces[f];
-    const bool short02 = (v[q[0]] - v[q[2]]).squaredNorm() <= (v[q[1]] - v[q[3]]).squaredNorm();
-    const std::array<std::array<int, 3>, 2> halves =
-        short02 ? std::array<std::array<int, 3>, 2>{{{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}}
-                : std::array<std::array<int, 3>, 2>{{{q[0], q[1], q[3]}, {q[1], q[2], q[3]}}};
-    for (const auto& t : halves)
-      if ((v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).norm() > 1e-12) {
-        mesh.triangles.push_back(t);
-        triangle_face.push_back(f);
-      }
+  for (std::size_t t = 0; t < shell.triangles.triangles.size(); ++t) {
+    const auto& tri = shell.triangles.triangles[t];
+    if ((v[tri[1]] - v[tri[0]]).cross(v[tri[2]] - v[tri[0]]).norm() > 1e-12) {
+      mesh.triangles.push_back(tri);
+      triangle_face.push_back(static_cast<int>(t / 2));
+    }
   }
   if (mesh.triangles.empty()) return out;
   const TargetSurface surface(mesh);

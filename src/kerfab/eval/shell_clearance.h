@@ -73,6 +73,8 @@ struct Shell {
   const std::vector<std::array<int, 4>>& faces;  ///< consistently oriented
   const std::vector<int>& face_part;
   const std::vector<std::vector<int>>& lines;
+  /// The sub-quads cut in two triangles each, in their order (triangulate(const Strips&)).
+  const TriangleMesh& triangles;
 };
 
 /// Casts a line along the normal at samples over every sub-quad of \p shell (both ways, out to

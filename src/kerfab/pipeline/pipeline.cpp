@@ -312,13 +312,14 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
        }},
       {Stage::kQuality,
        [&] {
-         r.quality = surface_distance(triangulate(r.flat->strips), r.input->surface.mesh(),
+         const Strips& built = r.flat->strips;
+         const TriangleMesh triangles = triangulate(built);
+         r.quality = surface_distance(triangles, r.input->surface.mesh(),
                                       {.sample_spacing = o.quality_sample_spacing * diag(),
                                        .max_samples = kQualitySampleBudget});
          StageNotes n = notes(*r.quality, diag());
-         const Strips& built = r.flat->strips;
          r.clearance = shell_clearance(
-             {built.vertices, built.faces, built.face_patch, built.edge_vertices},
+             {built.vertices, built.faces, built.face_patch, built.edge_vertices, triangles},
              {.thickness = o.material.thickness, .max_fold = kMaxJointFold}, &r.input->surface);
          const StageNotes c =
              notes(*r.clearance, bounding_box(r.input->surface.mesh()).largest_side(),

@@ -721,15 +721,12 @@ TriangleMesh taubin_smoothed(const TriangleMesh& mesh, int rounds) {
 /// Rounds of taubin_smoothed() for the copy a noisy target is meshed on [-].
 constexpr int kDenoiseRounds = 10;
 
-/// Which of make_quad_mesh_on's attempts are made: the lattices, the safe net of triangles
-/// split into quads, or both in turn.
-enum class Attempts { kAll, kLattices, kTriangles };
-
-/// make_quad_mesh on \p target as it is (below).
+/// make_quad_mesh on \p target as it is (below): its lattices alone, or with \p safe_net its
+/// triangles split into quads alone.
 QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& material,
                                  const QuadMeshOptions& o,
                                  const std::function<void(const std::string&)>& progress,
-                                 Attempts which);
+                                 bool safe_net);
 
 }  // namespace
 
@@ -737,7 +734,7 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
                               const QuadMeshOptions& o,
                               const std::function<void(const std::string&)>& progress) {
   try {
-    return make_quad_mesh_on(target, material, o, progress, Attempts::kLattices);
+    return make_quad_mesh_on(target, material, o, progress, false);
   } catch (const SolverError&) {
   }
   // No lattice on the target as given: where that is noise (a scan, ridges a few facets wide),
@@ -757,7 +754,7 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
              " mm at most (" + std::to_string(kDenoiseRounds) + " Taubin rounds)");
   try {
     const TargetSurface copy(smooth);
-    QuadMeshResult r = make_quad_mesh_on(copy, material, o, progress, Attempts::kLattices);
+    QuadMeshResult r = make_quad_mesh_on(copy, material, o, progress, false);
     // Onto the target, as every quad mesh kerfab makes, where that leaves the quads sound.
     PolyMesh onto = r.quads;
     for (auto v : onto.vertices())
@@ -782,7 +779,7 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
     if (progress) progress("no lattice on the smoothed copy either");
   } catch (const InvalidInput&) {  // a triangle of no area in the copy
   }
-  return make_quad_mesh_on(target, material, o, progress, Attempts::kTriangles);
+  return make_quad_mesh_on(target, material, o, progress, true);
 }
 
 namespace {
@@ -790,7 +787,7 @@ namespace {
 QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& material,
                                  const QuadMeshOptions& o,
                                  const std::function<void(const std::string&)>& progress,
-                                 Attempts which) {
+                                 bool safe_net) {
   if (o.quads && (*o.quads < 20 || *o.quads > kMaxQuads))
     throw InvalidInput("--quads must be between 20 and " + std::to_string(kMaxQuads) + ", got " +
                        std::to_string(*o.quads));
@@ -864,8 +861,7 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
   std::optional<std::pair<QuadMeshResult, FeatureTriangleMesh>> pure;
   for (const auto& [mode, spacing_factor, edge] : attempts) {
     if (pure && mode != Mode::kSplit) break;
-    if ((mode == Mode::kTriangles) != (which == Attempts::kTriangles) && which != Attempts::kAll)
-      continue;
+    if ((mode == Mode::kTriangles) != safe_net) continue;
     const double spacing = spacing_factor * r.size.size;
     remeshed = isotropic_remesh(input, edge * r.size.size, 5);
     const quads::Surface surface = quads::make_surface(remeshed.mesh);

@@ -208,7 +208,8 @@ struct RowBaseline {
 RowBaseline row_baseline(const PolyMesh& quads, const TargetSurface& target,
                          const StripsOptions& options);
 
-/// The sub-quads as triangles (two per sub-quad), for distance queries and output.
+/// The sub-quads as triangles (two per sub-quad, in their order: sub-quad f gives triangles 2f
+/// and 2f + 1), for distance queries and output.
 TriangleMesh triangulate(const Strips& strips);
 
 }  // namespace kerfab
