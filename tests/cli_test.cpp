@@ -251,6 +251,48 @@ TEST(Cli, ABoxFromItsTrianglesIsCutAsOnePanelPerFace) {
   EXPECT_EQ(test::read_sheet_parts(paper / "cut").size(), 6u);
 }
 
+// A box exported with some triangles the wrong way round (as STL exporters do) was refused as
+// "not manifold". Its faces are turned round, the run says how many, and it cuts the sheet the
+// box whose faces all agree cuts, byte for byte.
+TEST(Cli, AMeshWithFacesTurnedTheWrongWayCutsTheSheetsOfTheMeshMended) {
+  const fs::path scratch = test::fresh_dir();
+  const PolyMesh grid = test::cube_grid_mesh(2, [](const Vec3& p) { return Vec3(50 * p); });
+  std::vector<std::array<int, 3>> t;
+  for (auto face : grid.faces()) {
+    std::vector<int> q;
+    for (auto v : face.vertices()) q.push_back(v.idx() + 1);
+    t.push_back({q[0], q[1], q[2]});
+    t.push_back({q[0], q[2], q[3]});
+  }
+  const std::set<int> turned = {1, 8, 9, 22, 40, 41, 46};
+  for (const bool mixed : {false, true}) {
+    std::ofstream f(scratch / (mixed ? "mixed.obj" : "clean.obj"));
+    for (auto v : grid.vertices()) {
+      const auto& p = grid.point(v);
+      f << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
+    }
+    for (int i = 0; i < static_cast<int>(t.size()); ++i) {
+      const bool back = mixed && turned.count(i);
+      f << "f " << t[i][0] << " " << t[i][back ? 2 : 1] << " " << t[i][back ? 1 : 2] << "\n";
+    }
+  }
+  std::string sheets[2];
+  for (const bool mixed : {false, true}) {
+    const fs::path out = scratch / (mixed ? "out-mixed" : "out-clean");
+    const CliRun r =
+        run_cli("run --target " + (scratch / (mixed ? "mixed.obj" : "clean.obj")).string() +
+                    " --size 150 --out " + out.string(),
+                scratch);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(read_report(out)["input"]["target_repairs"]["faces_turned"].get<int>(),
+              mixed ? 7 : 0);
+    EXPECT_EQ(r.err.find("7 faces turned the other way") != std::string::npos, mixed) << r.err;
+    sheets[mixed] = test::slurp(out / "cut" / "sheet-001.svg");
+  }
+  EXPECT_FALSE(sheets[0].empty());
+  EXPECT_TRUE(sheets[0] == sheets[1]);
+}
+
 // A slab 120 x 60 x 1 mm from its 12 triangles, in 3 mm MDF: its top and bottom are 1 mm
 // apart, so their sheets, each standing 1.5 mm to either side of its face, would overlap by
 // 2 mm. The run says so, names the parts and where, and the size at which they clear

@@ -3,8 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <sstream>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/io/orient.h"
 #include "shapes.h"
 #include "test_util.h"
 
@@ -88,6 +94,175 @@ TEST(MeshIo, PlyAndStlRoundTrip) {
   const PolyMesh s = read_mesh(bin_stl);
   EXPECT_EQ(s.n_faces(), 1u);
   EXPECT_DOUBLE_EQ(bounding_box(s).largest_side(), 30.0);
+}
+
+/// A box [-50, 50]^3 as 48 triangles (two per cell of a 2 x 2 grid on each side), faces out.
+std::vector<std::array<int, 3>> box_triangles(std::vector<Vec3>& points) {
+  const PolyMesh grid = test::cube_grid_mesh(2, [](const Vec3& p) { return Vec3(50 * p); });
+  points.clear();
+  for (auto v : grid.vertices()) points.push_back(to_eigen(grid.point(v)));
+  std::vector<std::array<int, 3>> t;
+  for (auto f : grid.faces()) {
+    std::vector<int> q;
+    for (auto v : f.vertices()) q.push_back(v.idx());
+    t.push_back({q[0], q[1], q[2]});
+    t.push_back({q[0], q[2], q[3]});
+  }
+  return t;
+}
+
+/// The triangles as an OBJ, those in \p turn with their corners in the other order.
+std::string obj_text(const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& t,
+                     const std::vector<int>& turn) {
+  std::ostringstream s;
+  for (const Vec3& p : points) s << "v " << p.x() << " " << p.y() << " " << p.z() << "\n";
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const bool back = std::find(turn.begin(), turn.end(), static_cast<int>(i)) != turn.end();
+    s << "f " << t[i][0] + 1 << " " << (back ? t[i][2] : t[i][1]) + 1 << " "
+      << (back ? t[i][1] : t[i][2]) + 1 << "\n";
+  }
+  return s.str();
+}
+
+/// Each face's corners as read, starting from its smallest index (the same cycle compares equal
+/// wherever it starts).
+std::vector<std::vector<int>> cycles(const PolyMesh& m) {
+  std::vector<std::vector<int>> out;
+  for (auto f : m.faces()) {
+    std::vector<int> c;
+    for (auto v : f.vertices()) c.push_back(v.idx());
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    out.push_back(c);
+  }
+  return out;
+}
+
+double signed_volume_of(const PolyMesh& m) {
+  double v = 0;
+  for (auto f : m.faces()) {
+    std::vector<Vec3> c;
+    for (auto x : f.vertices()) c.push_back(to_eigen(m.point(x)));
+    for (std::size_t k = 1; k + 1 < c.size(); ++k) v += c[0].dot(c[k].cross(c[k + 1])) / 6;
+  }
+  return v;
+}
+
+// An STL or OBJ exported with some faces the wrong way round (their neighbours walk the edges
+// they share the same way) was refused as "not manifold". Its faces are turned round: the mesh
+// read is the one the file with all faces agreeing gives, face for face, closed, facing out.
+TEST(MeshIo, FacesTurnedAgainstTheirNeighboursAreTurnedRound) {
+  const auto dir = fresh_dir();
+  std::vector<Vec3> points;
+  const auto t = box_triangles(points);
+  ASSERT_EQ(t.size(), 48u);
+  MeshRepairs clean_repairs{.faces_turned = -1};
+  const PolyMesh clean =
+      read_mesh(write_text(dir / "clean.obj", obj_text(points, t, {})), &clean_repairs);
+  EXPECT_EQ(clean_repairs.faces_turned, 0);
+  const std::vector<int> some = {0, 5, 17, 30, 47};
+  MeshRepairs repairs;
+  const PolyMesh mixed =
+      read_mesh(write_text(dir / "mixed.obj", obj_text(points, t, some)), &repairs);
+  EXPECT_EQ(repairs.faces_turned, 5);
+  EXPECT_EQ(mixed.n_vertices(), clean.n_vertices());
+  EXPECT_EQ(cycles(mixed), cycles(clean));
+  EXPECT_EQ(boundary_loop_count(mixed), 0);
+  EXPECT_NEAR(signed_volume_of(mixed), 100.0 * 100 * 100, 1e-6);
+
+  // All but two faces inward: the closed box is turned to face out (46 turned, not 2).
+  std::vector<int> most;
+  for (int i = 0; i < 48; ++i)
+    if (i != 3 && i != 20) most.push_back(i);
+  const PolyMesh inward =
+      read_mesh(write_text(dir / "inward.obj", obj_text(points, t, most)), &repairs);
+  EXPECT_EQ(repairs.faces_turned, 46);
+  EXPECT_EQ(cycles(inward), cycles(clean));
+
+  // A binary STL soup of the mixed box: welded (26 vertices) and turned.
+  const auto stl = dir / "mixed.stl";
+  {
+    std::ofstream out(stl, std::ios::binary);
+    char header[80] = {};
+    out.write(header, 80);
+    const auto count = static_cast<std::uint32_t>(t.size());
+    out.write(reinterpret_cast<const char*>(&count), 4);
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const bool back = std::find(some.begin(), some.end(), static_cast<int>(i)) != some.end();
+      const std::array<int, 3> c = back ? std::array{t[i][0], t[i][2], t[i][1]} : t[i];
+      float data[12] = {};
+      for (int k = 0; k < 3; ++k)
+        for (int d = 0; d < 3; ++d) data[3 + 3 * k + d] = static_cast<float>(points[c[k]][d]);
+      out.write(reinterpret_cast<const char*>(data), sizeof data);
+      const std::uint16_t attr = 0;
+      out.write(reinterpret_cast<const char*>(&attr), 2);
+    }
+  }
+  const PolyMesh from_stl = read_mesh(stl, &repairs);
+  EXPECT_EQ(repairs.faces_turned, 5);
+  EXPECT_EQ(from_stl.n_vertices(), 26u);
+  EXPECT_EQ(from_stl.n_faces(), 48u);
+  EXPECT_EQ(boundary_loop_count(from_stl), 0);
+  EXPECT_NEAR(signed_volume_of(from_stl), 100.0 * 100 * 100, 1e-3);
+}
+
+// An open piece has no outside: it keeps the way most of its faces came (the fewest turned).
+TEST(MeshIo, AnOpenPieceKeepsTheWayMostOfItsFacesCame) {
+  std::vector<Vec3> points;
+  for (int j = 0; j <= 3; ++j)
+    for (int i = 0; i <= 3; ++i) points.emplace_back(10.0 * i, 10.0 * j, 0);
+  std::vector<std::vector<int>> up;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const int a = 4 * j + i;
+      up.push_back({a, a + 1, a + 5});
+      up.push_back({a, a + 5, a + 4});
+    }
+  for (const int flipped : {4, 14}) {
+    auto faces = up;
+    for (int f = 0; f < flipped; ++f) std::reverse(faces[f].begin(), faces[f].end());
+    const OrientedFaces o = orient_consistently(points, faces, "grid");
+    EXPECT_EQ(o.turned, std::min(flipped, 18 - flipped)) << flipped;
+    EXPECT_EQ(o.components, 1);
+    // Every face now turns the same way: all up (4 given turned) or all down (14).
+    const double sign = flipped < 9 ? 1 : -1;
+    for (const auto& c : o.faces)
+      EXPECT_GT(sign * (points[c[1]] - points[c[0]]).cross(points[c[2]] - points[c[0]]).z(), 0);
+  }
+}
+
+// What no turning mends is refused with one line naming it: a one-sided surface, an edge on
+// three faces, two pieces meeting at a single vertex.
+TEST(MeshIo, OneSidedSurfacesAndNonManifoldPlacesAreRefused) {
+  const auto dir = fresh_dir();
+  std::ostringstream mobius;
+  const int n = 24;
+  for (int i = 0; i < n; ++i)
+    for (const double s : {-1.0, 1.0}) {
+      const double u = 2 * M_PI * i / n, r = 100 + 30 * s * std::cos(u / 2);
+      mobius << "v " << r * std::cos(u) << " " << r * std::sin(u) << " " << 30 * s * std::sin(u / 2)
+             << "\n";
+    }
+  for (int i = 0; i < n; ++i) {
+    const int a = 2 * i + 1, b = 2 * i + 2;
+    const int c = i + 1 < n ? 2 * i + 4 : 1, d = i + 1 < n ? 2 * i + 3 : 2;  // joined half-turned
+    mobius << "f " << a << " " << d << " " << c << "\nf " << a << " " << c << " " << b << "\n";
+  }
+  const auto says = [&](const std::string& name, const std::string& text, const std::string& what) {
+    try {
+      read_mesh(write_text(dir / name, text));
+      ADD_FAILURE() << name << " was read";
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  says("mobius.obj", mobius.str(), "not orientable");
+  says("fin.obj", "v 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 -10 0\nv 0 0 10\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+       "edge(s) shared by more than two faces");
+  // Two tetrahedra touching at vertex 1, one face of the second turned.
+  says("bowtie.obj",
+       "v 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 0 10\nv -10 0 0\nv 0 -10 0\nv 0 0 -10\n"
+       "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 5 6\nf 1 7 5\nf 1 6 7\nf 5 7 6\n",
+       "non-manifold vertex");
 }
 
 TEST(MeshIo, MissingUnreadableAndUnknownFormatAreIoErrors) {

@@ -3,6 +3,7 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -10,10 +11,13 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <numeric>
 #include <sstream>
+#include <unordered_map>
 #include <vector>
 
 #include "kerfab/core/errors.h"
+#include "kerfab/io/orient.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 /// The sanitized build's LeakSanitizer: OpenMesh's stream connects below allocate once per
@@ -333,9 +337,75 @@ int count_occurrences(const std::string& text, const std::string& needle) {
   return n;
 }
 
+/// \p mesh as read, with the faces OpenMesh could not join to their neighbours (it gives them
+/// copies of their corners) joined: the copies welded to the first vertex at the same point,
+/// the faces turned round to agree (orient_consistently), and added piece by piece in an order
+/// where each face meets one added before. \throw InvalidInput where a vertex still cannot take
+/// its faces (they meet only at that corner) or orient_consistently refuses.
+PolyMesh reoriented(const PolyMesh& mesh, const std::string& name, MeshRepairs* repairs) {
+  struct Key {
+    double x, y, z;
+    bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+  };
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      const std::hash<double> h;
+      return h(k.x) ^ (h(k.y) * 31) ^ (h(k.z) * 1000003);
+    }
+  };
+  std::unordered_map<Key, int, Hash> first;
+  std::vector<int> kept(mesh.n_vertices(), -1);  // vertex -> its index in the mesh rebuilt
+  std::vector<Vec3> points;
+  PolyMesh vertices_only;
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    const auto [it, fresh] =
+        first.try_emplace(Key{p[0], p[1], p[2]}, static_cast<int>(points.size()));
+    if (fresh) {
+      points.push_back(to_eigen(p));
+      vertices_only.add_vertex(p);
+    }
+    kept[v.idx()] = it->second;
+  }
+  std::vector<std::vector<int>> faces;
+  faces.reserve(mesh.n_faces());
+  for (auto f : mesh.faces()) {
+    std::vector<int> corners;
+    for (auto v : mesh.fv_range(f)) corners.push_back(kept[v.idx()]);
+    faces.push_back(std::move(corners));
+  }
+  const OrientedFaces oriented = orient_consistently(points, std::move(faces), name);
+  // The faces in the file's order first (the mesh then is the one the file would have given
+  // had its faces agreed), else piece by piece.
+  const std::vector<int> in_file = [&] {
+    std::vector<int> all(oriented.faces.size());
+    std::iota(all.begin(), all.end(), 0);
+    return all;
+  }();
+  std::size_t refused = 0;
+  PolyMesh out;
+  for (const std::vector<int>* order : std::array{&in_file, &oriented.order}) {
+    out = vertices_only;
+    refused = 0;
+    OpenMeshLogCapture capture;
+    std::vector<PolyMesh::VertexHandle> corners;
+    for (int f : *order) {
+      corners.clear();
+      for (int v : oriented.faces[f]) corners.push_back(out.vertex_handle(v));
+      if (!out.add_face(corners).is_valid()) ++refused;
+    }
+    if (refused == 0) break;
+  }
+  if (refused > 0)
+    throw InvalidInput("mesh is not manifold (" + std::to_string(refused) +
+                       " face(s) meet others only at a corner, a non-manifold vertex): " + name);
+  if (repairs) repairs->faces_turned = oriented.turned;
+  return out;
+}
+
 }  // namespace
 
-PolyMesh read_mesh(const std::filesystem::path& path) {
+PolyMesh read_mesh(const std::filesystem::path& path, MeshRepairs* repairs) {
   const std::string name = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw IoError("mesh file not found: " + name);
@@ -385,13 +455,9 @@ PolyMesh read_mesh(const std::filesystem::path& path) {
     throw InvalidInput("mesh has " + std::to_string(invalid) +
                        " face(s) with an out-of-range vertex index: " + name);
   if (mesh.n_faces() == 0) throw InvalidInput("mesh has no faces: " + name);
-  std::size_t nonmanifold = 0;
+  if (repairs) *repairs = MeshRepairs{};
   for (auto f : mesh.faces())
-    if (mesh.status(f).fixed_nonmanifold()) ++nonmanifold;
-  if (nonmanifold > 0)
-    throw InvalidInput(
-        "mesh is not manifold (" + std::to_string(nonmanifold) +
-        " face(s) on a non-manifold or inconsistently oriented edge/vertex): " + name);
+    if (mesh.status(f).fixed_nonmanifold()) return reoriented(mesh, name, repairs);
   return mesh;
 }
 

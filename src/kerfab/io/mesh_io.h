@@ -6,12 +6,23 @@
 
 namespace kerfab {
 
+/// What read_mesh mended in a file it read.
+struct MeshRepairs {
+  /// Faces whose corner order was reversed: their neighbours walk the edges they share the
+  /// same way (the file's faces turn different ways), or a closed piece faced inwards with them.
+  int faces_turned = 0;
+};
+
 /// Reads a polygon mesh. Vertex indices follow the file (isolated vertices are kept, so
-/// indices stay those a user sees in the file).
+/// indices stay those a user sees in the file). A file whose faces turn different ways
+/// (neighbours walk a shared edge the same way) has them turned round (orient_consistently),
+/// each closed piece facing out, its vertices at the same point welded into one, and says so
+/// in \p repairs.
 /// \throw IoError the file is missing, unreadable or of an unknown format.
-/// \throw InvalidInput the file has no faces, a face with a repeated or invalid vertex,
-///        or a non-manifold edge/vertex (reported with the count of affected faces).
-PolyMesh read_mesh(const std::filesystem::path& path);
+/// \throw InvalidInput the file has no faces, a face with a repeated or invalid vertex, an
+///        edge on more than two faces, a vertex where faces meet only at their corners
+///        (reported with the count of affected faces), or a one-sided surface.
+PolyMesh read_mesh(const std::filesystem::path& path, MeshRepairs* repairs = nullptr);
 
 /// Writes \p mesh to \p path, format from the extension (.obj, .off, .ply, .stl).
 /// \throw IoError the file could not be written.

@@ -12,7 +12,7 @@ std::string report_json(const RunResult& run, const OutputOptions& output) {
   r["version"] = 1;
   r["status"] = "ok";
   r["units"] = "mm";
-  r["input"] = report::input_section(run.inputs, run.input);
+  r["input"] = report::input_section(run.inputs, run.loaded, run.input);
   r["options"] = report::options_section(run, output);
   if (run.quads) r["quads"] = report::quads_section(*run.quads);
   if (run.coarsened) r["quads"] = report::coarsen_section(*run.coarsened);

@@ -26,9 +26,14 @@ json summary_json(const MeshSummary& s) {
 
 }  // namespace
 
-json input_section(const RunInputs& inputs, const std::optional<PreparedInput>& input) {
+json input_section(const RunInputs& inputs, const std::optional<LoadedInputs>& loaded,
+                   const std::optional<PreparedInput>& input) {
   json j;
   j["target"] = inputs.target.string();
+  if (loaded) {
+    j["target_repairs"] = {{"faces_turned", loaded->target_repairs.faces_turned}};
+    if (loaded->quad) j["quad_repairs"] = {{"faces_turned", loaded->quad_repairs.faces_turned}};
+  }
   if (inputs.quad)
     j["quad"] = inputs.quad->string();
   else if (input && !input->quads_from_target)

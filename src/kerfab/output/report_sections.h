@@ -10,7 +10,8 @@ namespace kerfab::report {
 
 using nlohmann::json;
 
-json input_section(const RunInputs& inputs, const std::optional<PreparedInput>& input);
+json input_section(const RunInputs& inputs, const std::optional<LoadedInputs>& loaded,
+                   const std::optional<PreparedInput>& input);
 json quads_section(const QuadMeshResult& quads);
 json coarsen_section(const CoarsenResult& coarsened);
 json options_section(const RunResult& run, const OutputOptions& output);

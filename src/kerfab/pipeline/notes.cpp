@@ -38,6 +38,22 @@ std::string summary_line(const std::string& what, const MeshSummary& s) {
 
 }  // namespace
 
+StageNotes notes(const LoadedInputs& loaded) {
+  StageNotes n;
+  auto turned = [&](const char* file, const MeshRepairs& r) {
+    if (r.faces_turned == 0) return;
+    Line w;
+    w << file << ": " << r.faces_turned
+      << " faces turned the other way from their neighbours were turned round, each closed "
+         "piece facing out (input."
+      << file << "_repairs)";
+    n.warnings.push_back(w.str());
+  };
+  turned("target", loaded.target_repairs);
+  if (loaded.quad) turned("quad", loaded.quad_repairs);
+  return n;
+}
+
 StageNotes notes(const PreparedInput& in) {
   StageNotes n;
   n.lines.push_back(summary_line("target", in.target_summary));

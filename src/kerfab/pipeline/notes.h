@@ -16,6 +16,8 @@ struct StageNotes {
   std::vector<Stage> supersedes;
 };
 
+/// A warning per file whose faces reading turned round (MeshRepairs).
+StageNotes notes(const LoadedInputs& loaded);
 StageNotes notes(const PreparedInput& input);
 StageNotes notes(const QuadMeshResult& quads);
 StageNotes notes(const CoarsenResult& coarsened);

@@ -52,8 +52,9 @@ class StageRunner {
 };
 
 LoadedInputs load_inputs(const RunInputs& in) {
-  LoadedInputs out{read_mesh(in.target), std::nullopt, {}};
-  if (in.quad) out.quad = read_mesh(*in.quad);
+  LoadedInputs out;
+  out.target = read_mesh(in.target, &out.target_repairs);
+  if (in.quad) out.quad = read_mesh(*in.quad, &out.quad_repairs);
   if (in.guidance) out.guidance = read_guidance(*in.guidance);
   return out;
 }
@@ -217,7 +218,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
       {Stage::kLoad,
        [&] {
          r.loaded = load_inputs(inputs);
-         return StageNotes{};
+         return notes(*r.loaded);
        }},
       {Stage::kPrepare,
        [&] {

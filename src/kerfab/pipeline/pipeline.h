@@ -14,6 +14,7 @@
 #include "kerfab/eval/shell_clearance.h"
 #include "kerfab/eval/surface_distance.h"
 #include "kerfab/input/prepare.h"
+#include "kerfab/io/mesh_io.h"
 #include "kerfab/joints/joints.h"
 #include "kerfab/kerf/kerf.h"
 #include "kerfab/layout/layout.h"
@@ -69,7 +70,8 @@ struct PipelineOptions {
 struct LoadedInputs {
   PolyMesh target;
   std::optional<PolyMesh> quad;
-  Guidance guidance;  ///< from the guidance file
+  Guidance guidance;                         ///< from the guidance file
+  MeshRepairs target_repairs, quad_repairs;  ///< what reading the files mended
 };
 
 struct StageTiming {
