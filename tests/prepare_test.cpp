@@ -112,8 +112,8 @@ TEST(Prepare, DoubletsAreCollapsedAlongTheirDiagonal) {
   // A zero-area quad of another kind (all corners on a line) is still refused.
   PolyMesh flat;
   for (double x : {0.0, 10.0, 20.0, 30.0}) flat.add_vertex({x, 0, 0});
-  flat.add_face({flat.vertex_handle(0), flat.vertex_handle(1), flat.vertex_handle(2),
-                 flat.vertex_handle(3)});
+  flat.add_face(
+      {flat.vertex_handle(0), flat.vertex_handle(1), flat.vertex_handle(2), flat.vertex_handle(3)});
   EXPECT_THROW(prepare_input(poly_mesh(plane.target), flat, opt), InvalidInput);
 }
 
@@ -294,6 +294,37 @@ TEST(Prepare, InwardFacingClosedTargetIsFlippedForSignedDistance) {
   EXPECT_EQ(in.warnings.size(), 1u);
   EXPECT_GT(in.surface.signed_distance({0, 0, 150}), 0.0);
   EXPECT_LT(in.surface.signed_distance({0, 0, 50}), 0.0);
+}
+
+// Two closed pieces, one facing in: only that one is turned (the volume summed over both had
+// been positive, so the inward ball stayed inside out: its inside read as outside). A ball
+// facing in inside another is a cavity and stays as it is.
+TEST(Prepare, OnlyTheClosedPiecesFacingInwardAreTurned) {
+  const auto ball = test::sphere(100.0, 3);
+  // \p inward_offset: the second ball's centre; \p r: its radius.
+  auto two = [&](const Vec3& centre, double r) {
+    PolyMesh m;
+    for (const auto& p : ball.target.vertices) m.add_vertex(to_openmesh(p));
+    for (const auto& f : ball.target.triangles)
+      m.add_face(m.vertex_handle(f[0]), m.vertex_handle(f[1]), m.vertex_handle(f[2]));
+    const int offset = static_cast<int>(m.n_vertices());
+    for (const auto& p : ball.target.vertices) m.add_vertex(to_openmesh(centre + p * (r / 100)));
+    for (const auto& f : ball.target.triangles)  // facing in, first corners kept
+      m.add_face(m.vertex_handle(offset + f[0]), m.vertex_handle(offset + f[2]),
+                 m.vertex_handle(offset + f[1]));
+    return m;
+  };
+  const PreparedInput apart = prepare_input(two({300, 0, 0}, 50), ball.quads, {});
+  ASSERT_EQ(apart.warnings.size(), 1u);
+  EXPECT_NE(apart.warnings[0].find("1 of its 2 closed pieces"), std::string::npos);
+  EXPECT_LT(apart.surface.signed_distance({300, 0, 0}), -49.0);  // the small ball's centre
+  EXPECT_GT(apart.surface.signed_distance({300, 0, 80}), 29.0);
+  EXPECT_LT(apart.surface.signed_distance({0, 0, 0}), -99.0);
+
+  const PreparedInput hollow = prepare_input(two({0, 0, 0}, 50), ball.quads, {});
+  EXPECT_TRUE(hollow.warnings.empty());
+  EXPECT_GT(hollow.surface.signed_distance({0, 0, 0}), 49.0);    // in the cavity: outside
+  EXPECT_LT(hollow.surface.signed_distance({0, 0, 75}), -24.0);  // in the wall
 }
 
 TEST(Prepare, CatmullClarkOfOpenGridStaysAllQuads) {

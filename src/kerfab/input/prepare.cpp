@@ -4,10 +4,15 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <map>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <sstream>
+#include <unordered_map>
+#include <utility>
 
 #include "kerfab/core/errors.h"
 
@@ -351,11 +356,77 @@ void scale_mesh(PolyMesh& mesh, double s) {
   for (auto v : mesh.vertices()) mesh.set_point(v, mesh.point(v) * s);
 }
 
-double signed_volume(const TriangleMesh& tri) {
-  double vol = 0;
+/// True when a ray from \p from along \p dir crosses triangle \p t of \p tri (Moller-Trumbore;
+/// a ray grazing an edge counts on one side or the other, which a generic \p dir makes rare).
+bool ray_crosses(const TriangleMesh& tri, const std::array<int, 3>& t, const Vec3& from,
+                 const Vec3& dir) {
+  const Vec3 &a = tri.vertices[t[0]], &b = tri.vertices[t[1]], &c = tri.vertices[t[2]];
+  const Vec3 e1 = b - a, e2 = c - a, q = dir.cross(e2);
+  const double det = e1.dot(q);
+  if (std::abs(det) < 1e-300) return false;
+  const Vec3 s = from - a;
+  const double u = s.dot(q) / det;
+  if (u < 0 || u > 1) return false;
+  const Vec3 r = s.cross(e1);
+  const double v = dir.dot(r) / det;
+  if (v < 0 || u + v > 1) return false;
+  return e2.dot(r) / det > 0;
+}
+
+/// Turns the triangles of every closed piece of \p tri (triangles joined through shared
+/// vertices, each of their edges on two of them) that faces inwards (negative volume), unless
+/// the piece lies inside another closed piece (a cavity, which faces inwards by right).
+/// Returns {pieces turned, closed pieces}.
+std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri) {
+  const int n = static_cast<int>(tri.vertices.size());
+  std::vector<int> root(n);
+  std::iota(root.begin(), root.end(), 0);
+  std::function<int(int)> find = [&](int v) { return root[v] == v ? v : root[v] = find(root[v]); };
+  auto key = [](int a, int b) {
+    const auto [lo, hi] = std::minmax(a, b);
+    return (static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi);
+  };
+  std::unordered_map<std::uint64_t, int> edges;
+  edges.reserve(tri.triangles.size() * 2);
   for (const auto& t : tri.triangles)
-    vol += tri.vertices[t[0]].dot(tri.vertices[t[1]].cross(tri.vertices[t[2]])) / 6.0;
-  return vol;
+    for (int k = 0; k < 3; ++k) {
+      root[find(t[k])] = find(t[(k + 1) % 3]);
+      ++edges[key(t[k], t[(k + 1) % 3])];
+    }
+  std::map<int, std::vector<int>> pieces;  // root -> its triangles
+  std::map<int, bool> open;
+  for (int i = 0; i < static_cast<int>(tri.triangles.size()); ++i) {
+    const auto& t = tri.triangles[i];
+    const int r = find(t[0]);
+    pieces[r].push_back(i);
+    for (int k = 0; k < 3; ++k)
+      if (edges[key(t[k], t[(k + 1) % 3])] != 2) open[r] = true;
+  }
+  std::vector<int> inward;
+  int closed = 0;
+  for (const auto& [r, list] : pieces) {
+    if (open[r]) continue;
+    ++closed;
+    double volume = 0;
+    for (int i : list) {
+      const auto& t = tri.triangles[i];
+      volume += tri.vertices[t[0]].dot(tri.vertices[t[1]].cross(tri.vertices[t[2]])) / 6.0;
+    }
+    if (volume < 0) inward.push_back(r);
+  }
+  int turned = 0;
+  const Vec3 dir = Vec3(0.5773, 0.5774, 0.5775).normalized();  // generic: no axis, no diagonal
+  for (int r : inward) {
+    const Vec3 from = tri.vertices[tri.triangles[pieces[r].front()][0]];
+    int crossings = 0;
+    for (const auto& [other, list] : pieces)
+      if (other != r && !open[other])
+        for (int i : list) crossings += ray_crosses(tri, tri.triangles[i], from, dir);
+    if (crossings % 2 == 1) continue;  // a cavity
+    for (int i : pieces[r]) std::swap(tri.triangles[i][1], tri.triangles[i][2]);
+    ++turned;
+  }
+  return {turned, closed};
 }
 
 }  // namespace
@@ -463,10 +534,17 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
     throw InvalidInput("quad mesh is not all quads after subdivision");
 
   TriangleMesh tri = triangulate(target);
-  if (boundary_loop_count(target) == 0 && signed_volume(tri) < 0) {
-    for (auto& t : tri.triangles) std::swap(t[1], t[2]);
-    warnings.push_back(
-        "target faces point inward (negative volume); flipped them for inside/outside tests");
+  if (const auto [turned, closed] = turn_closed_pieces_out(tri); turned > 0) {
+    if (turned == closed) {
+      warnings.push_back(
+          "target faces point inward (negative volume); flipped them for inside/outside tests");
+    } else {
+      std::ostringstream w;
+      w << "target: " << turned << " of its " << closed
+        << " closed pieces face inward (negative volume) and lie inside no other; flipped them "
+           "for inside/outside tests";
+      warnings.push_back(w.str());
+    }
   }
   PreparedInput out{.target = std::move(target),
                     .quads = std::move(quads),
