@@ -40,7 +40,7 @@ using test::run_cli;
 TEST(Cli, SharedMeshesLoadOrFailWithOneClearLine) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
   const fs::path scratch = test::fresh_dir();
-  int loaded = 0, refused = 0, loaded_after_subdivision = 0;
+  int loaded = 0, refused = 0, mixed = 0;
   for (const auto& entry : fs::directory_iterator(test::shared_meshes())) {
     const std::string ext = entry.path().extension().string();
     if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl") continue;
@@ -61,6 +61,23 @@ TEST(Cli, SharedMeshesLoadOrFailWithOneClearLine) {
         largest = std::max(largest, side.get<double>());
       EXPECT_NEAR(largest, 200.0, 1e-6) << name;
       EXPECT_TRUE(fs::exists(out / "model" / "target.obj")) << name;
+      // A mesh of triangles and quads is meshed as it stands, and the run says how to smooth
+      // it as a cage instead; following that loads it too.
+      const auto sizes = report["input"]["target_mesh"]["face_sizes"];
+      if (sizes.size() > 1) {
+        ++mixed;
+        EXPECT_NE(r.err.find("pass --subdivide 1 to smooth it first"), std::string::npos)
+            << name << "\n"
+            << r.err;
+        EXPECT_EQ(report["input"]["quad"], nullptr) << name;  // the quads stage's to make
+        const CliRun again =
+            run_cli("run --target " + entry.path().string() + " --subdivide 1 --size 200 --out " +
+                        out.string() + " --stop-after prepare",
+                    scratch);
+        EXPECT_EQ(again.exit_code, 0) << name << "\n" << again.err;
+        EXPECT_EQ(read_report(out)["status"], "ok") << name;
+        EXPECT_GT(read_report(out)["input"]["quads"].get<int>(), 0) << name;
+      }
     } else {
       ++refused;
       const auto lines = message_lines(r.err);
@@ -68,25 +85,15 @@ TEST(Cli, SharedMeshesLoadOrFailWithOneClearLine) {
       EXPECT_EQ(lines[0].rfind("kerfab: error: ", 0), 0u) << name << "\n" << r.err;
       EXPECT_EQ(report["status"], "failed") << name;
       EXPECT_FALSE(fs::exists(out / "model")) << name;
-      if (lines[0].find("--subdivide 1") != std::string::npos) {  // follow the hint
-        const CliRun again =
-            run_cli("run --target " + entry.path().string() + " --subdivide 1 --size 200 --out " +
-                        out.string() + " --stop-after prepare",
-                    scratch);
-        EXPECT_EQ(again.exit_code, 0) << name << "\n" << again.err;
-        EXPECT_EQ(read_report(out)["status"], "ok") << name;
-        ++loaded_after_subdivision;
-      }
     }
   }
   // 8 all-quad meshes load as their own quad mesh (amo_quad, cube_quad, fandisk_quads,
-  // horse_quad, two inspired_mesh quads, quad-plane, spot_quadrangulated) and 14 triangle-only
-  // ones load too (their quad mesh is the quads stage's job); 3 mixed ones (cylinder,
-  // quad-sphere, spot_control_mesh) are refused with the --subdivide hint and load when it is
-  // followed.
-  EXPECT_EQ(loaded, 22);
-  EXPECT_EQ(refused, 3);
-  EXPECT_EQ(loaded_after_subdivision, 3);
+  // horse_quad, two inspired_mesh quads, quad-plane, spot_quadrangulated), 14 triangle-only
+  // ones and 3 of triangles and quads (cylinder, quad-sphere, spot_control_mesh) load as
+  // targets for the quads stage.
+  EXPECT_EQ(loaded, 25);
+  EXPECT_EQ(refused, 0);
+  EXPECT_EQ(mixed, 3);
 }
 
 TEST(Cli, ExitCodesForMissingFileBadOptionAndUnits) {
@@ -291,6 +298,55 @@ TEST(Cli, AMeshWithFacesTurnedTheWrongWayCutsTheSheetsOfTheMeshMended) {
   }
   EXPECT_FALSE(sheets[0].empty());
   EXPECT_TRUE(sheets[0] == sheets[1]);
+}
+
+// A U-shaped block as modellers export it: eight side quads and two caps, each one
+// eight-cornered concave polygon (150 x 100 mm less a 50 x 50 notch, 60 mm high). It was
+// refused (not all quads; --subdivide would have smoothed it into a blob). Now it is meshed as
+// it stands: the caps cut by ear clipping (the fan from their first corner lays a triangle over
+// the notch), then the quads stage: one plate per face, each cap the U's area.
+TEST(Cli, AMeshOfQuadsAndNGonsIsMeshedAsItStands) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "u.obj";
+  const std::vector<std::array<double, 2>> u = {{0, 0},    {150, 0}, {150, 100}, {100, 100},
+                                                {100, 50}, {50, 50}, {50, 100},  {0, 100}};
+  {
+    std::ofstream f(target);
+    for (const double z : {0.0, 60.0})
+      for (const auto& p : u) f << "v " << p[0] << " " << p[1] << " " << z << "\n";
+    f << "f 8 7 6 5 4 3 2 1\nf 9 10 11 12 13 14 15 16\n";
+    for (int k = 0; k < 8; ++k)
+      f << "f " << k + 1 << " " << (k + 1) % 8 + 1 << " " << (k + 1) % 8 + 9 << " " << k + 9
+        << "\n";
+  }
+  const fs::path out = scratch / "out";
+  const CliRun r =
+      run_cli("run --target " + target.string() + " --size 200 --out " + out.string(), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("target has 8 quads, 2 8-gons: meshed as it stands"), std::string::npos)
+      << r.err;
+  const auto report = read_report(out);
+  EXPECT_EQ(report["input"]["quad"], nullptr);
+  EXPECT_GT(report["quads"]["quads"].get<int>(), 0);
+  auto parts = expect_one_plate_per_face(out, 10, 24);
+  ASSERT_EQ(parts.size(), 10u);
+  // The caps are the two largest: the U's area at 200 / 150, less at most a sheet's thickness
+  // (3 mm) along its 800 mm outline, plus the kerf's half round it.
+  std::vector<std::pair<double, double>> area_length;
+  for (const auto& p : parts) {
+    double length = 0;
+    for (std::size_t i = 0; i < p.outline.size(); ++i)
+      length += (p.outline[(i + 1) % p.outline.size()] - p.outline[i]).norm();
+    area_length.emplace_back(std::abs(polygon_area(p.outline)), length);
+  }
+  std::sort(area_length.rbegin(), area_length.rend());
+  const double cap = (150.0 * 100 - 50 * 50) * (4.0 / 3) * (4.0 / 3);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_GT(area_length[k].first, cap - 3 * 800) << k;
+    EXPECT_LT(area_length[k].first, cap + 0.075 * area_length[k].second) << k;
+  }
+  // The largest wall: 150 x 60 at 200 / 150.
+  EXPECT_LT(area_length[2].first, 200.0 * 80 + 0.075 * area_length[2].second);
 }
 
 // A slab 120 x 60 x 1 mm from its 12 triangles, in 3 mm MDF: its top and bottom are 1 mm

@@ -327,6 +327,41 @@ TEST(Prepare, OnlyTheClosedPiecesFacingInwardAreTurned) {
   EXPECT_LT(hollow.surface.signed_distance({0, 0, 75}), -24.0);  // in the wall
 }
 
+// Polygons of more than four corners are cut by ear clipping: a U (concave, 8 corners, area
+// 500 mm^2) into 6 triangles that all turn its way and cover it exactly; the fan from its first
+// corner had a triangle turning the other way, over the notch. A convex hexagon gives the fan.
+TEST(Prepare, PolygonsAreTriangulatedByEarClipping) {
+  const std::vector<Vec3> u = {{0, 0, 5},   {30, 0, 5},  {30, 20, 5}, {20, 20, 5},
+                               {20, 10, 5}, {10, 10, 5}, {10, 20, 5}, {0, 20, 5}};
+  std::vector<int> ids(u.size());
+  for (std::size_t k = 0; k < ids.size(); ++k) ids[k] = static_cast<int>(k);
+  auto check = [&](const std::vector<Vec3>& points, double area, std::size_t triangles) {
+    std::vector<std::array<int, 3>> t;
+    triangulate_polygon(points, ids, t);
+    EXPECT_EQ(t.size(), triangles);
+    double sum = 0;
+    for (const auto& c : t) {
+      const double z = (points[c[1]] - points[c[0]]).cross(points[c[2]] - points[c[0]]).z() / 2;
+      EXPECT_GT(z, 0) << c[0] << " " << c[1] << " " << c[2];
+      sum += z;
+    }
+    EXPECT_NEAR(sum, area, 1e-9);
+    return t;
+  };
+  check(u, 500, 6);
+  double fan_reversed = 0;  // the fan from corner 0 would have had a triangle turning back
+  for (std::size_t k = 1; k + 1 < u.size(); ++k)
+    fan_reversed += (u[k] - u[0]).cross(u[k + 1] - u[0]).z() < 0;
+  EXPECT_GT(fan_reversed, 0);
+
+  std::vector<Vec3> hexagon;
+  for (int k = 0; k < 6; ++k)
+    hexagon.emplace_back(10 * std::cos(k * M_PI / 3), 10 * std::sin(k * M_PI / 3), 0);
+  ids.resize(6);
+  const auto t = check(hexagon, 6 * 100 * std::sqrt(3.0) / 4, 4);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(t[k], (std::array<int, 3>{0, k + 1, k + 2}));
+}
+
 TEST(Prepare, CatmullClarkOfOpenGridStaysAllQuads) {
   const auto plane = test::quad_plane(100.0, 3);
   const PolyMesh sub = catmull_clark(plane.quads, 2);

@@ -140,17 +140,18 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
       ->capture_default_str()
       ->check(CLI::Range(0, 4));
   cmd.add_option("--quads", f.options.quads.quads,
-                 "With a triangle target and no --quad: make about this many quads instead of "
+                 "With a target not all quads and no --quad: make about this many quads instead of "
                  "the size the model and material call for [count, 20..20000]")
       ->check(CLI::Range(20, 20000));
   cmd.add_option("--quad-size", f.options.quads.quad_size,
-                 "With a triangle target and no --quad: quad edge length (wins over --quads) "
+                 "With a target not all quads and no --quad: quad edge length (wins over --quads) "
                  "[mm, > 0]")
       ->check(kPositive);
-  cmd.add_option("--quad-feature-angle", f.quad_feature_angle_deg,
-                 "With a triangle target and no --quad: target edges folding more than this are "
-                 "sharp features the quad edges follow (shallower folds over 20 deg between "
-                 "two wide planes too) [deg, (0, 180)]")
+  cmd.add_option(
+         "--quad-feature-angle", f.quad_feature_angle_deg,
+         "With a target not all quads and no --quad: target edges folding more than this are "
+         "sharp features the quad edges follow (shallower folds over 20 deg between "
+         "two wide planes too) [deg, (0, 180)]")
       ->capture_default_str()
       ->check(CLI::Range(1e-6, 179.999));
   cmd.add_option("--max-quad-distance", in.max_quad_distance,
@@ -528,8 +529,9 @@ int main(int argc, char** argv) {
   RunFlags run_flags;
   std::string quad_help =
       "Quad (or any polygon, with --subdivide) mesh on the target, same frame and units; "
-      "without it kerfab makes one from a triangle target (see --quads, --quad-size; written "
-      "to model/quads.obj), or uses the target itself when it is a polygon mesh";
+      "without it kerfab uses the target itself when it is all quads (or with --subdivide), "
+      "else makes one from the target's triangles and polygons (see --quads, --quad-size; "
+      "written to model/quads.obj)";
   CLI::App* run_cmd = app.add_subcommand("run", "Run the pipeline on a target and a quad mesh");
   run_cmd->add_option("--target", run_flags.target, "Target mesh (.obj .off .ply .stl)")
       ->required();

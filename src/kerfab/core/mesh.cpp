@@ -46,10 +46,58 @@ TriangleMesh triangulate(const PolyMesh& mesh) {
   for (auto f : mesh.faces()) {
     std::vector<int> ids;
     for (auto v : mesh.fv_range(f)) ids.push_back(v.idx());
+    if (ids.size() > 4) {
+      triangulate_polygon(tri.vertices, ids, tri.triangles);
+      continue;
+    }
     for (std::size_t k = 1; k + 1 < ids.size(); ++k)
       tri.triangles.push_back({ids[0], ids[k], ids[k + 1]});
   }
   return tri;
+}
+
+void triangulate_polygon(const std::vector<Vec3>& points, const std::vector<int>& ids,
+                         std::vector<std::array<int, 3>>& out) {
+  const std::size_t m = ids.size();
+  Vec3 normal = Vec3::Zero();  // Newell: twice the area vector
+  for (std::size_t k = 0; k < m; ++k) normal += points[ids[k]].cross(points[ids[(k + 1) % m]]);
+  std::vector<int> rest(m);  // corners left, as places in ids
+  for (std::size_t k = 0; k < m; ++k) rest[k] = static_cast<int>(k);
+  if (normal.norm() > 0) {
+    const Vec3 n = normal.normalized();
+    const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
+    std::vector<Eigen::Vector2d> flat(m);
+    for (std::size_t k = 0; k < m; ++k) flat[k] = {points[ids[k]].dot(u), points[ids[k]].dot(v)};
+    auto turn = [&](int a, int b, int c) {  // > 0: a, b, c turn the polygon's way
+      const Eigen::Vector2d e = flat[b] - flat[a], g = flat[c] - flat[a];
+      return e.x() * g.y() - e.y() * g.x();
+    };
+    const double tiny = 1e-12 * normal.norm();
+    while (rest.size() > 3) {
+      const std::size_t r = rest.size();
+      bool clipped = false;
+      for (std::size_t step = 1; step <= r && !clipped; ++step) {
+        const std::size_t i = step % r;
+        const int a = rest[(i + r - 1) % r], b = rest[i], c = rest[(i + 1) % r];
+        if (turn(a, b, c) <= tiny) continue;  // reflex or flat: no ear
+        bool empty = true;
+        for (int q : rest) {
+          if (q == a || q == b || q == c) continue;
+          if (turn(a, b, q) >= 0 && turn(b, c, q) >= 0 && turn(c, a, q) >= 0) {
+            empty = false;
+            break;
+          }
+        }
+        if (!empty) continue;
+        out.push_back({ids[a], ids[b], ids[c]});
+        rest.erase(rest.begin() + static_cast<std::ptrdiff_t>(i));
+        clipped = true;
+      }
+      if (!clipped) break;
+    }
+  }
+  for (std::size_t k = 1; k + 1 < rest.size(); ++k)
+    out.push_back({ids[rest[0]], ids[rest[k]], ids[rest[k + 1]]});
 }
 
 std::vector<std::pair<int, int>> face_size_histogram(const PolyMesh& mesh) {

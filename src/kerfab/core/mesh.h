@@ -46,9 +46,18 @@ BoundingBox bounding_box(const PolyMesh& mesh);
 /// Bounding box of a triangle mesh's vertices.
 BoundingBox bounding_box(const TriangleMesh& mesh);
 
-/// Triangulates every face of \p mesh (fan from the face's first vertex, which is exact for the
-/// convex polygons meshes are made of). Vertex indices are those of \p mesh.
+/// Triangulates every face of \p mesh: triangles and quads by the fan from the face's first
+/// vertex, larger polygons by ear clipping (triangulate_polygon), which is exact for non-convex
+/// ones too (CAD exports and modellers' n-gons). Vertex indices are those of \p mesh.
 TriangleMesh triangulate(const PolyMesh& mesh);
+
+/// Appends to \p out the triangles of the polygon whose corners are \p ids (indices into
+/// \p points, in order): ear clipping in the plane of its Newell normal, each step taking the
+/// first ear from the polygon's second corner on, so a convex polygon gives the fan from its
+/// first corner. A polygon with no ear left (self-intersecting, or of no area) has the rest
+/// fanned.
+void triangulate_polygon(const std::vector<Vec3>& points, const std::vector<int>& ids,
+                         std::vector<std::array<int, 3>>& out);
 
 /// \p mesh without its triangles of no area (a cross product of their edges under 1e-12 mm^2):
 /// what a closest-point query (TargetSurface) cannot take, and contributes no surface. The

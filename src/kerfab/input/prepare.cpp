@@ -519,8 +519,14 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
   // The quad mesh: given, or the target itself.
   const bool from_target = !quad_mesh.has_value();
   const PolyMesh& quad_source = from_target ? target_in : *quad_mesh;
-  // A triangle target without a quad mesh: the quads stage makes one (make_quad_mesh).
-  const bool needs_quads = from_target && is_all_triangles(target_in) && options.subdivide == 0;
+  // A target that is not all quads, without a quad mesh: the quads stage makes one
+  // (make_quad_mesh) on its triangles. One of triangles and quads or n-gons is taken as the
+  // surface it stands for, not as a cage to smooth, unless --subdivide asks for that.
+  const bool needs_quads = from_target && !is_all_quads(target_in) && options.subdivide == 0;
+  if (needs_quads && !is_all_triangles(target_in))
+    warnings.push_back("target has " + face_size_text(target_in) +
+                       ": meshed as it stands by the quads stage; if it is a subdivision cage, "
+                       "pass --subdivide 1 to smooth it first (Catmull-Clark)");
   if (!needs_quads && options.subdivide == 0 && !is_all_quads(quad_source))
     throw InvalidInput(std::string(from_target ? "target" : "quad mesh") + " has " +
                        face_size_text(quad_source) +

@@ -37,7 +37,7 @@ struct PreparedInput {
   TargetSurface surface;           ///< queries on the triangulated target
   double scale = 1.0;              ///< factor applied to both input meshes [-]
   bool quads_from_target = false;  ///< the target itself served as the quad mesh
-  bool needs_quads = false;        ///< a triangle target and no quad mesh: `quads` is empty
+  bool needs_quads = false;        ///< a target not all quads and no quad mesh: `quads` is empty
                                    ///< until the quads stage makes one (attach_quads)
   MeshSummary target_summary;
   double target_diagonal = 0;  ///< the scaled target's bbox diagonal [mm]
@@ -48,7 +48,7 @@ struct PreparedInput {
 };
 
 /// Validates and prepares the inputs. Without \p quad, the target must itself be a polygon mesh
-/// that is all quads (or becomes so with subdivide >= 1), or all triangles (needs_quads: the
+/// that is all quads (or becomes so with subdivide >= 1), or any other (needs_quads: the
 /// quads stage makes the quad mesh).
 /// A zero-area quad of \p quad whose opposite corners coincide (a doublet, as general remeshers
 /// leave behind) is collapsed along that diagonal, with a warning naming it. Without
