@@ -273,7 +273,7 @@ Vec3 aligned_cross(const Vec3& reference, const Vec3& q, const Vec3& n) {
 }
 
 std::vector<Vec3> position_field(const Surface& s, const std::vector<Vec3>& cross, double spacing,
-                                 int iterations) {
+                                 int iterations, const PositionConstraints* constraints) {
   const auto& m = *s.mesh;
   const int n = static_cast<int>(m.vertices.size());
   std::vector<Vec3> o(m.vertices);
@@ -293,8 +293,21 @@ std::vector<Vec3> position_field(const Surface& s, const std::vector<Vec3>& cros
       sum = (a * wsum + bb) / (wsum + 1.0);
       wsum += 1.0;
     }
-    if (wsum == 0) return;
+    if (wsum == 0 && !constraints) return;
     sum -= ni * ni.dot(sum - pi);
+    if (constraints) {
+      if (constraints->corner[i]) {
+        o[i] = pi;
+        return;
+      }
+      const Vec3& t = constraints->line[i];
+      if (t.squaredNorm() > 0) {  // the lattice line along the axis nearest t through pi
+        const Vec3 qp = ni.cross(qi);
+        const Vec3 across = std::abs(t.dot(qi)) >= std::abs(t.dot(qp)) ? qp : qi;
+        sum += across * across.dot(pi - sum);
+      }
+    }
+    if (wsum == 0) return;
     o[i] = lattice_round(sum, qi, ni.cross(qi), pi, spacing);
   };
   // Propagation: breadth first from one vertex per component, each vertex taking the lattice

@@ -43,10 +43,21 @@ Vec3 aligned_cross(const Vec3& reference, const Vec3& q, const Vec3& n);
 /// Its quarter turns: q turned k times about n (q, n x q, -q, -n x q), k in 0..3.
 int aligned_turns(const Vec3& reference, const Vec3& q, const Vec3& n);
 
+/// Where lattice lines must run (Jakob et al. 2015 hold a crease's positions on it): per vertex
+/// the unit tangent of the feature line through it (zero: none), or a corner, where lines meet
+/// or end, whose lattice point is the vertex itself.
+struct PositionConstraints {
+  std::vector<Vec3> line;
+  std::vector<char> corner;
+};
+
 /// Position field: per vertex a lattice point o (spacing \p spacing [mm], axes q and n x q)
-/// near the vertex, the lattices of neighbours made to agree.
+/// near the vertex, the lattices of neighbours made to agree. With \p constraints, a vertex on
+/// a feature line keeps the lattice line along the cross axis nearest the feature's tangent
+/// through itself, and a corner its lattice point on itself, so that quad edges run on them.
 std::vector<Vec3> position_field(const Surface& surface, const std::vector<Vec3>& cross,
-                                 double spacing, int iterations);
+                                 double spacing, int iterations,
+                                 const PositionConstraints* constraints = nullptr);
 
 /// The lattice point of (o, q, qp) (spacing \p s [mm]) nearest to \p p.
 Vec3 lattice_round(const Vec3& o, const Vec3& q, const Vec3& qp, const Vec3& p, double s);
