@@ -320,6 +320,17 @@ TEST(Prepare, OnlyTheClosedPiecesFacingInwardAreTurned) {
   EXPECT_LT(apart.surface.signed_distance({300, 0, 0}), -49.0);  // the small ball's centre
   EXPECT_GT(apart.surface.signed_distance({300, 0, 80}), 29.0);
   EXPECT_LT(apart.surface.signed_distance({0, 0, 0}), -99.0);
+  // The target as used (model/target.obj) faces out too: both balls' volumes positive.
+  const TriangleMesh used = triangulate(apart.target);
+  double volume = 0;
+  for (const auto& t : used.triangles)
+    volume += used.vertices[t[0]].dot(used.vertices[t[1]].cross(used.vertices[t[2]])) / 6;
+  double balls = 0;
+  for (const auto& t : ball.target.triangles)
+    balls += ball.target.vertices[t[0]].dot(
+                 ball.target.vertices[t[1]].cross(ball.target.vertices[t[2]])) /
+             6;
+  EXPECT_NEAR(volume, balls * (1 + 0.125), 1e-6 * balls);  // radius 50: an eighth of the volume
 
   const PreparedInput hollow = prepare_input(two({0, 0, 0}, 50), ball.quads, {});
   EXPECT_TRUE(hollow.warnings.empty());

@@ -376,12 +376,18 @@ bool ray_crosses(const TriangleMesh& tri, const std::array<int, 3>& t, const Vec
 /// Turns the triangles of every closed piece of \p tri (triangles joined through shared
 /// vertices, each of their edges on two of them) that faces inwards (negative volume), unless
 /// the piece lies inside another closed piece (a cavity, which faces inwards by right).
-/// Returns {pieces turned, closed pieces}.
-std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri) {
+/// Returns {pieces turned, closed pieces}; \p turned_vertex: per vertex, 1 in a piece turned.
+std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri, std::vector<char>& turned_vertex) {
   const int n = static_cast<int>(tri.vertices.size());
+  turned_vertex.assign(n, 0);
   std::vector<int> root(n);
   std::iota(root.begin(), root.end(), 0);
-  std::function<int(int)> find = [&](int v) { return root[v] == v ? v : root[v] = find(root[v]); };
+  auto find = [&](int v) {  // iterative: a scan's million vertices would recurse too deep
+    int r = v;
+    while (root[r] != r) r = root[r];
+    while (root[v] != r) v = std::exchange(root[v], r);
+    return r;
+  };
   auto key = [](int a, int b) {
     const auto [lo, hi] = std::minmax(a, b);
     return (static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi);
@@ -423,7 +429,10 @@ std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri) {
       if (other != r && !open[other])
         for (int i : list) crossings += ray_crosses(tri, tri.triangles[i], from, dir);
     if (crossings % 2 == 1) continue;  // a cavity
-    for (int i : pieces[r]) std::swap(tri.triangles[i][1], tri.triangles[i][2]);
+    for (int i : pieces[r]) {
+      std::swap(tri.triangles[i][1], tri.triangles[i][2]);
+      for (int v : tri.triangles[i]) turned_vertex[v] = 1;
+    }
     ++turned;
   }
   return {turned, closed};
@@ -540,7 +549,20 @@ PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyM
     throw InvalidInput("quad mesh is not all quads after subdivision");
 
   TriangleMesh tri = triangulate(target);
-  if (const auto [turned, closed] = turn_closed_pieces_out(tri); turned > 0) {
+  std::vector<char> turned_vertex;
+  if (const auto [turned, closed] = turn_closed_pieces_out(tri, turned_vertex); turned > 0) {
+    // The target as used (model/target.obj) faces the same way: the turned pieces' faces in
+    // the other order, each first corner kept first.
+    PolyMesh turned_target;
+    for (auto v : target.vertices()) turned_target.add_vertex(target.point(v));
+    std::vector<PolyMesh::VertexHandle> corners;
+    for (auto f : target.faces()) {
+      corners.clear();
+      for (auto v : target.fv_range(f)) corners.push_back(turned_target.vertex_handle(v.idx()));
+      if (turned_vertex[corners.front().idx()]) std::reverse(corners.begin() + 1, corners.end());
+      turned_target.add_face(corners);
+    }
+    target = std::move(turned_target);
     if (turned == closed) {
       warnings.push_back(
           "target faces point inward (negative volume); flipped them for inside/outside tests");
