@@ -349,6 +349,26 @@ TEST(Cli, AMeshOfQuadsAndNGonsIsMeshedAsItStands) {
   EXPECT_LT(area_length[2].first, 200.0 * 80 + 0.075 * area_length[2].second);
 }
 
+// A cube exported with two needles (a corner doubled 1e-9 mm away, as some exporters weld
+// badly): the needles' area was just over the zero mark, and a CGAL construction on them ended
+// the run with a segmentation fault. Their corners are merged: the run warns and cuts the cube
+// as six plates.
+TEST(Cli, ACubeWithNeedleTrianglesIsMendedAndCutAsSixPlates) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "needles.obj";
+  test::write_text(target,
+                   "v 0 0 0\nv 100 0 0\nv 100 100 0\nv 0 100 0\nv 0 0 100\nv 100 0 100\n"
+                   "v 100 100 100\nv 0 100 100\nv 0.000000001 0 100\n"
+                   "f 1 4 3\nf 1 3 2\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\n"
+                   "f 4 1 5\nf 4 5 9\nf 4 9 8\nf 5 6 7\nf 5 7 9\nf 9 7 8\n");
+  const fs::path out = scratch / "out";
+  const CliRun r =
+      run_cli("run --target " + target.string() + " --size 200 --out " + out.string(), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("target: 2 triangles of no area"), std::string::npos) << r.err;
+  EXPECT_EQ(expect_one_plate_per_face(out, 6, 12).size(), 6u);
+}
+
 // A slab 120 x 60 x 1 mm from its 12 triangles, in 3 mm MDF: its top and bottom are 1 mm
 // apart, so their sheets, each standing 1.5 mm to either side of its face, would overlap by
 // 2 mm. The run says so, names the parts and where, and the size at which they clear

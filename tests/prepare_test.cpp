@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "kerfab/core/errors.h"
@@ -371,6 +372,62 @@ TEST(Prepare, PolygonsAreTriangulatedByEarClipping) {
   ids.resize(6);
   const auto t = check(hexagon, 6 * 100 * std::sqrt(3.0) / 4, 4);
   for (int k = 0; k < 4; ++k) EXPECT_EQ(t[k], (std::array<int, 3>{0, k + 1, k + 2}));
+}
+
+/// A 100 mm cube of triangles with what exporters leave: \p needle: two needles (a corner
+/// doubled 1e-9 mm away); else a sliver on the bottom's front edge (its middle corner on the
+/// edge, which the front face runs along whole).
+PolyMesh cube_with_degenerate_triangles(bool needle) {
+  PolyMesh m;
+  for (const auto& p : std::vector<Vec3>{{0, 0, 0},
+                                         {100, 0, 0},
+                                         {100, 100, 0},
+                                         {0, 100, 0},
+                                         {0, 0, 100},
+                                         {100, 0, 100},
+                                         {100, 100, 100},
+                                         {0, 100, 100},
+                                         needle ? Vec3(1e-9, 0, 100) : Vec3(50, 0, 0)})
+    m.add_vertex(to_openmesh(p));
+  const std::vector<std::array<int, 3>> sliver = {
+      {0, 3, 2}, {0, 2, 8}, {8, 2, 1}, {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},
+      {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}, {4, 5, 6}, {4, 6, 7}, {0, 8, 1}};
+  const std::vector<std::array<int, 3>> needles = {
+      {0, 3, 2}, {0, 2, 1}, {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5}, {2, 3, 7},
+      {2, 7, 6}, {3, 0, 4}, {3, 4, 8}, {3, 8, 7}, {4, 5, 6}, {4, 6, 8}, {8, 6, 7}};
+  for (const auto& t : needle ? needles : sliver)
+    m.add_face(m.vertex_handle(t[0]), m.vertex_handle(t[1]), m.vertex_handle(t[2]));
+  return m;
+}
+
+// Triangles of no area carry no surface: a sliver's middle corner goes into the face across
+// its longest edge, a needle's two corners are merged; the cube is whole and closed again.
+// Before, the sliver was refused ("face 13 has zero area") and the needles (area just over the
+// zero mark) ended the quads stage in a CGAL precondition, a crash in the release build.
+TEST(Prepare, TrianglesOfNoAreaAreMended) {
+  for (const bool needle : {false, true}) {
+    SCOPED_TRACE(needle);
+    const PreparedInput in =
+        prepare_input(cube_with_degenerate_triangles(needle), std::nullopt, {});
+    ASSERT_EQ(in.warnings.size(), 1u);
+    EXPECT_NE(in.warnings[0].find(needle ? "target: 2 triangles of no area"
+                                         : "target: 1 triangles of no area"),
+              std::string::npos)
+        << in.warnings[0];
+    EXPECT_EQ(in.target_summary.boundary_loops, 0);
+    EXPECT_EQ(in.target_summary.euler_characteristic, 2);
+    // Every face left has area, and together they are the cube's surface.
+    const TriangleMesh t = triangulate(in.target);
+    double area = 0;
+    for (const auto& c : t.triangles) {
+      const double a =
+          0.5 *
+          (t.vertices[c[1]] - t.vertices[c[0]]).cross(t.vertices[c[2]] - t.vertices[c[0]]).norm();
+      EXPECT_GT(a, 1.0);
+      area += a;
+    }
+    EXPECT_NEAR(area, 6 * 100.0 * 100, 1e-6);
+  }
 }
 
 TEST(Prepare, CatmullClarkOfOpenGridStaysAllQuads) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -76,6 +77,8 @@ double face_area(const PolyMesh& mesh, OpenMesh::FaceHandle f) {
 
 /// Faces of no area count as none below this fraction of the squared bbox diagonal [-].
 constexpr double kZeroArea = 1e-12;
+/// Triangles of no area mended at most (mend_zero_area_triangles) [-].
+constexpr int kMaxMended = 10000;
 
 /// Collapses every zero-area quad of \p mesh whose opposite corners coincide (a doublet, as
 /// general remeshers leave behind: two distinct vertices at one point) along that diagonal: the
@@ -307,6 +310,111 @@ FoldedQuads collapse_folded_quads(PolyMesh& mesh, const std::vector<int>& droppe
   return out;
 }
 
+/// \p mesh with its triangles of no area (thinner than a millionth of its median edge) mended, or
+/// nothing where it has none (or where the mended faces do not make a mesh again): a sliver whose
+/// corners lie on one line (a cap) goes, its middle corner put into the face across its longest
+/// edge (a triangle there split in two at it); a needle, two corners at one point, has them merged
+/// (the faces it leaves with a corner twice go). \p mended: the triangles mended.
+std::optional<PolyMesh> mend_zero_area_triangles(const PolyMesh& mesh, int& mended) {
+  mended = 0;
+  std::vector<Vec3> p;
+  for (auto v : mesh.vertices()) p.push_back(to_eigen(mesh.point(v)));
+  // Thin against the mesh's own median edge, not its extent (one stray vertex 1e30 away makes
+  // every real face thin against that; check_geometry names it).
+  std::vector<double> lengths;
+  for (auto e : mesh.edges()) lengths.push_back(mesh.calc_edge_length(e));
+  if (lengths.empty()) return std::nullopt;
+  std::nth_element(lengths.begin(),
+                   lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2),
+                   lengths.end());
+  const double short_edge = 1e-6 * lengths[lengths.size() / 2];
+  if (!(short_edge > 0.0) || !std::isfinite(short_edge)) return std::nullopt;
+  std::vector<std::vector<int>> faces;
+  for (auto f : mesh.faces()) {
+    std::vector<int> c;
+    for (auto v : mesh.fv_range(f)) c.push_back(v.idx());
+    faces.push_back(std::move(c));
+  }
+  auto area = [&](const std::vector<int>& c) {
+    Vec3 a = Vec3::Zero();
+    for (std::size_t k = 1; k + 1 < c.size(); ++k)
+      a += (p[c[k]] - p[c[0]]).cross(p[c[k + 1]] - p[c[0]]);
+    return 0.5 * a.norm();
+  };
+  // Thinner than a millionth of the median edge (a needle's two corners or a cap's height): such a
+  // triangle carries no surface, and CGAL's constructions on it fail (a cube with a needle 1e-9
+  // across, of area just over the zero mark, ended the quads stage with a segmentation fault in the
+  // release build: "squared_radius >= 0 and o != COLLINEAR").
+  auto zero = [&](const std::vector<int>& c) {
+    if (c.size() != 3) return false;
+    double longest = 0, shortest = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      const double len = (p[c[(k + 1) % 3]] - p[c[k]]).norm();
+      longest = std::max(longest, len);
+      shortest = std::min(shortest, len);
+    }
+    return shortest <= short_edge || 2 * area(c) <= short_edge * longest;
+  };
+  mended = static_cast<int>(std::count_if(faces.begin(), faces.end(), zero));
+  // Each mend looks through every face: beyond this many the mesh is no export's slip.
+  if (mended == 0 || mended > kMaxMended) return std::nullopt;
+  // One at a time, onwards from the last (each change may leave another, a needle's neighbour,
+  // or mend one), and once more round from the start.
+  std::size_t from = 0;
+  for (int tries = 0; tries < 2 * kMaxMended; ++tries) {
+    auto it = std::find_if(faces.begin() + static_cast<std::ptrdiff_t>(from), faces.end(), zero);
+    if (it == faces.end()) it = std::find_if(faces.begin(), faces.end(), zero);
+    if (it == faces.end()) break;
+    from = static_cast<std::size_t>(it - faces.begin());
+    const std::vector<int> t = *it;
+    faces.erase(it);
+    int k_short = 0, k_long = 0;  // edge k: corners k, k + 1
+    for (int k = 1; k < 3; ++k) {
+      const double len = (p[t[(k + 1) % 3]] - p[t[k]]).norm();
+      if (len < (p[t[(k_short + 1) % 3]] - p[t[k_short]]).norm()) k_short = k;
+      if (len > (p[t[(k_long + 1) % 3]] - p[t[k_long]]).norm()) k_long = k;
+    }
+    if ((p[t[(k_short + 1) % 3]] - p[t[k_short]]).norm() <= short_edge) {  // a needle
+      const int keep = t[k_short], gone = t[(k_short + 1) % 3];
+      for (auto& c : faces) std::replace(c.begin(), c.end(), gone, keep);
+      std::erase_if(faces, [](const std::vector<int>& c) {
+        std::vector<int> s = c;
+        std::sort(s.begin(), s.end());
+        return std::adjacent_find(s.begin(), s.end()) != s.end();
+      });
+      continue;
+    }
+    // A cap: the face across its longest edge a -> b walks it b -> a; m goes between them.
+    const int a = t[k_long], b = t[(k_long + 1) % 3], m = t[(k_long + 2) % 3];
+    for (std::size_t g = 0; g < faces.size(); ++g) {
+      auto& c = faces[g];
+      const std::size_t n = c.size();
+      std::size_t at = n;
+      for (std::size_t k = 0; k < n; ++k)
+        if (c[k] == b && c[(k + 1) % n] == a) at = k;
+      if (at == n) continue;
+      if (n == 3) {  // (x, b, a) -> (x, b, m), (x, m, a)
+        const int x = c[(at + 2) % 3];
+        c = {x, b, m};
+        faces.push_back({x, m, a});
+      } else {
+        c.insert(c.begin() + static_cast<std::ptrdiff_t>(at + 1), m);
+      }
+      break;
+    }
+  }
+  if (std::any_of(faces.begin(), faces.end(), zero)) return std::nullopt;
+  PolyMesh out;
+  for (auto v : mesh.vertices()) out.add_vertex(mesh.point(v));
+  std::vector<PolyMesh::VertexHandle> corners;
+  for (const auto& c : faces) {
+    corners.clear();
+    for (int v : c) corners.push_back(out.vertex_handle(v));
+    if (!out.add_face(corners).is_valid()) return std::nullopt;
+  }
+  return out;
+}
+
 void check_geometry(const PolyMesh& mesh, const std::string& what) {
   for (auto v : mesh.vertices()) {
     const auto& p = mesh.point(v);
@@ -454,15 +562,26 @@ PolyMesh catmull_clark(const PolyMesh& mesh, int steps) {
   return out;
 }
 
-PreparedInput prepare_input(const PolyMesh& target_in, const std::optional<PolyMesh>& quad_in,
+PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<PolyMesh>& quad_in,
                             const InputOptions& options) {
-  if (target_in.n_faces() == 0) throw InvalidInput("target mesh has no faces");
+  if (target_given.n_faces() == 0) throw InvalidInput("target mesh has no faces");
+  // Triangles of no area (an exporter's slivers and needles) carry no surface: mended where
+  // that leaves a mesh, else refused below by check_geometry.
+  int mended = 0;
+  const std::optional<PolyMesh> mended_target = mend_zero_area_triangles(target_given, mended);
+  const PolyMesh& target_in = mended_target ? *mended_target : target_given;
   if (options.subdivide < 0 || options.subdivide > 4)
     throw InvalidInput("--subdivide must be between 0 and 4, got " +
                        std::to_string(options.subdivide));
   if (!(options.max_quad_distance > 0.0)) throw InvalidInput("maximum quad distance must be > 0");
   check_geometry(target_in, "target mesh");
   std::vector<std::string> warnings;
+  if (mended_target)
+    warnings.push_back(
+        "target: " + std::to_string(mended) +
+        " triangles of no area (thinner than a millionth of the median edge) mended: a "
+        "sliver's middle corner joined to the face across its longest edge, a "
+        "needle's two corners at one point merged");
   std::optional<PolyMesh> repaired;  // the quad mesh with its doublets collapsed
   if (quad_in) {
     if (quad_in->n_faces() == 0) throw InvalidInput("quad mesh has no faces");
