@@ -4,6 +4,8 @@
 #include <Eigen/Geometry>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <array>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace kerfab {
@@ -24,6 +26,13 @@ using Vec3 = Eigen::Vector3d;
 
 inline Vec3 to_eigen(const OpenMesh::Vec3d& p) { return {p[0], p[1], p[2]}; }
 inline OpenMesh::Vec3d to_openmesh(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+
+/// One key for the edge between vertices \p a and \p b, whichever way it is walked.
+inline std::uint64_t undirected_edge_key(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+         static_cast<std::uint32_t>(b);
+}
 
 /// Indexed triangle mesh, the form the closest-point and distance queries take.
 struct TriangleMesh {

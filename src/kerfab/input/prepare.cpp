@@ -496,16 +496,12 @@ std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri, std::vector<char>&
     while (root[v] != r) v = std::exchange(root[v], r);
     return r;
   };
-  auto key = [](int a, int b) {
-    const auto [lo, hi] = std::minmax(a, b);
-    return (static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi);
-  };
   std::unordered_map<std::uint64_t, int> edges;
   edges.reserve(tri.triangles.size() * 2);
   for (const auto& t : tri.triangles)
     for (int k = 0; k < 3; ++k) {
       root[find(t[k])] = find(t[(k + 1) % 3]);
-      ++edges[key(t[k], t[(k + 1) % 3])];
+      ++edges[undirected_edge_key(t[k], t[(k + 1) % 3])];
     }
   std::map<int, std::vector<int>> pieces;  // root -> its triangles
   std::map<int, bool> open;
@@ -514,7 +510,7 @@ std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri, std::vector<char>&
     const int r = find(t[0]);
     pieces[r].push_back(i);
     for (int k = 0; k < 3; ++k)
-      if (edges[key(t[k], t[(k + 1) % 3])] != 2) open[r] = true;
+      if (edges[undirected_edge_key(t[k], t[(k + 1) % 3])] != 2) open[r] = true;
   }
   std::vector<int> inward;
   int closed = 0;

@@ -9,12 +9,6 @@
 namespace kerfab {
 namespace {
 
-std::uint64_t edge_key(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-         static_cast<std::uint32_t>(b);
-}
-
 /// One face's use of an edge: the face, and whether it walks the edge from its lower vertex.
 struct Use {
   int face = -1;
@@ -33,7 +27,7 @@ OrientedFaces orient_consistently(const std::vector<Vec3>& points,
     const auto& c = faces[f];
     for (std::size_t k = 0; k < c.size(); ++k) {
       const int a = c[k], b = c[(k + 1) % c.size()];
-      auto& list = uses[edge_key(a, b)];
+      auto& list = uses[undirected_edge_key(a, b)];
       list.push_back({f, a < b});
       if (list.size() == 3) ++crowded;
     }
@@ -58,7 +52,7 @@ OrientedFaces orient_consistently(const std::vector<Vec3>& points,
       const auto& c = faces[f];
       for (std::size_t k = 0; k < c.size(); ++k) {
         const int a = c[k], b = c[(k + 1) % c.size()];
-        const auto& list = uses[edge_key(a, b)];
+        const auto& list = uses[undirected_edge_key(a, b)];
         if (list.size() < 2) {
           closed = false;
           continue;

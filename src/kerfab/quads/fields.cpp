@@ -293,22 +293,20 @@ std::vector<Vec3> position_field(const Surface& s, const std::vector<Vec3>& cros
       sum = (a * wsum + bb) / (wsum + 1.0);
       wsum += 1.0;
     }
-    if (wsum == 0 && !constraints) return;
-    sum -= ni * ni.dot(sum - pi);
-    if (constraints) {
-      if (constraints->corner[i]) {
-        o[i] = pi;
-        return;
-      }
-      const Vec3& t = constraints->line[i];
-      if (t.squaredNorm() > 0) {  // the lattice line along the axis nearest t through pi
-        const Vec3 qp = ni.cross(qi);
-        const Vec3 across = std::abs(t.dot(qi)) >= std::abs(t.dot(qp)) ? qp : qi;
-        sum += across * across.dot(pi - sum);
-      }
+    if (constraints && constraints->corner[i]) {
+      o[i] = pi;
+      return;
     }
     if (wsum == 0) return;
-    o[i] = lattice_round(sum, qi, ni.cross(qi), pi, spacing);
+    sum -= ni * ni.dot(sum - pi);
+    const Vec3 qp = ni.cross(qi);
+    if (constraints && constraints->line[i].squaredNorm() > 0) {
+      // The lattice line along the axis nearest the feature's tangent through pi.
+      const Vec3& t = constraints->line[i];
+      const Vec3 across = std::abs(t.dot(qi)) >= std::abs(t.dot(qp)) ? qp : qi;
+      sum += across * across.dot(pi - sum);
+    }
+    o[i] = lattice_round(sum, qi, qp, pi, spacing);
   };
   // Propagation: breadth first from one vertex per component, each vertex taking the lattice
   // of those already set, so the lattice is coherent before it is smoothed.

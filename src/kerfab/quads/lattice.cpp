@@ -834,21 +834,17 @@ class Extractor {
     for (auto v : out.vertices()) origin.push_back(to_eigen(out.point(v)));
     for (int round = 0; round < 30; ++round) {
       std::vector<char> involved(out.n_vertices(), 0);
-      bool any = false;
+      int bad = 0;
       for (auto f : out.faces())
         if (quality(out, f, none, Vec3::Zero(), edges) < good) {
-          any = true;
+          ++bad;
           for (auto v : out.fv_range(f)) involved[v.idx()] = 1;
         }
-      if (!any) return true;
+      if (bad == 0) return true;
       // A lattice that starts with most of its quads folded, flat or inverted is past mending
       // (on the shared meshes at most 8 % start so; a star prism's split lattice 82 %, and 30
       // rounds on it, four times over, took 17 s to leave 80 %): it fails the check as it is.
-      if (round == 0 && give_up_share < 1) {
-        int bad = 0;
-        for (auto f : out.faces()) bad += quality(out, f, none, Vec3::Zero(), edges) < good;
-        if (bad > give_up_share * static_cast<double>(out.n_faces())) return false;
-      }
+      if (round == 0 && bad > give_up_share * static_cast<double>(out.n_faces())) return false;
       bool moved = false;
       for (auto v : out.vertices()) {
         if (!involved[v.idx()] || pinned[v.idx()] || out.is_boundary(v)) continue;

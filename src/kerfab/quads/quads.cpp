@@ -1066,15 +1066,13 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
       auto [held, held_on] = mesh_lattices(true);
       const double held_off =
           held.feature_length - feature_length_on_edges(held.quads, held_on, held.size.size);
+      const bool take = held_off <= kHeldShare * off_edges && off_edges - held_off >= r.size.size;
       if (progress)
         progress("with lattice lines held on the feature lines: " +
                  std::to_string(held.quads.n_faces()) + " quads, " + fmt(held_off) + " mm of " +
-                 fmt(held.feature_length) +
-                 " off quad edges (as the fields came: " + fmt(off_edges) + ")" +
-                 (held_off <= kHeldShare * off_edges && off_edges - held_off >= r.size.size
-                      ? "; taken"
-                      : "; not taken"));
-      if (held_off <= kHeldShare * off_edges && off_edges - held_off >= r.size.size) {
+                 fmt(held.feature_length) + " off quad edges (as the fields came: " +
+                 fmt(off_edges) + ")" + (take ? "; taken" : "; not taken"));
+      if (take) {
         r = std::move(held);
         remeshed = std::move(held_on);
       }
