@@ -1411,11 +1411,19 @@ class Resolver {
     if (!disk(quads)) return false;
     const Vec3 n = plane_of(quads).n;
     for (int q : quads) {
-      // Each corner's triangle, so that a quad folded along a diagonal cannot flip half of it.
+      // Each corner's triangle, so that a quad folded along a diagonal cannot flip half of it;
+      // but a corner as good as straight (within kPlateFlatness of the line through its
+      // neighbours) folds nothing, and its triangle's normal says nothing (a pyramid's side at
+      // 250 mm: a quad with three corners on a ridge, the middle one 0.01 mm over it, whose
+      // triangle there faced the next side's way, 72 degrees off; that side came out as 28
+      // strips beside four plates).
       const auto v = quad_vertices(m_, m_.face_handle(q));
       for (int k = 0; k < 4; ++k) {
-        const Vec3 a =
-            (corner(v[(k + 1) % 4]) - corner(v[k])).cross(corner(v[(k + 3) % 4]) - corner(v[k]));
+        const Vec3 to_next = corner(v[(k + 1) % 4]) - corner(v[k]);
+        const Vec3 to_prev = corner(v[(k + 3) % 4]) - corner(v[k]);
+        const Vec3 a = to_next.cross(to_prev);
+        const double chord = (to_next - to_prev).norm();
+        if (to_next.dot(to_prev) < 0 && chord > 0 && a.norm() / chord <= kPlateFlatness) continue;
         if (!(a.norm() > 0) || a.normalized().dot(n) < std::cos(max_tilt)) return false;
       }
     }

@@ -527,11 +527,50 @@ bool sound_quad(const std::array<Vec3, 4>& p, double size, double min_corner, co
   return true;
 }
 
+/// How far a corner may lie from a feature line and still be moved onto it where it is a dent
+/// in a row of quad edges on that line (its two neighbours on the line, on either side of where
+/// it would go), as a fraction of the quad size [-]. A pentagonal prism at 250 mm: one corner of
+/// the bottom 0.64 quad sizes inside its rim, between two rim corners, and the two side quads
+/// over it folded 43 and 52 degrees across the rim, cut as two one-quad strips beside 7 plates.
+constexpr double kDentReach = 1.0;
+
+/// Moves corner \p v of \p q (off the line) onto the feature line at \p on, or else
+/// just short of it, where every quad around it stays convex, facing as before, with no corner
+/// under \p min_corner (or under its smallest before). False (the corner where it was) if none.
+bool move_onto_line(PolyMesh& q, OpenMesh::VertexHandle v, const Vec3& on, double size,
+                    double min_corner) {
+  const auto from = q.point(v);
+  std::vector<std::pair<OpenMesh::FaceHandle, std::pair<Vec3, double>>> before;
+  for (auto f : q.vf_range(v)) {
+    const auto angles = corner_angles(q, f);
+    before.push_back({f,
+                      {sum_of(corner_normals(quad_points(q, f))),
+                       *std::min_element(angles.begin(), angles.end())}});
+  }
+  // Onto the line, or else just short of it: where another quad round the corner has two
+  // more corners on the line, the corner on it would leave that quad flat (a house's gable
+  // where it meets the roof line at the eave: two roof quads stayed folded 2.4 mm and were
+  // cut as kerfed parts beside the roof's plate), the way the corner came.
+  const Vec3 at = to_eigen(from);
+  const std::array<Vec3, 2> targets = {on, Vec3(on + kSnapShort * (at - on).normalized())};
+  for (const Vec3& to : targets) {
+    q.set_point(v, to_openmesh(to));
+    bool ok = true;
+    for (const auto& [f, was] : before)
+      ok = ok && sound_quad(quad_points(q, f), size, std::min(min_corner, was.second), was.first);
+    if (ok) return true;
+  }
+  q.set_point(v, from);
+  return false;
+}
+
 /// Moves the corners of \p q that lie near a feature line of \p features (the target's sharp
 /// and border edges; within kFeatureSnap of the quad size \p size) onto it, where the corner is on
 /// a row of quad edges along that line (one of its edges runs within 30 degrees of the line to
 /// another corner near it) and every quad around it stays convex, facing as before, with no corner
-/// under 10 degrees (or under its smallest before). Nearest corners first. Returns the corners
+/// under 10 degrees (or under its smallest before). Nearest corners first. Then the dents
+/// (kDentReach): corners off the line whose two neighbours, not neighbours of each other, lie on
+/// it, on either side of the corner's nearest point of it, the same way. Returns the corners
 /// moved.
 int snap_to_features(PolyMesh& q, const FeatureTriangleMesh& features, double size) {
   const double reach = kFeatureSnap * size;
@@ -554,34 +593,25 @@ int snap_to_features(PolyMesh& q, const FeatureTriangleMesh& features, double si
   std::sort(order.begin(), order.end(),
             [&](int a, int b) { return near[a].distance < near[b].distance; });
   int moved = 0;
-  for (int i : order) {
-    const auto v = q.vertex_handle(i);
-    const auto from = q.point(v);
-    std::vector<std::pair<OpenMesh::FaceHandle, std::pair<Vec3, double>>> before;
-    for (auto f : q.vf_range(v)) {
-      const auto angles = corner_angles(q, f);
-      before.push_back({f,
-                        {sum_of(corner_normals(quad_points(q, f))),
-                         *std::min_element(angles.begin(), angles.end())}});
+  for (int i : order)
+    moved += move_onto_line(q, q.vertex_handle(i), near[i].point, size, min_corner) ? 1 : 0;
+  // The dents, after the rows they dent are on their lines.
+  const FeatureLines far(features, kDentReach * size);
+  const double on_line = 1e-6 * size, same_line = 0.02 * size;
+  for (auto v : q.vertices()) {
+    const FeatureLines::Nearest n = far.nearest(to_eigen(q.point(v)));
+    if (!(n.distance <= kDentReach * size) || n.distance < 1e-9 * size) continue;
+    std::vector<OpenMesh::VertexHandle> row;  // neighbours on the same line
+    for (auto w : q.vv_range(v)) {
+      const Vec3 p = to_eigen(q.point(w)), d = p - n.point;
+      if (far.nearest(p).distance <= on_line &&
+          (d - d.dot(n.tangent) * n.tangent).norm() <= same_line)
+        row.push_back(w);
     }
-    // Onto the line, or else just short of it: where another quad round the corner has two
-    // more corners on the line, the corner on it would leave that quad flat (a house's gable
-    // where it meets the roof line at the eave: two roof quads stayed folded 2.4 mm and were
-    // cut as kerfed parts beside the roof's plate).
-    const Vec3 at = to_eigen(from), on = near[i].point;
-    bool ok = false;
-    for (const Vec3& to : {on, Vec3(on + kSnapShort * (at - on).normalized())}) {
-      q.set_point(v, to_openmesh(to));
-      ok = true;
-      for (const auto& [f, was] : before)
-        ok = ok && sound_quad(quad_points(q, f), size, std::min(min_corner, was.second), was.first);
-      if (ok) break;
-    }
-    if (ok) {
-      ++moved;
-    } else {
-      q.set_point(v, from);
-    }
+    if (row.size() != 2 || q.find_halfedge(row[0], row[1]).is_valid()) continue;
+    const Vec3 a = to_eigen(q.point(row[0])), b = to_eigen(q.point(row[1]));
+    if ((n.point - a).dot(n.point - b) >= 0) continue;  // not between them
+    moved += move_onto_line(q, v, n.point, size, min_corner) ? 1 : 0;
   }
   return moved;
 }
