@@ -259,8 +259,11 @@ TEST(Cli, ABoxFromItsTrianglesIsCutAsOnePanelPerFace) {
 }
 
 // A box exported with some triangles the wrong way round (as STL exporters do) was refused as
-// "not manifold". Its faces are turned round, the run says how many, and it cuts the sheet the
-// box whose faces all agree cuts, byte for byte.
+// "not manifold"; as a soup (each triangle with its own corners, one of them written twice) it
+// was read as 48 loose triangles, cut as that many parts with no joint. Its faces are turned
+// round, or its corners welded and the repeated face dropped, and the run says how many. The
+// mixed box cuts the sheet the box whose faces all agree cuts, byte for byte; the soup, whose
+// corners come in another order, the same six panels.
 TEST(Cli, AMeshWithFacesTurnedTheWrongWayCutsTheSheetsOfTheMeshMended) {
   const fs::path scratch = test::fresh_dir();
   const PolyMesh grid = test::cube_grid_mesh(2, [](const Vec3& p) { return Vec3(50 * p); });
@@ -272,32 +275,59 @@ TEST(Cli, AMeshWithFacesTurnedTheWrongWayCutsTheSheetsOfTheMeshMended) {
     t.push_back({q[0], q[2], q[3]});
   }
   const std::set<int> turned = {1, 8, 9, 22, 40, 41, 46};
-  for (const bool mixed : {false, true}) {
-    std::ofstream f(scratch / (mixed ? "mixed.obj" : "clean.obj"));
-    for (auto v : grid.vertices()) {
-      const auto& p = grid.point(v);
-      f << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
-    }
-    for (int i = 0; i < static_cast<int>(t.size()); ++i) {
-      const bool back = mixed && turned.count(i);
-      f << "f " << t[i][0] << " " << t[i][back ? 2 : 1] << " " << t[i][back ? 1 : 2] << "\n";
+  const std::array<std::string, 3> kinds = {"clean", "mixed", "soup"};
+  for (const std::string& kind : kinds) {
+    std::ofstream f(scratch / (kind + ".obj"));
+    const auto point = [&](int v) {
+      const auto& p = grid.point(grid.vertex_handle(v - 1));
+      return "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) +
+             "\n";
+    };
+    if (kind != "soup")
+      for (int v = 1; v <= static_cast<int>(grid.n_vertices()); ++v) f << point(v);
+    for (int i = 0; i < static_cast<int>(t.size()) + (kind == "soup" ? 1 : 0); ++i) {
+      const auto& c = t[i % t.size()];
+      const bool back = kind == "mixed" && turned.count(i);
+      if (kind == "soup")
+        f << point(c[0]) << point(c[1]) << point(c[2]) << "f -3 -2 -1\n";
+      else
+        f << "f " << c[0] << " " << c[back ? 2 : 1] << " " << c[back ? 1 : 2] << "\n";
     }
   }
-  std::string sheets[2];
-  for (const bool mixed : {false, true}) {
-    const fs::path out = scratch / (mixed ? "out-mixed" : "out-clean");
-    const CliRun r =
-        run_cli("run --target " + (scratch / (mixed ? "mixed.obj" : "clean.obj")).string() +
-                    " --size 150 --out " + out.string(),
-                scratch);
+  std::string sheets[3];
+  for (int k = 0; k < 3; ++k) {
+    const fs::path out = scratch / ("out-" + kinds[k]);
+    const CliRun r = run_cli("run --target " + (scratch / (kinds[k] + ".obj")).string() +
+                                 " --size 150 --out " + out.string(),
+                             scratch);
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_EQ(read_report(out)["input"]["target_repairs"]["faces_turned"].get<int>(),
-              mixed ? 7 : 0);
-    EXPECT_EQ(r.err.find("7 faces turned the other way") != std::string::npos, mixed) << r.err;
-    sheets[mixed] = test::slurp(out / "cut" / "sheet-001.svg");
+    const auto repairs = read_report(out)["input"]["target_repairs"];
+    EXPECT_EQ(repairs["faces_turned"].get<int>(), k == 1 ? 7 : 0);
+    EXPECT_EQ(r.err.find("7 faces turned the other way") != std::string::npos, k == 1) << r.err;
+    // 49 triangles' 147 corners at the box's 26 points.
+    EXPECT_EQ(repairs["vertices_welded"].get<int>(), k == 2 ? 147 - 26 : 0);
+    EXPECT_EQ(repairs["duplicate_faces"].get<int>(), k == 2 ? 1 : 0);
+    EXPECT_EQ(r.err.find("121 vertices at the same point") != std::string::npos, k == 2) << r.err;
+    sheets[k] = test::slurp(out / "cut" / "sheet-001.svg");
   }
   EXPECT_FALSE(sheets[0].empty());
   EXPECT_TRUE(sheets[0] == sheets[1]);
+  expect_one_plate_per_face(scratch / "out-soup", 6, 12);
+}
+
+// A box whose sides were cut into grids of 2, 3, 5, 7, 2 and 3 quads a side, each with its own
+// vertices along the box's edges, as modellers export faces meshed one by one: every edge a
+// crack, the plates on either side of it with no joint. The cracks are zipped (the run says how
+// many vertices): 6 plates, box teeth on all 12 edges.
+TEST(Cli, ABoxWhoseSidesWereCutDifferentlyIsZippedAndJointedAllRound) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "cracked.obj";
+  write_mesh(test::box_cut_differently({2, 3, 5, 7, 2, 3}), target);
+  const fs::path out = scratch / "out";
+  const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("61 vertices of a crack"), std::string::npos) << r.err;
+  expect_one_plate_per_face(out, 6, 12);
 }
 
 // A U-shaped block as modellers export it: eight side quads and two caps, each one

@@ -232,6 +232,76 @@ TEST(MeshIo, AnOpenPieceKeepsTheWayMostOfItsFacesCame) {
 
 // What no turning mends is refused with one line naming it: a one-sided surface, an edge on
 // three faces, two pieces meeting at a single vertex.
+// Faces with a colour of whole numbers after their corners, as OFF allows ("4 0 1 3 2 255 0 0"):
+// OpenMesh's reader took the colours for corners of the faces after them, and a coloured cube
+// was refused for 4 faces that repeat a vertex (with an alpha, 5 out-of-range indices). The
+// colours are left out: the cube as without them, corner for corner.
+TEST(MeshIo, OffFacesWithColoursReadAsWithout) {
+  const auto dir = fresh_dir();
+  std::string points =
+      "0 0 0\n0 0 100\n0 100 0\n0 100 100\n100 0 0\n100 0 100\n100 100 0\n"
+      "100 100 100\n";
+  const std::vector<std::string> faces = {"0 1 3 2", "4 6 7 5", "0 4 5 1",
+                                          "2 3 7 6", "0 2 6 4", "1 5 7 3"};
+  std::vector<std::vector<std::vector<int>>> read;
+  for (const std::string colour : {"", " 255 0 0", " 255 0 0 255", " 0.5 0.5 0.5"}) {
+    std::string text = "OFF\n8 6 0\n" + points;
+    for (const std::string& f : faces) text += "4 " + f + colour + "\n";
+    const PolyMesh m = read_mesh(write_text(dir / "cube.off", text));
+    EXPECT_EQ(m.n_vertices(), 8u) << colour;
+    EXPECT_EQ(boundary_loop_count(m), 0) << colour;
+    read.push_back(cycles(m));
+  }
+  for (std::size_t k = 1; k < read.size(); ++k) EXPECT_EQ(read[k], read[0]) << k;
+}
+
+// An OBJ whose faces each have their own corners (a triangle soup, as some exporters write
+// flat-shaded meshes; or vertices split at texture seams) was read as loose triangles: a box
+// was cut as 12 parts with no joint between them. Border vertices at exactly the same point
+// are welded where that gives a mesh, and a face repeating another's corners (either way
+// round) is dropped instead of refusing the file as "not manifold"; two borders that touch
+// at a point only are read as they stand.
+TEST(MeshIo, ASoupIsWeldedAndRepeatedFacesAreDropped) {
+  const auto dir = fresh_dir();
+  std::vector<Vec3> points;
+  const auto t = box_triangles(points);
+  std::ostringstream soup;
+  for (const auto& f : t) {
+    for (int c : f)
+      soup << "v " << points[c].x() << " " << points[c].y() << " " << points[c].z() << "\n";
+    soup << "f -3 -2 -1\n";
+  }
+  MeshRepairs repairs;
+  const PolyMesh welded = read_mesh(write_text(dir / "soup.obj", soup.str()), &repairs);
+  EXPECT_EQ(welded.n_vertices(), points.size());
+  EXPECT_EQ(welded.n_faces(), 48u);
+  EXPECT_EQ(repairs.vertices_welded, static_cast<int>(3 * t.size() - points.size()));
+  EXPECT_EQ(repairs.faces_turned, 0);
+  EXPECT_EQ(boundary_loop_count(welded), 0);
+  EXPECT_NEAR(signed_volume_of(welded), 100.0 * 100 * 100, 1e-6);
+
+  // The box with its first face twice and its second once more the other way round.
+  std::string twice = obj_text(points, t, {});
+  twice += "f " + std::to_string(t[0][0] + 1) + " " + std::to_string(t[0][1] + 1) + " " +
+           std::to_string(t[0][2] + 1) + "\nf " + std::to_string(t[1][0] + 1) + " " +
+           std::to_string(t[1][2] + 1) + " " + std::to_string(t[1][1] + 1) + "\n";
+  const PolyMesh dropped = read_mesh(write_text(dir / "twice.obj", twice), &repairs);
+  EXPECT_EQ(repairs.duplicate_faces, 2);
+  EXPECT_EQ(repairs.vertices_welded, 0);
+  EXPECT_EQ(dropped.n_faces(), 48u);
+  EXPECT_EQ(boundary_loop_count(dropped), 0);
+  EXPECT_NEAR(signed_volume_of(dropped), 100.0 * 100 * 100, 1e-6);
+
+  // Two triangles whose corners 1 and 4 lie at one point: welded, they would meet only there.
+  const PolyMesh apart = read_mesh(
+      write_text(dir / "touch.obj",
+                 "v 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 0 0\nv -10 0 0\nv 0 -10 0\nf 1 2 3\nf 4 5 6\n"),
+      &repairs);
+  EXPECT_EQ(apart.n_vertices(), 6u);
+  EXPECT_EQ(apart.n_faces(), 2u);
+  EXPECT_EQ(repairs.vertices_welded, 0);
+}
+
 TEST(MeshIo, OneSidedSurfacesAndNonManifoldPlacesAreRefused) {
   const auto dir = fresh_dir();
   std::ostringstream mobius;

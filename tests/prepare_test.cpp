@@ -4,6 +4,8 @@
 
 #include <array>
 #include <cmath>
+#include <map>
+#include <numeric>
 
 #include "kerfab/core/errors.h"
 #include "kerfab/io/mesh_io.h"
@@ -428,6 +430,44 @@ TEST(Prepare, TrianglesOfNoAreaAreMended) {
     }
     EXPECT_NEAR(area, 6 * 100.0 * 100, 1e-6);
   }
+}
+
+// Cracks (sides cut differently along the line they share, as modellers export them) are
+// zipped: points at one point become one, and points on the other side's edges are put into
+// them. The box had 2 border loops (its edges open, its plates without joints there); it is
+// closed, of the box's area and volume, each of its 12 edges counting n_a + n_b - 2 points
+// less those both sides share (gcd(n_a, n_b) - 1).
+TEST(Prepare, CracksAreZipped) {
+  const std::array<int, 6> n = {2, 3, 5, 7, 2, 3};
+  const PolyMesh box = test::box_cut_differently(n);
+  EXPECT_GT(boundary_loop_count(box), 0);
+  const PreparedInput in = prepare_input(box, std::nullopt, {});
+  int expected = 0;
+  for (int a = 0; a < 6; ++a)
+    for (int b = a + 1; b < 6; ++b)
+      if (b != a + 1 || a % 2 == 1)  // not opposite sides (0-1, 2-3, 4-5)
+        expected += n[a] + n[b] - 2 - (std::gcd(n[a], n[b]) - 1);
+  EXPECT_EQ(expected, 61);
+  ASSERT_EQ(in.warnings.size(), 1u);
+  EXPECT_NE(in.warnings[0].find("target: " + std::to_string(expected) + " vertices of a crack"),
+            std::string::npos)
+      << in.warnings[0];
+  EXPECT_TRUE(in.needs_quads);  // sides given more corners: polygons, meshed by the quads stage
+  EXPECT_EQ(in.target_summary.boundary_loops, 0);
+  EXPECT_EQ(in.target_summary.euler_characteristic, 2);
+  const TriangleMesh t = triangulate(in.target);
+  double area = 0, volume = 0;
+  for (const auto& c : t.triangles) {
+    const Vec3 &p = t.vertices[c[0]], &q = t.vertices[c[1]], &r = t.vertices[c[2]];
+    area += 0.5 * (q - p).cross(r - p).norm();
+    volume += p.dot(q.cross(r)) / 6;
+  }
+  EXPECT_NEAR(area, 6 * 100.0 * 100, 1e-6);
+  EXPECT_NEAR(volume, 100.0 * 100 * 100, 1e-6);
+  // A mesh without cracks is left as it is.
+  const PreparedInput whole =
+      prepare_input(test::box_cut_differently({2, 2, 2, 2, 2, 2}), std::nullopt, {});
+  EXPECT_EQ(whole.target_summary.boundary_loops, 0);
 }
 
 TEST(Prepare, CatmullClarkOfOpenGridStaysAllQuads) {

@@ -1,5 +1,6 @@
 #include "shapes.h"
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -120,6 +121,43 @@ PolyMesh poly_mesh(const TriangleMesh& t) {
   for (const auto& p : t.vertices) m.add_vertex(to_openmesh(p));
   for (const auto& f : t.triangles)
     m.add_face(m.vertex_handle(f[0]), m.vertex_handle(f[1]), m.vertex_handle(f[2]));
+  return m;
+}
+
+PolyMesh box_cut_differently(const std::array<int, 6>& n) {
+  PolyMesh m;
+  std::map<std::array<double, 3>, OpenMesh::VertexHandle> corners;
+  const double s = 100;
+  const std::array<std::array<Vec3, 3>, 6> sides = {{
+      {Vec3(0, 0, 0), Vec3(0, s, 0), Vec3(s, 0, 0)},  // origin, u, v: u x v faces out
+      {Vec3(0, 0, s), Vec3(s, 0, 0), Vec3(0, s, 0)},
+      {Vec3(0, 0, 0), Vec3(s, 0, 0), Vec3(0, 0, s)},
+      {Vec3(0, s, 0), Vec3(0, 0, s), Vec3(s, 0, 0)},
+      {Vec3(0, 0, 0), Vec3(0, 0, s), Vec3(0, s, 0)},
+      {Vec3(s, 0, 0), Vec3(0, s, 0), Vec3(0, 0, s)},
+  }};
+  for (int k = 0; k < 6; ++k) {
+    const int g = n[k];
+    std::vector<OpenMesh::VertexHandle> grid((g + 1) * (g + 1));
+    for (int i = 0; i <= g; ++i)
+      for (int j = 0; j <= g; ++j) {
+        const Vec3 p = sides[k][0] + sides[k][1] * i / g + sides[k][2] * j / g;
+        const bool corner = (i == 0 || i == g) && (j == 0 || j == g);
+        auto& h = grid[i * (g + 1) + j];
+        if (!corner) {
+          h = m.add_vertex(to_openmesh(p));
+          continue;
+        }
+        const auto [it, fresh] = corners.try_emplace({p.x(), p.y(), p.z()});
+        if (fresh) it->second = m.add_vertex(to_openmesh(p));
+        h = it->second;
+      }
+    for (int i = 0; i < g; ++i)
+      for (int j = 0; j < g; ++j)
+        m.add_face(std::vector<OpenMesh::VertexHandle>{
+            grid[i * (g + 1) + j], grid[(i + 1) * (g + 1) + j], grid[(i + 1) * (g + 1) + j + 1],
+            grid[i * (g + 1) + j + 1]});
+  }
   return m;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Test shapes generated in code, each with a coarse quad mesh on the surface, a fine
 // triangulation of the same surface as target, and the exact analytic signed distance.
+#include <array>
 #include <functional>
 #include <string>
 
@@ -42,5 +43,12 @@ PolyMesh grid_mesh(int nu, int nv, bool periodic_u, bool periodic_v,
 /// Quad mesh of the surface of the cube [-1,1]^3 with n cells per side, mapped by f
 /// (faces oriented away from the origin after mapping).
 PolyMesh cube_grid_mesh(int n, const std::function<Vec3(const Vec3&)>& f);
+
+/// The box [0, 100]^3 mm whose sides (bottom, top, front, back, left, right) are grids of
+/// n[k] x n[k] quads with their own vertices along its edges (only its 8 corners shared): a
+/// side cut differently from its neighbour leaves their common edge a crack, the
+/// inner points of each lying on the other's edges (T-junctions) or, where both sides have
+/// a point there, at the same point.
+PolyMesh box_cut_differently(const std::array<int, 6>& n);
 
 }  // namespace kerfab::test

@@ -153,18 +153,17 @@ double fold_across(const PolyMesh& mesh, const std::array<int, 4>& c, int k) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
-/// \p mesh rebuilt with each face's corners given by \p corners_of (none: the face goes); every
-/// vertex keeps its number and position. Empty if a face repeats a corner or cannot be added, or
-/// the result is not a manifold mesh.
-std::optional<PolyMesh> rebuilt(
-    const PolyMesh& mesh, const std::function<std::vector<int>(OpenMesh::FaceHandle)>& corners_of) {
+/// The vertices of \p mesh (each keeps its number and position) with the polygons \p faces
+/// (corner lists). Empty if a face repeats a corner or cannot be added, or the result is not a
+/// manifold mesh.
+std::optional<PolyMesh> with_faces(const PolyMesh& mesh,
+                                   const std::vector<std::vector<int>>& faces) {
   PolyMesh out;
   std::vector<OpenMesh::VertexHandle> handle(mesh.n_vertices());
   for (auto v : mesh.vertices()) handle[v.idx()] = out.add_vertex(mesh.point(v));
-  for (auto f : mesh.faces()) {
-    const std::vector<int> c = corners_of(f);
-    if (c.empty()) continue;
-    std::vector<OpenMesh::VertexHandle> corners;
+  std::vector<OpenMesh::VertexHandle> corners;
+  for (const std::vector<int>& c : faces) {
+    corners.clear();
     for (std::size_t i = 0; i < c.size(); ++i) {
       for (std::size_t j = i + 1; j < c.size(); ++j)
         if (c[i] == c[j]) return std::nullopt;
@@ -175,6 +174,16 @@ std::optional<PolyMesh> rebuilt(
   for (auto v : out.vertices())
     if (!out.is_isolated(v) && !out.is_manifold(v)) return std::nullopt;
   return out;
+}
+
+/// \p mesh rebuilt with each face's corners given by \p corners_of (none: the face goes); every
+/// vertex keeps its number and position. Empty where with_faces() is.
+std::optional<PolyMesh> rebuilt(
+    const PolyMesh& mesh, const std::function<std::vector<int>(OpenMesh::FaceHandle)>& corners_of) {
+  std::vector<std::vector<int>> faces;
+  for (auto f : mesh.faces())
+    if (std::vector<int> c = corners_of(f); !c.empty()) faces.push_back(std::move(c));
+  return with_faces(mesh, faces);
 }
 
 /// \p mesh without face \p drop and with vertex \p from merged into \p into (which moves to
@@ -308,6 +317,121 @@ FoldedQuads collapse_folded_quads(PolyMesh& mesh, const std::vector<int>& droppe
   for (auto f : mesh.faces())
     out.left += mesh.valence(f) == 4 && folded_back(mesh, quad_vertices(mesh, f)) ? 1 : 0;
   return out;
+}
+
+/// A border vertex lies on a border edge where it is this close to it, as a fraction of the
+/// edge's length [-] (an exporter's corners are floats: 1e-7 of the coordinates).
+constexpr double kOnEdge = 1e-5;
+/// Border edges times border vertices looked at most when zipping: a scan's holes have
+/// thousands of each, and such a border is no T-junction's crack.
+constexpr double kMaxZipPairs = 5e7;
+
+/// The directed edges (a, b) of polygons \p faces that no face walks the other way (b, a):
+/// the borders, each with its face and the position of a in it.
+struct BorderEdge {
+  int a, b, face, at;
+};
+std::vector<BorderEdge> border_edges(const std::vector<std::vector<int>>& faces) {
+  std::set<std::pair<int, int>> directed;
+  for (const auto& c : faces)
+    for (std::size_t k = 0; k < c.size(); ++k) directed.insert({c[k], c[(k + 1) % c.size()]});
+  std::vector<BorderEdge> out;
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (std::size_t k = 0; k < faces[f].size(); ++k) {
+      const int a = faces[f][k], b = faces[f][(k + 1) % faces[f].size()];
+      if (!directed.count({b, a})) out.push_back({a, b, static_cast<int>(f), static_cast<int>(k)});
+    }
+  return out;
+}
+
+/// \p mesh with its cracks zipped, or nothing where it has none (or where zipped it is no
+/// manifold mesh): faces cut differently along the line they share, as modellers export them,
+/// leave that line a crack (a cube whose top was cut at a point of its front edge, the front
+/// face not, had no joint between its top and front plates). Border vertices at exactly the
+/// same point become one, and a border vertex lying on a border edge of another face is put
+/// into that face between the edge's ends (a T-junction), so that the faces on either side
+/// share their edges. A triangle so given more corners on one edge is cut into a fan from the
+/// corner opposite; any other face takes them as corners. \p zipped: the vertices merged or
+/// put in.
+std::optional<PolyMesh> zip_cracks(const PolyMesh& mesh, int& zipped) {
+  zipped = 0;
+  std::vector<std::vector<int>> faces;
+  for (auto f : mesh.faces()) {
+    std::vector<int> c;
+    for (auto v : mesh.fv_range(f)) c.push_back(v.idx());
+    faces.push_back(std::move(c));
+  }
+  const auto point = [&](int v) { return to_eigen(mesh.point(mesh.vertex_handle(v))); };
+  std::vector<BorderEdge> edges = border_edges(faces);
+  if (edges.empty()) return std::nullopt;
+  // Border vertices at one point merged into the first.
+  std::map<std::array<double, 3>, int> first;
+  std::map<int, int> merged;
+  for (const BorderEdge& e : edges) {
+    const Vec3 p = point(e.a);
+    const auto [it, fresh] = first.try_emplace({p.x(), p.y(), p.z()}, e.a);
+    if (!fresh && it->second != e.a) merged[e.a] = it->second;
+  }
+  zipped = static_cast<int>(merged.size());
+  if (!merged.empty()) {
+    for (auto& c : faces)
+      for (int& v : c)
+        if (const auto it = merged.find(v); it != merged.end()) v = it->second;
+    edges = border_edges(faces);
+  }
+  std::vector<int> corners;  // border vertices
+  for (const BorderEdge& e : edges) corners.push_back(e.a);
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  if (static_cast<double>(edges.size()) * static_cast<double>(corners.size()) > kMaxZipPairs)
+    return std::nullopt;
+  // Per face, per corner: the vertices put in after that corner, in order along the edge.
+  std::map<int, std::map<int, std::vector<std::pair<double, int>>>> put;
+  for (const BorderEdge& e : edges) {
+    const Vec3 pa = point(e.a), d = point(e.b) - pa;
+    const double length = d.norm();
+    if (!(length > 0)) continue;
+    for (int v : corners) {
+      if (v == e.a || v == e.b) continue;
+      const Vec3 pv = point(v);
+      const double t = (pv - pa).dot(d) / (length * length);
+      if (t <= kOnEdge || t >= 1 - kOnEdge || (pa + t * d - pv).norm() > kOnEdge * length) continue;
+      put[e.face][e.at].push_back({t, v});
+      ++zipped;
+    }
+  }
+  if (zipped == 0) return std::nullopt;
+  std::vector<std::vector<int>> out;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const std::vector<int>& c = faces[f];
+    const auto it = put.find(static_cast<int>(f));
+    if (it == put.end()) {
+      out.push_back(c);
+      continue;
+    }
+    std::vector<int> polygon;
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      polygon.push_back(c[k]);
+      const auto in = it->second.find(static_cast<int>(k));
+      if (in == it->second.end()) continue;
+      std::vector<std::pair<double, int>> along = in->second;
+      std::sort(along.begin(), along.end());
+      for (const auto& [t, v] : along) polygon.push_back(v);
+    }
+    // A fan from the corner no vertex was put beside (both its edges as they were); with
+    // vertices on two edges there is none, and the polygon stays whole (ear clipping cuts it).
+    int apex = -1;
+    for (int k = 0; k < 3 && c.size() == 3; ++k)
+      if (!it->second.count(k) && !it->second.count((k + 2) % 3)) apex = k;
+    if (apex < 0) {
+      out.push_back(std::move(polygon));
+      continue;
+    }
+    std::rotate(polygon.begin(), std::find(polygon.begin(), polygon.end(), c[apex]), polygon.end());
+    for (std::size_t k = 1; k + 1 < polygon.size(); ++k)
+      out.push_back({polygon[0], polygon[k], polygon[k + 1]});
+  }
+  return with_faces(mesh, out);
 }
 
 /// \p mesh with its triangles of no area (thinner than a millionth of its median edge) mended, or
@@ -563,15 +687,23 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
   if (target_given.n_faces() == 0) throw InvalidInput("target mesh has no faces");
   // Triangles of no area (an exporter's slivers and needles) carry no surface: mended where
   // that leaves a mesh, else refused below by check_geometry.
+  int zipped = 0;
+  const std::optional<PolyMesh> zipped_target = zip_cracks(target_given, zipped);
+  const PolyMesh& target_whole = zipped_target ? *zipped_target : target_given;
   int mended = 0;
-  const std::optional<PolyMesh> mended_target = mend_zero_area_triangles(target_given, mended);
-  const PolyMesh& target_in = mended_target ? *mended_target : target_given;
+  const std::optional<PolyMesh> mended_target = mend_zero_area_triangles(target_whole, mended);
+  const PolyMesh& target_in = mended_target ? *mended_target : target_whole;
   if (options.subdivide < 0 || options.subdivide > 4)
     throw InvalidInput("--subdivide must be between 0 and 4, got " +
                        std::to_string(options.subdivide));
   if (!(options.max_quad_distance > 0.0)) throw InvalidInput("maximum quad distance must be > 0");
   check_geometry(target_in, "target mesh");
   std::vector<std::string> warnings;
+  if (zipped_target)
+    warnings.push_back("target: " + std::to_string(zipped) +
+                       " vertices of a crack (a border vertex at the point of another, or lying "
+                       "on a border edge of another face: a T-junction) joined to the faces "
+                       "across it, closing the crack");
   if (mended_target)
     warnings.push_back(
         "target: " + std::to_string(mended) +
@@ -647,7 +779,9 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
   // (make_quad_mesh) on its triangles. One of triangles and quads or n-gons is taken as the
   // surface it stands for, not as a cage to smooth, unless --subdivide asks for that.
   const bool needs_quads = from_target && !is_all_quads(target_in) && options.subdivide == 0;
-  if (needs_quads && !is_all_triangles(target_in))
+  // (Not where the zip alone made it so: a box of quads cut differently on each side.)
+  if (needs_quads && !is_all_triangles(target_in) &&
+      !(zipped_target && (is_all_quads(target_given) || is_all_triangles(target_given))))
     warnings.push_back("target has " + face_size_text(target_in) +
                        ": meshed as it stands by the quads stage; if it is a subdivision cage, "
                        "pass --subdivide 1 to smooth it first (Catmull-Clark)");

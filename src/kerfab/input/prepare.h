@@ -49,7 +49,10 @@ struct PreparedInput {
 
 /// Validates and prepares the inputs. Without \p quad, the target must itself be a polygon mesh
 /// that is all quads (or becomes so with subdivide >= 1), or any other (needs_quads: the
-/// quads stage makes the quad mesh).
+/// quads stage makes the quad mesh). The target's cracks are zipped first, with a warning
+/// giving the count: border vertices at one point become one, and a border vertex lying on a
+/// border edge of another face (a T-junction) is put into that face; then its triangles of no
+/// area are mended.
 /// A zero-area quad of \p quad whose opposite corners coincide (a doublet, as general remeshers
 /// leave behind) is collapsed along that diagonal, with a warning naming it. Without
 /// subdivision, so is a quad folded back onto itself across a diagonal by more than 150 degrees

@@ -12,6 +12,8 @@
 #include <iostream>
 #include <limits>
 #include <numeric>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <unordered_map>
 #include <vector>
@@ -264,8 +266,11 @@ void check_ascii_numbers(const std::filesystem::path& path, const std::string& e
 /// An ASCII OFF file laid out as its header says: the vertex lines, then face lines that each
 /// start with a whole corner count n >= 3 followed by n indices (a colour may follow). OpenMesh's
 /// reader reads tokens across lines and can loop for minutes on a face count that is not one
-/// (found by the fuzzer). \throw InvalidInput the line that does not fit.
-void check_off_layout(const std::filesystem::path& path) {
+/// (found by the fuzzer). Returns the file without its faces' colours where a face has one
+/// (OpenMesh's reader took a face's colour of whole numbers, "255 0 0", for corners of the
+/// faces after it: a coloured cube was refused for 4 faces that repeat a vertex), else
+/// nothing. \throw InvalidInput the line that does not fit.
+std::optional<std::string> check_off_layout(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   long long number = 0;
@@ -281,23 +286,33 @@ void check_off_layout(const std::filesystem::path& path) {
     return false;
   };
   std::vector<std::string> t;
-  if (!next(t) || t[0].find("OFF") == std::string::npos) return;
-  if (t[0] != "OFF" || line.find("BINARY") != std::string::npos) return;  // variants, binary
+  if (!next(t) || t[0].find("OFF") == std::string::npos) return std::nullopt;
+  if (t[0] != "OFF" || line.find("BINARY") != std::string::npos) return std::nullopt;  // variants
   t.erase(t.begin());
-  if (t.empty() && !next(t)) return;
-  if (t.size() < 2) return;
+  if (t.empty() && !next(t)) return std::nullopt;
+  if (t.size() < 2) return std::nullopt;
+  std::ostringstream plain;  // the file with each face's colour left out
+  bool coloured = false;
+  const auto put = [&](const std::vector<std::string>& words, std::size_t count) {
+    for (std::size_t k = 0; k < count && k < words.size(); ++k) plain << (k ? " " : "") << words[k];
+    plain << "\n";
+  };
+  plain << "OFF\n";
+  put(t, t.size());
   auto whole = [](const std::string& w, long long& out) {
     char* end = nullptr;
     out = std::strtoll(w.c_str(), &end, 10);
     return !w.empty() && *end == '\0';
   };
   long long nv = 0, nf = 0;
-  if (!whole(t[0], nv) || !whole(t[1], nf)) return;
+  if (!whole(t[0], nv) || !whole(t[1], nf)) return std::nullopt;
   const std::string name = path.string();
-  for (long long v = 0; v < nv; ++v)
+  for (long long v = 0; v < nv; ++v) {
     if (!next(t) || t.size() < 3)
       throw InvalidInput("OFF line " + std::to_string(number) + ": vertex " + std::to_string(v) +
                          " needs three coordinates: " + name);
+    put(t, t.size());
+  }
   for (long long f = 0; f < nf; ++f) {
     long long n = 0;
     if (!next(t))
@@ -309,6 +324,7 @@ void check_off_layout(const std::filesystem::path& path) {
           " does not start with a corner count n >= 3 followed by n indices: " + name);
     // A face may wrap over several lines: its n indices, whole numbers, then the next face.
     long long have = static_cast<long long>(t.size()) - 1;
+    std::vector<std::string> face = t;
     for (long long k = 1; k < static_cast<long long>(t.size()) && k <= n; ++k) {
       long long index = 0;
       if (!whole(t[k], index))
@@ -325,9 +341,14 @@ void check_off_layout(const std::filesystem::path& path) {
           throw InvalidInput("OFF line " + std::to_string(number) + ": face " + std::to_string(f) +
                              " has a corner '" + w + "' that is not a vertex index: " + name);
         ++have;
+        face.push_back(w);
       }
     }
+    coloured = coloured || static_cast<long long>(face.size()) > n + 1;
+    put(face, static_cast<std::size_t>(n + 1));
   }
+  if (!coloured) return std::nullopt;
+  return plain.str();
 }
 
 int count_occurrences(const std::string& text, const std::string& needle) {
@@ -340,9 +361,12 @@ int count_occurrences(const std::string& text, const std::string& needle) {
 /// \p mesh as read, with the faces OpenMesh could not join to their neighbours (it gives them
 /// copies of their corners) joined: the copies welded to the first vertex at the same point,
 /// the faces turned round to agree (orient_consistently), and added piece by piece in an order
-/// where each face meets one added before. \throw InvalidInput where a vertex still cannot take
-/// its faces (they meet only at that corner) or orient_consistently refuses.
-PolyMesh reoriented(const PolyMesh& mesh, const std::string& name, MeshRepairs* repairs) {
+/// where each face meets one added before; a face repeating another's corners is dropped.
+/// \p count_welds: the vertices welded are the file's own (no copies made by the reader) and
+/// are counted in \p repairs. \throw InvalidInput where a vertex still cannot take its faces
+/// (they meet only at that corner) or orient_consistently refuses.
+PolyMesh reoriented(const PolyMesh& mesh, const std::string& name, MeshRepairs* repairs,
+                    bool count_welds) {
   struct Key {
     double x, y, z;
     bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
@@ -369,9 +393,17 @@ PolyMesh reoriented(const PolyMesh& mesh, const std::string& name, MeshRepairs* 
   }
   std::vector<std::vector<int>> faces;
   faces.reserve(mesh.n_faces());
+  std::set<std::vector<int>> seen;  // each face's corners, sorted
+  int duplicates = 0;
   for (auto f : mesh.faces()) {
     std::vector<int> corners;
     for (auto v : mesh.fv_range(f)) corners.push_back(kept[v.idx()]);
+    std::vector<int> sorted = corners;
+    std::sort(sorted.begin(), sorted.end());
+    if (!seen.insert(std::move(sorted)).second) {
+      ++duplicates;
+      continue;
+    }
     faces.push_back(std::move(corners));
   }
   const OrientedFaces oriented = orient_consistently(points, std::move(faces), name);
@@ -399,8 +431,25 @@ PolyMesh reoriented(const PolyMesh& mesh, const std::string& name, MeshRepairs* 
   if (refused > 0)
     throw InvalidInput("mesh is not manifold (" + std::to_string(refused) +
                        " face(s) meet others only at a corner, a non-manifold vertex): " + name);
-  if (repairs) repairs->faces_turned = oriented.turned;
+  if (repairs) {
+    repairs->faces_turned = oriented.turned;
+    repairs->duplicate_faces = duplicates;
+    repairs->vertices_welded =
+        count_welds ? static_cast<int>(mesh.n_vertices() - vertices_only.n_vertices()) : 0;
+  }
   return out;
+}
+
+/// True where two border vertices of \p mesh lie at exactly the same point: faces that meet
+/// there were not joined (an OBJ triangle soup, vertices split at texture seams).
+bool has_open_seams(const PolyMesh& mesh) {
+  std::set<std::array<double, 3>> at;
+  for (auto v : mesh.vertices()) {
+    if (!mesh.is_boundary(v) || mesh.is_isolated(v)) continue;
+    const auto& p = mesh.point(v);
+    if (!at.insert({p[0], p[1], p[2]}).second) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -424,7 +473,8 @@ PolyMesh read_mesh(const std::filesystem::path& path, MeshRepairs* repairs) {
 
   check_header_counts(path, lower);
   check_ascii_numbers(path, lower);
-  if (lower == ".off") check_off_layout(path);
+  const std::optional<std::string> plain_off =
+      lower == ".off" ? check_off_layout(path) : std::nullopt;
 
   PolyMesh mesh;
   std::string log;
@@ -432,7 +482,12 @@ PolyMesh read_mesh(const std::filesystem::path& path, MeshRepairs* repairs) {
   {
     OpenMeshLogCapture capture;
     OpenMesh::IO::Options opt;
-    ok = OpenMesh::IO::read_mesh(mesh, name, opt);
+    if (plain_off) {
+      std::istringstream text(*plain_off);
+      ok = OpenMesh::IO::read_mesh(mesh, text, ".off", opt);
+    } else {
+      ok = OpenMesh::IO::read_mesh(mesh, name, opt);
+    }
     log = capture.text();
   }
   if (!ok) {
@@ -457,7 +512,20 @@ PolyMesh read_mesh(const std::filesystem::path& path, MeshRepairs* repairs) {
   if (mesh.n_faces() == 0) throw InvalidInput("mesh has no faces: " + name);
   if (repairs) *repairs = MeshRepairs{};
   for (auto f : mesh.faces())
-    if (mesh.status(f).fixed_nonmanifold()) return reoriented(mesh, name, repairs);
+    if (mesh.status(f).fixed_nonmanifold()) return reoriented(mesh, name, repairs, false);
+  // Faces meeting at vertices of the same point that the file did not join: welded where that
+  // gives a mesh (a soup of a cube was read as 12 loose triangles and cut as 12 parts with no
+  // joint); where it gives none (two borders touching at a point), read as it stands.
+  if (has_open_seams(mesh)) {
+    try {
+      PolyMesh welded = reoriented(mesh, name, repairs, true);
+      bool manifold = true;  // no vertex where faces meet only at their corners
+      for (auto v : welded.vertices()) manifold = manifold && welded.is_manifold(v);
+      if (manifold) return welded;
+    } catch (const InvalidInput&) {
+    }
+    if (repairs) *repairs = MeshRepairs{};
+  }
   return mesh;
 }
 

@@ -31,8 +31,13 @@ json input_section(const RunInputs& inputs, const std::optional<LoadedInputs>& l
   json j;
   j["target"] = inputs.target.string();
   if (loaded) {
-    j["target_repairs"] = {{"faces_turned", loaded->target_repairs.faces_turned}};
-    if (loaded->quad) j["quad_repairs"] = {{"faces_turned", loaded->quad_repairs.faces_turned}};
+    const auto repairs = [](const MeshRepairs& r) {
+      return json{{"faces_turned", r.faces_turned},
+                  {"vertices_welded", r.vertices_welded},
+                  {"duplicate_faces", r.duplicate_faces}};
+    };
+    j["target_repairs"] = repairs(loaded->target_repairs);
+    if (loaded->quad) j["quad_repairs"] = repairs(loaded->quad_repairs);
   }
   if (inputs.quad)
     j["quad"] = inputs.quad->string();

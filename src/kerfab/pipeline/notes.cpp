@@ -40,17 +40,23 @@ std::string summary_line(const std::string& what, const MeshSummary& s) {
 
 StageNotes notes(const LoadedInputs& loaded) {
   StageNotes n;
-  auto turned = [&](const char* file, const MeshRepairs& r) {
-    if (r.faces_turned == 0) return;
-    Line w;
-    w << file << ": " << r.faces_turned
-      << " faces turned the other way from their neighbours were turned round, each closed "
-         "piece facing out (input."
-      << file << "_repairs)";
-    n.warnings.push_back(w.str());
+  auto mended = [&](const std::string& file, const MeshRepairs& r) {
+    const auto say = [&](int count, const char* what) {
+      if (count == 0) return;
+      Line w;
+      w << file << ": " << count << what << " (input." << file << "_repairs)";
+      n.warnings.push_back(w.str());
+    };
+    say(r.vertices_welded,
+        " vertices at the same point as another on a border were welded to it, joining the "
+        "faces there");
+    say(r.duplicate_faces, " faces repeating another face's corners were dropped");
+    say(r.faces_turned,
+        " faces turned the other way from their neighbours were turned round, each closed "
+        "piece facing out");
   };
-  turned("target", loaded.target_repairs);
-  if (loaded.quad) turned("quad", loaded.quad_repairs);
+  mended("target", loaded.target_repairs);
+  if (loaded.quad) mended("quad", loaded.quad_repairs);
   return n;
 }
 
