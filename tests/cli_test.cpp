@@ -1597,6 +1597,48 @@ TEST(Cli, ATriangleMeshAloneIsNotSummarisedAsAnEmptyQuadMesh) {
   EXPECT_NE(all.find("target: "), std::string::npos) << all;
 }
 
+// A cup modelled for printing (80 mm across, 100 high, walls and floor 3 mm thick, its wall a
+// 48-gon) at its own size: its inner and outer walls stand 3 mm apart, as thick as the sheets.
+// The run failed after its resolve stage ("surface distance: sample spacing too fine for the
+// model size"): the check of how far the final strips move when deformed to their flat metric
+// had no sample budget, and a part flattened distorted had its deformed corners 54 m away. It
+// now runs to the end and says where the shape is thinner than the sheets, and the size at
+// which every gap would reach their thickness.
+TEST(Cli, ACupWithWallsAsThickAsTheSheetsRunsToTheEndAndSaysSo) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "cup.obj";
+  {
+    std::ofstream f(target);
+    const int n = 48;
+    const std::array<std::pair<double, double>, 4> rings = {
+        {{40, 0}, {40, 100}, {37, 100}, {37, 3}}};  // outer bottom, outer top, inner top, floor
+    for (const auto& [r, z] : rings)
+      for (int k = 0; k < n; ++k)
+        f << "v " << r * std::cos(2 * M_PI * k / n) << " " << r * std::sin(2 * M_PI * k / n) << " "
+          << z << "\n";
+    f << "v 0 0 0\nv 0 0 3\n";
+    const int c0 = 4 * n + 1, c1 = 4 * n + 2;
+    for (int k = 0; k < n; ++k) {
+      const int a = k + 1, b = (k + 1) % n + 1;
+      for (int ring = 0; ring < 3; ++ring)  // outer wall, rim, inner wall
+        f << "f " << ring * n + a << " " << ring * n + b << " " << (ring + 1) * n + b << " "
+          << (ring + 1) * n + a << "\n";
+      f << "f " << c0 << " " << b << " " << a << "\nf " << c1 << " " << 3 * n + a << " "
+        << 3 * n + b << "\n";
+    }
+  }
+  const fs::path out = scratch / "out";
+  const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  EXPECT_TRUE(std::isfinite(report["flatten"]["deformed_3d_hausdorff_mm"].get<double>()));
+  const auto clearance = report["quality"]["clearance"];
+  EXPECT_FALSE(clearance["contacts"].empty());
+  EXPECT_LT(clearance["min_thin_gap_mm"].get<double>(), 3.0);
+  EXPECT_NE(r.err.find("the shape is thinner than its 3 mm sheets"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("every gap reaches the thickness"), std::string::npos) << r.err;
+}
+
 // Demosthenes' bust from its triangles alone (a model no test was written for; 845 quads of
 // 15.8 mm at 250 mm, creases in its hair and faces folded back thinner than the sheets). Its
 // resolve loop once went 4, 17, 4, 17 ... critical regions to its last round, listed a quad's

@@ -91,9 +91,13 @@ std::vector<int> omit_patches(CuttablePatches& patches, const std::set<int>& qua
 }
 
 SurfaceDistance flat_metric_deformation(const CuttablePatches& patches, double spacing) {
+  // Within a budget of samples, as the quality stage's: a strip whose deformation ran off (a
+  // cup with 3 mm walls at its own size: a part's corners 40 m away) would need more than the
+  // distance's 50 million and failed the run after its resolve stage.
+  constexpr long kSampleBudget = 10'000'000;
   return surface_distance(patch_triangles(patches.strips, patches.flattening, false),
                           patch_triangles(patches.strips, patches.flattening, true),
-                          {.sample_spacing = spacing});
+                          {.sample_spacing = spacing, .max_samples = kSampleBudget});
 }
 
 }  // namespace kerfab
