@@ -519,16 +519,25 @@ class Extractor {
           changed = true;
           continue;
         }
+        // The piece across each rim edge, as the round began: a split earlier in this round
+        // may have put a new face there, which no piece of this round holds (read past the
+        // pieces, it wrote past the touched marks and crashed the run: Spot from its triangles
+        // with --quad-feature-angle 20 --quad-size 9.5); that edge waits for the next round.
+        const auto across = [&](HH h) {
+          const int f = mesh_.face_handle(mesh_.opposite_halfedge_handle(h)).idx();
+          return f >= 0 && f < static_cast<int>(p.of.size()) ? p.of[f] : -1;
+        };
         HH pick;
+        int picked = -1;
         for (HH h : p.rim[id]) {
-          const int other = p.of[mesh_.face_handle(mesh_.opposite_halfedge_handle(h)).idx()];
-          if (touched[other]) continue;
-          if (!pick.is_valid() || p.count[other] % 2 == 1) pick = h;
+          const int other = across(h);
+          if (other < 0 || touched[other]) continue;
+          if (!pick.is_valid() || p.count[other] % 2 == 1) pick = h, picked = other;
           if (p.count[other] % 2 == 1) break;
         }
         if (!pick.is_valid()) continue;
         touched[id] = 1;
-        touched[p.of[mesh_.face_handle(mesh_.opposite_halfedge_handle(pick)).idx()]] = 1;
+        touched[picked] = 1;
         split_edge(pick);
         changed = true;
       }

@@ -58,6 +58,10 @@ constexpr double kBorderCornerStraight = 0.1;
 /// The sharp edges may be at most this many times the area over the quad size long: a quarter
 /// of the quads' edges (make_quad_mesh) [-].
 constexpr double kMaxFeatureShare = 0.5;
+/// Where the size rule's quads cannot follow the sharp edges (kMaxFeatureShare), the size is made
+/// this much finer than the largest that can, so that the creases found at the new size do not
+/// tip it over again [-].
+constexpr double kFinerForFeatures = 0.95;
 
 /// The 3D length of \p edges (vertex pairs of \p mesh) in all [mm].
 double edges_length(const TriangleMesh& mesh, const std::vector<std::array<int, 2>>& edges) {
@@ -855,30 +859,46 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
   // partner, the lattice at twice the size with every face split (quads into 4, triangles
   // into 3), which is all quads by construction.
   const Folds folds(mesh);
-  std::vector<std::array<int, 2>> features = sharp_edges(folds, o.feature_angle);
-  for (const auto& e :
-       drop_short_features(mesh, shallow_creases(folds, o.feature_angle, sized.size.size),
-                           kCreaseLine * sized.size.size))
-    features.push_back(e);
-  const FeatureTriangleMesh input{
-      mesh, drop_short_features(mesh, std::move(features), 0.5 * sized.size.size),
-      border_corners(folds, kBorderCornerReach * sized.size.size)};
+  const auto features_at = [&](double size) {
+    std::vector<std::array<int, 2>> features = sharp_edges(folds, o.feature_angle);
+    for (const auto& e : drop_short_features(mesh, shallow_creases(folds, o.feature_angle, size),
+                                             kCreaseLine * size))
+      features.push_back(e);
+    return FeatureTriangleMesh{mesh, drop_short_features(mesh, std::move(features), 0.5 * size),
+                               border_corners(folds, kBorderCornerReach * size)};
+  };
+  FeatureTriangleMesh input = features_at(sized.size.size);
   // Sharp edges the quads must follow, against the quads' own edges (about 2 area / size long
   // in all): past a quarter of those the lattice is mostly constraint. Spot from its triangles
   // at 250 mm with --quad-feature-angle 20 marks 5.0 m of its edges (0.69 of area / size) and
   // ran for over 10 minutes; at 25, 2.7 m (0.37) took 28 s; fandisk's 3.2 m at the default
-  // 60 deg are 0.44, a cube's 3 m 0.24.
-  const double feature_length = edges_length(mesh, input.features);
-  const double most = kMaxFeatureShare * sized.size.area / sized.size.size,
-               finer = kMaxFeatureShare * sized.size.area / std::max(feature_length, 1e-9);
-  if (feature_length > most)
+  // 60 deg are 0.44, a cube's 3 m 0.24. Where the size rule chose the size (no --quad-size or
+  // --quads), it is made finer until they can (an icosahedron at 250 mm: 4.64 m of edges,
+  // quads of 22.7 mm follow 4.55 m; refused until 2026-12-03).
+  double feature_length = edges_length(mesh, input.features);
+  const auto most = [&] { return kMaxFeatureShare * sized.size.area / sized.size.size; };
+  const auto finer = [&] {
+    return kMaxFeatureShare * sized.size.area / std::max(feature_length, 1e-9);
+  };
+  for (int round = 0; round < 4 && feature_length > most() && !o.quad_size && !o.quads &&
+                      finer() * finer() * kMaxQuads >= sized.size.area;
+       ++round) {
+    sized.size.size = kFinerForFeatures * finer();
+    if (round == 0) sized.size.reason += "; finer, for the quads to follow the sharp edges";
+    input = features_at(sized.size.size);
+    feature_length = edges_length(mesh, input.features);
+    if (progress)
+      progress("quad size " + fmt(sized.size.size) + " mm, for the quads to follow the " +
+               fmt(feature_length) + " mm of sharp edges");
+  }
+  if (feature_length > most())
     throw InvalidInput("--quad-feature-angle " + fmt(o.feature_angle * 180 / kPi) + " deg marks " +
                        fmt(feature_length) +
                        " mm of the target's edges as sharp, more than quads of " +
-                       fmt(sized.size.size) + " mm can follow (" + fmt(most) +
+                       fmt(sized.size.size) + " mm can follow (" + fmt(most()) +
                        " mm, a quarter of their edges): raise --quad-feature-angle" +
-                       (finer * finer * kMaxQuads >= sized.size.area
-                            ? ", or pass --quad-size " + fmt(finer) + " or less"
+                       (finer() * finer() * kMaxQuads >= sized.size.area
+                            ? ", or pass --quad-size " + fmt(finer()) + " or less"
                             : std::string()));
   // The whole search, once as the fields come and, where its quads leave feature lines
   // crossing them, once with the lattice lines held on the feature lines (constrained).
