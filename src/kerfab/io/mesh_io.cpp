@@ -266,11 +266,11 @@ void check_ascii_numbers(const std::filesystem::path& path, const std::string& e
 /// An ASCII OFF file laid out as its header says: the vertex lines, then face lines that each
 /// start with a whole corner count n >= 3 followed by n indices (a colour may follow). OpenMesh's
 /// reader reads tokens across lines and can loop for minutes on a face count that is not one
-/// (found by the fuzzer). Returns the file without its faces' colours where a face has one
-/// (OpenMesh's reader took a face's colour of whole numbers, "255 0 0", for corners of the
-/// faces after it: a coloured cube was refused for 4 faces that repeat a vertex), else
-/// nothing. \throw InvalidInput the line that does not fit.
-std::optional<std::string> check_off_layout(const std::filesystem::path& path) {
+/// (found by the fuzzer). Returns whether a face has a colour after its corners (OpenMesh's
+/// reader took a face's colour of whole numbers, "255 0 0", for corners of the faces after it:
+/// a coloured cube was refused for 4 faces that repeat a vertex); with \p plain, writes the
+/// file there without those colours. \throw InvalidInput the line that does not fit.
+bool check_off_layout(const std::filesystem::path& path, std::ostringstream* plain = nullptr) {
   std::ifstream in(path, std::ios::binary);
   std::string line;
   long long number = 0;
@@ -286,18 +286,19 @@ std::optional<std::string> check_off_layout(const std::filesystem::path& path) {
     return false;
   };
   std::vector<std::string> t;
-  if (!next(t) || t[0].find("OFF") == std::string::npos) return std::nullopt;
-  if (t[0] != "OFF" || line.find("BINARY") != std::string::npos) return std::nullopt;  // variants
+  if (!next(t) || t[0].find("OFF") == std::string::npos) return false;
+  if (t[0] != "OFF" || line.find("BINARY") != std::string::npos) return false;  // variants
   t.erase(t.begin());
-  if (t.empty() && !next(t)) return std::nullopt;
-  if (t.size() < 2) return std::nullopt;
-  std::ostringstream plain;  // the file with each face's colour left out
+  if (t.empty() && !next(t)) return false;
+  if (t.size() < 2) return false;
   bool coloured = false;
   const auto put = [&](const std::vector<std::string>& words, std::size_t count) {
-    for (std::size_t k = 0; k < count && k < words.size(); ++k) plain << (k ? " " : "") << words[k];
-    plain << "\n";
+    if (!plain) return;
+    for (std::size_t k = 0; k < count && k < words.size(); ++k)
+      *plain << (k ? " " : "") << words[k];
+    *plain << "\n";
   };
-  plain << "OFF\n";
+  if (plain) *plain << "OFF\n";
   put(t, t.size());
   auto whole = [](const std::string& w, long long& out) {
     char* end = nullptr;
@@ -305,7 +306,7 @@ std::optional<std::string> check_off_layout(const std::filesystem::path& path) {
     return !w.empty() && *end == '\0';
   };
   long long nv = 0, nf = 0;
-  if (!whole(t[0], nv) || !whole(t[1], nf)) return std::nullopt;
+  if (!whole(t[0], nv) || !whole(t[1], nf)) return false;
   const std::string name = path.string();
   for (long long v = 0; v < nv; ++v) {
     if (!next(t) || t.size() < 3)
@@ -324,7 +325,7 @@ std::optional<std::string> check_off_layout(const std::filesystem::path& path) {
           " does not start with a corner count n >= 3 followed by n indices: " + name);
     // A face may wrap over several lines: its n indices, whole numbers, then the next face.
     long long have = static_cast<long long>(t.size()) - 1;
-    std::vector<std::string> face = t;
+    std::vector<std::string> face = plain ? t : std::vector<std::string>{};  // its words
     for (long long k = 1; k < static_cast<long long>(t.size()) && k <= n; ++k) {
       long long index = 0;
       if (!whole(t[k], index))
@@ -341,14 +342,13 @@ std::optional<std::string> check_off_layout(const std::filesystem::path& path) {
           throw InvalidInput("OFF line " + std::to_string(number) + ": face " + std::to_string(f) +
                              " has a corner '" + w + "' that is not a vertex index: " + name);
         ++have;
-        face.push_back(w);
+        if (plain) face.push_back(w);
       }
     }
-    coloured = coloured || static_cast<long long>(face.size()) > n + 1;
+    coloured = coloured || have > n;  // words after its n corners: a colour
     put(face, static_cast<std::size_t>(n + 1));
   }
-  if (!coloured) return std::nullopt;
-  return plain.str();
+  return coloured;
 }
 
 int count_occurrences(const std::string& text, const std::string& needle) {
@@ -473,8 +473,9 @@ PolyMesh read_mesh(const std::filesystem::path& path, MeshRepairs* repairs) {
 
   check_header_counts(path, lower);
   check_ascii_numbers(path, lower);
-  const std::optional<std::string> plain_off =
-      lower == ".off" ? check_off_layout(path) : std::nullopt;
+  // A coloured OFF is read again, once, without its faces' colours.
+  std::optional<std::ostringstream> plain_off;
+  if (lower == ".off" && check_off_layout(path)) check_off_layout(path, &plain_off.emplace());
 
   PolyMesh mesh;
   std::string log;
@@ -483,7 +484,7 @@ PolyMesh read_mesh(const std::filesystem::path& path, MeshRepairs* repairs) {
     OpenMeshLogCapture capture;
     OpenMesh::IO::Options opt;
     if (plain_off) {
-      std::istringstream text(*plain_off);
+      std::istringstream text(plain_off->str());
       ok = OpenMesh::IO::read_mesh(mesh, text, ".off", opt);
     } else {
       ok = OpenMesh::IO::read_mesh(mesh, name, opt);

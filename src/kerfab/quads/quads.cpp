@@ -880,9 +880,9 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
   const auto finer = [&] {
     return kMaxFeatureShare * sized.size.area / std::max(feature_length, 1e-9);
   };
-  for (int round = 0; round < 4 && feature_length > most() && !o.quad_size && !o.quads &&
-                      finer() * finer() * kMaxQuads >= sized.size.area;
-       ++round) {
+  const auto finer_fits = [&] { return finer() * finer() * kMaxQuads >= sized.size.area; };
+  for (int round = 0;
+       round < 4 && feature_length > most() && !o.quad_size && !o.quads && finer_fits(); ++round) {
     sized.size.size = kFinerForFeatures * finer();
     if (round == 0) sized.size.reason += "; finer, for the quads to follow the sharp edges";
     input = features_at(sized.size.size);
@@ -892,14 +892,12 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
                fmt(feature_length) + " mm of sharp edges");
   }
   if (feature_length > most())
-    throw InvalidInput("--quad-feature-angle " + fmt(o.feature_angle * 180 / kPi) + " deg marks " +
-                       fmt(feature_length) +
-                       " mm of the target's edges as sharp, more than quads of " +
-                       fmt(sized.size.size) + " mm can follow (" + fmt(most()) +
-                       " mm, a quarter of their edges): raise --quad-feature-angle" +
-                       (finer() * finer() * kMaxQuads >= sized.size.area
-                            ? ", or pass --quad-size " + fmt(finer()) + " or less"
-                            : std::string()));
+    throw InvalidInput(
+        "--quad-feature-angle " + fmt(o.feature_angle * 180 / kPi) + " deg marks " +
+        fmt(feature_length) + " mm of the target's edges as sharp, more than quads of " +
+        fmt(sized.size.size) + " mm can follow (" + fmt(most()) +
+        " mm, a quarter of their edges): raise --quad-feature-angle" +
+        (finer_fits() ? ", or pass --quad-size " + fmt(finer()) + " or less" : std::string()));
   // The whole search, once as the fields come and, where its quads leave feature lines
   // crossing them, once with the lattice lines held on the feature lines (constrained).
   auto mesh_lattices = [&](bool constrained) {
