@@ -955,6 +955,35 @@ TEST(Cli, TheScanInPaperRunsToItsSheets) {
   EXPECT_EQ(audit.parts, static_cast<int>(report["resolve"]["parts_after"].get<int>()));
 }
 
+// stanford-bunny from its triangles at 250 mm, 3 mm MDF: a 6.4 mm border folded 100 deg had no
+// joint (every tooth on it reached 0.2-0.6 mm into a third part), and was not held at its
+// corners either: its two parts are each jointed to the parts at both its ends, but two of
+// those joints lay 7.7 and 10.9 mm from the corner, farther than two tooth widths. Those
+// borders now take a tooth within reach of the corner where one fits (checked in 3D like a
+// stub tooth), and the border is held at both its corners: none without a joint, the sheets
+// clean.
+TEST(Cli, TheScansShortBordersAreHeldAtTheirCorners) {
+  KERFAB_SKIP_WITHOUT_SHARED_MESHES();
+  const fs::path out = test::fresh_dir() / "out";
+  const CliRun r =
+      run_cli("run --quiet --target " + (test::shared_meshes() / "stanford-bunny.obj").string() +
+                  " --size 250 --out " + out.string(),
+              out.parent_path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+  int held_at_both = 0;
+  for (const auto& b : report["joints"]["borders"])
+    if (b["joint"] == "corner" && b.contains("joined_through_far")) {
+      ++held_at_both;
+      EXPECT_GT(b["length_mm"].get<double>(), 6.0);
+      EXPECT_LE(b["length_mm"].get<double>(), 12.0);
+    }
+  EXPECT_GE(held_at_both, 1);
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_TRUE(audit.findings.empty()) << audit.findings.front();
+}
+
 // horse_quad at 250 mm: where many facets meet on the ears, facets capped quads tilted up to
 // 85 deg from their planes and flattened 130 to 280 deg off with inverted quads (five parts
 // reported unresolved, one of 22.9 mm^2 on the sheet). Cut along their outlines, they keep

@@ -874,6 +874,79 @@ TEST(Joints, AShortBorderWithoutAJointIsHeldAtBothItsCorners) {
   EXPECT_EQ(c.joints.borders_without_joint, 2);
 }
 
+// A 10 mm fold border without a joint (a sheet folded by 90 degrees in 10 strips), held at
+// both its corners, is not once the 50 mm borders between the strips at one corner have no
+// joint within two tooth widths of it (their teeth there taken away; two of the four parts
+// meet across the neighbour's fold border, which keeps its teeth). joints_wanted_at_corners()
+// names exactly those two borders at that corner's end, and with their teeth there given back
+// the border is held again. Borders held already, or with no chain at a corner they need,
+// want nothing.
+TEST(Joints, ABorderNotHeldAtACornerSaysWhichJointsThereWouldHoldIt) {
+  Case c = folded_sheet(90, {}, kMdf, 10);
+  const border::Pieces pieces = border::make_pieces(c.strips, c.flat);
+  const std::vector<int> folds = fold_borders(c, pieces);
+  ASSERT_EQ(folds.size(), 10u);
+  const int mid = folds[5];
+  const double reach = kStubAtCorner * JointOptions{}.tooth_width;
+  take_joint_away(c.joints.borders[mid]);
+  join_stubs_at_corners(c.joints, c.strips, pieces, reach);
+  ASSERT_EQ(c.joints.borders[mid].kind(), "corner");
+  EXPECT_TRUE(joints_wanted_at_corners(c.joints, c.strips, pieces, reach).empty());
+  // The borders between strips at the mid border's first corner lose their teeth near it.
+  const Vec3 corner = border::piece_ends(c.strips, pieces, mid)[0];
+  const Joints before = c.joints;
+  std::vector<CornerEnd> moved;
+  for (int k = 0; k < static_cast<int>(c.joints.borders.size()); ++k) {
+    BorderJoint& b = c.joints.borders[k];
+    if (std::find(folds.begin(), folds.end(), k) != folds.end()) continue;
+    const auto e = border::piece_ends(c.strips, pieces, k);
+    for (int end = 0; end < 2; ++end) {
+      if ((e[end] - corner).norm() > 1e-6) continue;
+      EXPECT_NEAR(b.length, 50.0, 1e-6);
+      for (JointInterval& in : b.intervals)
+        if (in.owner >= 0 && (end == 0 ? in.s0 : b.length - in.s1) < reach + 1e-9)
+          in.owner = -1, in.kind = JointKind::kNone;
+      bool still = false;
+      for (const JointInterval& in : b.intervals) still = still || in.owner >= 0;
+      ASSERT_TRUE(still) << "border " << k << " kept no tooth";
+      moved.push_back({k, end});
+    }
+  }
+  ASSERT_EQ(moved.size(), 2u);
+  join_stubs_at_corners(c.joints, c.strips, pieces, reach);
+  EXPECT_EQ(c.joints.borders[mid].kind(), "none");
+  const auto wanted = joints_wanted_at_corners(c.joints, c.strips, pieces, reach);
+  ASSERT_EQ(wanted.size(), 1u);
+  auto sorted = [](std::vector<CornerEnd> v) {
+    std::sort(v.begin(), v.end(), [](const CornerEnd& a, const CornerEnd& b) {
+      return std::pair{a.border, a.end} < std::pair{b.border, b.end};
+    });
+    return v;
+  };
+  EXPECT_EQ(sorted(wanted.front()), sorted(moved));
+  // Not enough with only one of them given back.
+  c.joints.borders[moved[0].border] = before.borders[moved[0].border];
+  join_stubs_at_corners(c.joints, c.strips, pieces, reach);
+  EXPECT_EQ(c.joints.borders[mid].kind(), "none");
+  const auto still = joints_wanted_at_corners(c.joints, c.strips, pieces, reach);
+  ASSERT_EQ(still.size(), 1u);
+  EXPECT_EQ(still.front(), std::vector<CornerEnd>{moved[1]});
+  c.joints.borders[moved[1].border] = before.borders[moved[1].border];
+  join_stubs_at_corners(c.joints, c.strips, pieces, reach);
+  expect_held_at_corner(c.strips, c.flat, c.joints, mid);
+  // With the neighbouring strip's fold border at that corner bare too, no chain links the two
+  // parts there whatever the borders between strips had: nothing wanted.
+  int neighbour = -1;
+  for (int n : {folds[4], folds[6]})
+    for (const Vec3& e : border::piece_ends(c.strips, pieces, n))
+      if ((e - corner).norm() < 1e-6) neighbour = n;
+  ASSERT_GE(neighbour, 0);
+  take_joint_away(c.joints.borders[neighbour]);
+  join_stubs_at_corners(c.joints, c.strips, pieces, reach);
+  EXPECT_EQ(c.joints.borders[mid].kind(), "none");
+  EXPECT_TRUE(joints_wanted_at_corners(c.joints, c.strips, pieces, reach).empty());
+}
+
 // Dovetail tabs lock in the plane (the head is wider than the neck) and the mate's socket has
 // the tab's shape: measured on both final outlines along lines parallel to the border, the
 // socket's opening at depth v exceeds the tab's width there by the stated clearance only

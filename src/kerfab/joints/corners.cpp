@@ -6,6 +6,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <optional>
 #include <vector>
 
 namespace kerfab {
@@ -48,6 +49,65 @@ std::vector<int> chain_between(int from, int to, const std::vector<std::array<in
   return chain;
 }
 
+/// A border with a joint that ends at a corner: which end, and how far its nearest joint is
+/// from that corner [mm].
+struct Link {
+  CornerEnd at;
+  double nearest = 0;
+};
+
+/// The borders with a joint (two parts, not \p i) that end at end \p end of border \p i: they
+/// link the parts around that corner.
+std::vector<Link> links_at(const Joints& joints, const std::vector<std::array<Vec3, 2>>& ends,
+                           int i, int end) {
+  std::vector<Link> links;
+  for (int k = 0; k < static_cast<int>(joints.borders.size()); ++k) {
+    const BorderJoint& b = joints.borders[k];
+    if (k == i || !has_joint(b) || b.patches[0] == b.patches[1]) continue;
+    for (int at = 0; at < 2; ++at)
+      if ((ends[k][at] - ends[i][end]).norm() < kSameCorner) {
+        links.push_back({{k, at}, nearest_joint(b, at)});
+        break;
+      }
+  }
+  return links;
+}
+
+/// Of the chains of parts from \p from to \p to over \p links, one with the fewest links whose
+/// joint is farther than \p max_length from the corner: those links (empty where every link of
+/// it is near); nullopt where there is no chain.
+std::optional<std::vector<CornerEnd>> fewest_far(int from, int to, const std::vector<Link>& links,
+                                                 const std::vector<BorderJoint>& borders,
+                                                 double max_length) {
+  // 0-1 breadth first: a far link costs 1, a near one 0.
+  std::map<int, std::pair<int, int>> best{{from, {0, -1}}};  // part: cost, link that reached it
+  std::deque<int> queue{from};
+  while (!queue.empty()) {
+    const int p = queue.front();
+    queue.pop_front();
+    for (int li = 0; li < static_cast<int>(links.size()); ++li) {
+      const auto& parts = borders[links[li].at.border].patches;
+      for (int k = 0; k < 2; ++k) {
+        if (parts[k] != p) continue;
+        const int far = links[li].nearest > max_length ? 1 : 0, q = parts[1 - k];
+        const int cost = best.at(p).first + far;
+        if (best.contains(q) && best.at(q).first <= cost) continue;
+        best[q] = {cost, li};
+        far ? queue.push_back(q) : queue.push_front(q);
+      }
+    }
+  }
+  if (!best.contains(to)) return std::nullopt;
+  std::vector<CornerEnd> wanted;
+  for (int p = to; p != from;) {
+    const Link& l = links[best.at(p).second];
+    if (l.nearest > max_length) wanted.push_back(l.at);
+    const auto& parts = borders[l.at.border].patches;
+    p = parts[0] == p ? parts[1] : parts[0];
+  }
+  return wanted;
+}
+
 }  // namespace
 
 void join_stubs_at_corners(Joints& joints, const Strips& strips, const border::Pieces& pieces,
@@ -64,18 +124,9 @@ void join_stubs_at_corners(Joints& joints, const Strips& strips, const border::P
       continue;
     std::array<std::vector<int>, 2> chains;  // at each of its ends
     for (int end = 0; end < 2; ++end) {
-      // The borders with a joint that end at this corner link the parts around it.
       std::vector<std::array<int, 2>> links;
-      for (int k = 0; k < n; ++k) {
-        const BorderJoint& b = joints.borders[k];
-        if (k == i || !has_joint(b) || b.patches[0] == b.patches[1]) continue;
-        for (int at = 0; at < 2; ++at)
-          if ((ends[k][at] - ends[i][end]).norm() < kSameCorner &&
-              nearest_joint(b, at) <= max_length) {
-            links.push_back(b.patches);
-            break;
-          }
-      }
+      for (const Link& l : links_at(joints, ends, i, end))
+        if (l.nearest <= max_length) links.push_back(joints.borders[l.at.border].patches);
       chains[end] = chain_between(stub.patches[0], stub.patches[1], links);
     }
     if (stub.length <= max_length) {
@@ -95,6 +146,41 @@ void join_stubs_at_corners(Joints& joints, const Strips& strips, const border::P
     joints.borders_without_joint += kind == "none" ? 1 : 0;
     joints.stubs_joined_at_corners += kind == "corner" ? 1 : 0;
   }
+}
+
+std::vector<std::vector<CornerEnd>> joints_wanted_at_corners(const Joints& joints,
+                                                             const Strips& strips,
+                                                             const border::Pieces& pieces,
+                                                             double max_length) {
+  const int n = static_cast<int>(joints.borders.size());
+  std::vector<std::array<Vec3, 2>> ends;
+  ends.reserve(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) ends.push_back(border::piece_ends(strips, pieces, i));
+  std::vector<std::vector<CornerEnd>> wanted;
+  for (int i = 0; i < n; ++i) {
+    const BorderJoint& b = joints.borders[i];
+    if (has_joint(b) || b.length > 2 * max_length || b.patches[0] == b.patches[1]) continue;
+    std::array<std::optional<std::vector<CornerEnd>>, 2> at;
+    for (int end = 0; end < 2; ++end)
+      at[end] = fewest_far(b.patches[0], b.patches[1], links_at(joints, ends, i, end),
+                           joints.borders, max_length);
+    std::vector<CornerEnd> want;
+    if (b.length <= max_length) {
+      // Held at one end: the one that needs fewest.
+      const std::optional<std::vector<CornerEnd>>* pick = nullptr;
+      for (const auto& a : at)
+        if (a && (!pick || a->size() < (*pick)->size())) pick = &a;
+      if (!pick || (*pick)->empty()) continue;
+      want = **pick;
+    } else {
+      // Held at both ends.
+      if (!at[0] || !at[1] || (at[0]->empty() && at[1]->empty())) continue;
+      want = *at[0];
+      want.insert(want.end(), at[1]->begin(), at[1]->end());
+    }
+    wanted.push_back(std::move(want));
+  }
+  return wanted;
 }
 
 }  // namespace kerfab

@@ -26,4 +26,22 @@ inline constexpr double kStubAtCorner = 2.0;
 void join_stubs_at_corners(Joints& joints, const Strips& strips, const border::Pieces& pieces,
                            double max_length);
 
+/// One end of a border with a joint, at a corner of a border without one.
+struct CornerEnd {
+  int border = -1;  ///< index into Joints::borders
+  int end = 0;      ///< 0: its common end (arc length 0); 1: the other
+  bool operator==(const CornerEnd&) const = default;
+};
+
+/// Where a joint within \p max_length of a corner would let join_stubs_at_corners() hold a
+/// border that has none [mm]: per such border (no tooth, tab or glue tab, two parts, at most
+/// twice \p max_length long), the borders with a joint at its corners that link its two parts
+/// but have their nearest joint farther than \p max_length from that corner, fewest first: at
+/// the one end that needs fewest for a stub up to \p max_length long, at both ends for a longer
+/// one. Borders already held, or with no such chain at an end they need, are left out.
+std::vector<std::vector<CornerEnd>> joints_wanted_at_corners(const Joints& joints,
+                                                             const Strips& strips,
+                                                             const border::Pieces& pieces,
+                                                             double max_length);
+
 }  // namespace kerfab
