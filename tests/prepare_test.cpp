@@ -112,6 +112,17 @@ TEST(Prepare, DoubletsAreCollapsedAlongTheirDiagonal) {
   EXPECT_EQ(isolated, 1);  // the twin, kept so that every other vertex keeps its number
   ASSERT_EQ(in.warnings.size(), 1u);
   EXPECT_NE(in.warnings[0].find("face 9"), std::string::npos) << in.warnings[0];
+  // The same mesh as the target alone (its own quad mesh, as a user passes a remesher's output)
+  // was refused ("target mesh face 9 has zero area"): its doublet goes the same way.
+  const PreparedInput own = prepare_input(q, std::nullopt, opt);
+  EXPECT_TRUE(own.quads_from_target);
+  expect_quad_disk(own, 9, 16);
+  EXPECT_EQ(own.target_summary.faces, 9);
+  EXPECT_EQ(own.target_summary.euler_characteristic, 1);
+  ASSERT_EQ(own.warnings.size(), 1u);
+  EXPECT_NE(own.warnings[0].find("target: 1 faces of more than three corners and no area"),
+            std::string::npos)
+      << own.warnings[0];
   // A zero-area quad of another kind (all corners on a line) is still refused.
   PolyMesh flat;
   for (double x : {0.0, 10.0, 20.0, 30.0}) flat.add_vertex({x, 0, 0});

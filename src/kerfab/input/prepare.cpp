@@ -77,7 +77,7 @@ double face_area(const PolyMesh& mesh, OpenMesh::FaceHandle f) {
 
 /// Faces of no area count as none below this fraction of the squared bbox diagonal [-].
 constexpr double kZeroArea = 1e-12;
-/// Triangles of no area mended at most (mend_zero_area_triangles) [-].
+/// Faces of no area mended at most (mend_zero_area_faces) [-].
 constexpr int kMaxMended = 10000;
 
 /// Collapses every zero-area quad of \p mesh whose opposite corners coincide (a doublet, as
@@ -438,9 +438,14 @@ std::optional<PolyMesh> zip_cracks(const PolyMesh& mesh, int& zipped) {
 /// nothing where it has none (or where the mended faces do not make a mesh again): a sliver whose
 /// corners lie on one line (a cap) goes, its middle corner put into the face across its longest
 /// edge (a triangle there split in two at it); a needle, two corners at one point, has them merged
-/// (the faces it leaves with a corner twice go). \p mended: the triangles mended.
-std::optional<PolyMesh> mend_zero_area_triangles(const PolyMesh& mesh, int& mended) {
-  mended = 0;
+/// (the faces it leaves with a corner twice go). A larger face of no area with two corners at one
+/// point (a general remesher's quad whose opposite corners coincide: QuadriFlow's fandisk, face
+/// 740) has them merged the same way: a face left with a corner twice in a row keeps it once, one
+/// left with it twice apart, pinched to no area, goes. \p mended: the triangles mended;
+/// \p mended_larger: the larger faces.
+std::optional<PolyMesh> mend_zero_area_faces(const PolyMesh& mesh, int& mended,
+                                             int& mended_larger) {
+  mended = mended_larger = 0;
   std::vector<Vec3> p;
   for (auto v : mesh.vertices()) p.push_back(to_eigen(mesh.point(v)));
   // Thin against the mesh's own median edge, not its extent (one stray vertex 1e30 away makes
@@ -469,7 +474,22 @@ std::optional<PolyMesh> mend_zero_area_triangles(const PolyMesh& mesh, int& mend
   // triangle carries no surface, and CGAL's constructions on it fail (a cube with a needle 1e-9
   // across, of area just over the zero mark, ended the quads stage with a segmentation fault in the
   // release build: "squared_radius >= 0 and o != COLLINEAR").
+  // Two corners of a larger face at one point, nearest first; none where there are not.
+  auto coincident = [&](const std::vector<int>& c) -> std::optional<std::pair<int, int>> {
+    std::optional<std::pair<int, int>> pair;
+    double nearest = short_edge;
+    for (std::size_t i = 0; i < c.size(); ++i)
+      for (std::size_t j = i + 1; j < c.size(); ++j)
+        if (const double d = (p[c[j]] - p[c[i]]).norm(); d <= nearest) nearest = d, pair = {i, j};
+    return pair;
+  };
   auto zero = [&](const std::vector<int>& c) {
+    if (c.size() > 3) {
+      double longest = 0;
+      for (std::size_t k = 0; k < c.size(); ++k)
+        longest = std::max(longest, (p[c[(k + 1) % c.size()]] - p[c[k]]).norm());
+      return 2 * area(c) <= short_edge * longest && coincident(c).has_value();
+    }
     if (c.size() != 3) return false;
     double longest = 0, shortest = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 3; ++k) {
@@ -479,9 +499,10 @@ std::optional<PolyMesh> mend_zero_area_triangles(const PolyMesh& mesh, int& mend
     }
     return shortest <= short_edge || 2 * area(c) <= short_edge * longest;
   };
-  mended = static_cast<int>(std::count_if(faces.begin(), faces.end(), zero));
+  for (const auto& c : faces)
+    if (zero(c)) ++(c.size() > 3 ? mended_larger : mended);
   // Each mend looks through every face: beyond this many the mesh is no export's slip.
-  if (mended == 0 || mended > kMaxMended) return std::nullopt;
+  if (mended + mended_larger == 0 || mended + mended_larger > kMaxMended) return std::nullopt;
   // One at a time, onwards from the last (each change may leave another, a needle's neighbour,
   // or mend one), and once more round from the start.
   std::size_t from = 0;
@@ -492,6 +513,26 @@ std::optional<PolyMesh> mend_zero_area_triangles(const PolyMesh& mesh, int& mend
     from = static_cast<std::size_t>(it - faces.begin());
     const std::vector<int> t = *it;
     faces.erase(it);
+    if (t.size() > 3) {
+      const auto [i, j] = *coincident(t);
+      const int keep = t[i], gone = t[j];
+      for (auto& c : faces) {
+        std::replace(c.begin(), c.end(), gone, keep);
+        // A corner twice in a row once; a face pinched (a corner twice apart) or under three
+        // corners goes below.
+        for (std::size_t k = 0; k < c.size() && c.size() > 1;)
+          if (c[k] == c[(k + 1) % c.size()])
+            c.erase(c.begin() + static_cast<std::ptrdiff_t>(k));
+          else
+            ++k;
+      }
+      std::erase_if(faces, [](const std::vector<int>& c) {
+        std::vector<int> s = c;
+        std::sort(s.begin(), s.end());
+        return c.size() < 3 || std::adjacent_find(s.begin(), s.end()) != s.end();
+      });
+      continue;
+    }
     int k_short = 0, k_long = 0;  // edge k: corners k, k + 1
     for (int k = 1; k < 3; ++k) {
       const double len = (p[t[(k + 1) % 3]] - p[t[k]]).norm();
@@ -690,8 +731,9 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
   int zipped = 0;
   const std::optional<PolyMesh> zipped_target = zip_cracks(target_given, zipped);
   const PolyMesh& target_whole = zipped_target ? *zipped_target : target_given;
-  int mended = 0;
-  const std::optional<PolyMesh> mended_target = mend_zero_area_triangles(target_whole, mended);
+  int mended = 0, mended_larger = 0;
+  const std::optional<PolyMesh> mended_target =
+      mend_zero_area_faces(target_whole, mended, mended_larger);
   const PolyMesh& target_in = mended_target ? *mended_target : target_whole;
   if (options.subdivide < 0 || options.subdivide > 4)
     throw InvalidInput("--subdivide must be between 0 and 4, got " +
@@ -704,12 +746,17 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
                        " vertices of a crack (a border vertex at the point of another, or lying "
                        "on a border edge of another face: a T-junction) joined to the faces "
                        "across it, closing the crack");
-  if (mended_target)
+  if (mended_target && mended > 0)
     warnings.push_back(
         "target: " + std::to_string(mended) +
         " triangles of no area (thinner than a millionth of the median edge) mended: a "
         "sliver's middle corner joined to the face across its longest edge, a "
         "needle's two corners at one point merged");
+  if (mended_target && mended_larger > 0)
+    warnings.push_back("target: " + std::to_string(mended_larger) +
+                       " faces of more than three corners and no area, two of their corners at "
+                       "one point (a quad whose opposite corners coincide), mended: those two "
+                       "corners merged, the face gone");
   std::optional<PolyMesh> repaired;  // the quad mesh with its doublets collapsed
   if (quad_in) {
     if (quad_in->n_faces() == 0) throw InvalidInput("quad mesh has no faces");

@@ -52,7 +52,9 @@ struct PreparedInput {
 /// quads stage makes the quad mesh). The target's cracks are zipped first, with a warning
 /// giving the count: border vertices at one point become one, and a border vertex lying on a
 /// border edge of another face (a T-junction) is put into that face; then its triangles of no
-/// area are mended.
+/// area are mended, and its larger faces of no area with two corners at one point (a quad whose
+/// opposite corners coincide: a doublet, as general remeshers leave behind) lose that face, the
+/// two corners merged (a warning each, with the count).
 /// A zero-area quad of \p quad whose opposite corners coincide (a doublet, as general remeshers
 /// leave behind) is collapsed along that diagonal, with a warning naming it. Without
 /// subdivision, so is a quad folded back onto itself across a diagonal by more than 150 degrees
