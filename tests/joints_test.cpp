@@ -59,8 +59,9 @@ Case folded_sheet(double fold_deg, const JointOptions& options = {},
 }
 
 // True where \p chain runs from one part of border \p i of \p j to the other, each step over a
-// border with a tooth, tab or glue tab that ends, in 3D, at \p corner and has that joint within
-// two tooth widths of it: checked in 3D from the pieces.
+// border with a tooth, tab or glue tab that ends, in 3D, at or near \p corner and has that joint
+// within two tooth widths of it (straight from the corner to the border's end, then along the
+// border): checked in 3D from the pieces.
 bool chain_holds_at(const Strips& s, const border::Pieces& pieces, const Joints& j, int i,
                     const std::vector<int>& chain, const Vec3& corner) {
   const double reach = 2 * JointOptions{}.tooth_width;
@@ -77,9 +78,10 @@ bool chain_holds_at(const Strips& s, const border::Pieces& pieces, const Joints&
         continue;
       const auto e = border::piece_ends(s, pieces, static_cast<int>(b));
       for (int end = 0; end < 2; ++end) {
-        if ((e[end] - corner).norm() > 1e-3) continue;
+        const double gap = (e[end] - corner).norm();
         for (const JointInterval& in : by.intervals)
-          if (in.owner >= 0 && (end == 0 ? in.s0 : by.length - in.s1) <= reach) step = true;
+          if (in.owner >= 0 && gap + (end == 0 ? in.s0 : by.length - in.s1) <= reach + 1e-3)
+            step = true;
       }
     }
     if (!step) return false;

@@ -49,26 +49,37 @@ std::vector<int> chain_between(int from, int to, const std::vector<std::array<in
   return chain;
 }
 
-/// A border with a joint that ends at a corner: which end, and how far its nearest joint is
-/// from that corner [mm].
+/// A border with a joint that ends at or near a corner: which end, whether at the corner itself,
+/// and how far its nearest joint is from the corner: the gap between its end and the corner
+/// (straight, in 3D) plus the way along it from that end to the joint [mm].
 struct Link {
   CornerEnd at;
+  bool at_corner = true;
   double nearest = 0;
 };
 
-/// The borders with a joint (two parts, not \p i) that end at end \p end of border \p i: they
-/// link the parts around that corner.
+/// The borders with a joint (two parts, not \p i) that end at end \p end of border \p i, or
+/// within \p reach of it [mm]: they link the parts around that corner. (horse_quad at 250 mm: a
+/// 0.7 mm stub whose two parts share a border 2 mm away, across a part left out, with a tooth
+/// 1.5 mm along it: no border ended at the stub's corners, and it was counted without a joint.)
 std::vector<Link> links_at(const Joints& joints, const std::vector<std::array<Vec3, 2>>& ends,
-                           int i, int end) {
+                           int i, int end, double reach) {
   std::vector<Link> links;
   for (int k = 0; k < static_cast<int>(joints.borders.size()); ++k) {
     const BorderJoint& b = joints.borders[k];
     if (k == i || !has_joint(b) || b.patches[0] == b.patches[1]) continue;
-    for (int at = 0; at < 2; ++at)
-      if ((ends[k][at] - ends[i][end]).norm() < kSameCorner) {
-        links.push_back({{k, at}, nearest_joint(b, at)});
+    std::optional<Link> best;
+    for (int at = 0; at < 2; ++at) {
+      const double gap = (ends[k][at] - ends[i][end]).norm();
+      if (gap < kSameCorner) {
+        best = Link{{k, at}, true, nearest_joint(b, at)};
         break;
       }
+      if (gap > reach) continue;
+      const Link near{{k, at}, false, gap + nearest_joint(b, at)};
+      if (!best || near.nearest < best->nearest) best = near;
+    }
+    if (best) links.push_back(*best);
   }
   return links;
 }
@@ -125,7 +136,7 @@ void join_stubs_at_corners(Joints& joints, const Strips& strips, const border::P
     std::array<std::vector<int>, 2> chains;  // at each of its ends
     for (int end = 0; end < 2; ++end) {
       std::vector<std::array<int, 2>> links;
-      for (const Link& l : links_at(joints, ends, i, end))
+      for (const Link& l : links_at(joints, ends, i, end, max_length))
         if (l.nearest <= max_length) links.push_back(joints.borders[l.at.border].patches);
       chains[end] = chain_between(stub.patches[0], stub.patches[1], links);
     }
@@ -161,9 +172,12 @@ std::vector<std::vector<CornerEnd>> joints_wanted_at_corners(const Joints& joint
     const BorderJoint& b = joints.borders[i];
     if (has_joint(b) || b.length > 2 * max_length || b.patches[0] == b.patches[1]) continue;
     std::array<std::optional<std::vector<CornerEnd>>, 2> at;
-    for (int end = 0; end < 2; ++end)
-      at[end] = fewest_far(b.patches[0], b.patches[1], links_at(joints, ends, i, end),
-                           joints.borders, max_length);
+    for (int end = 0; end < 2; ++end) {
+      // A joint can be given within reach of the corner only on a border that ends there.
+      std::vector<Link> links = links_at(joints, ends, i, end, max_length);
+      std::erase_if(links, [&](const Link& l) { return !l.at_corner && l.nearest > max_length; });
+      at[end] = fewest_far(b.patches[0], b.patches[1], links, joints.borders, max_length);
+    }
     std::vector<CornerEnd> want;
     if (b.length <= max_length) {
       // Held at one end: the one that needs fewest.

@@ -17,8 +17,9 @@ inline constexpr double kStubAtCorner = 2.0;
 /// Sets BorderJoint::joined_through on every border of \p joints with no tooth, tab or glue tab
 /// and at most \p max_length long [mm] whose two parts are joined to each other, at one of its
 /// ends, through the parts there (a shortest chain of borders with a joint that end at that
-/// corner, each with its joint within \p max_length of it; the chain's parts from one side's to
-/// the other's); on one up to twice as long where they are so joined at both its ends (no point
+/// corner, or near it, each with its joint within \p max_length of it: in 3D from the corner to
+/// the border's end, then along the border; the chain's parts from one side's to the other's);
+/// on one up to twice as long where they are so joined at both its ends (no point
 /// of it farther from a place where both parts are held), also BorderJoint::joined_through_far
 /// (the chain at its other end); and recounts
 /// Joints::borders_without_joint and Joints::stubs_joined_at_corners. \pre \p pieces are the pieces
