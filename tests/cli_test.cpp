@@ -1751,11 +1751,19 @@ TEST(Cli, AnUnseenBustEndsItsResolveLoopAndNamesNoAbsurdSize) {
   // apart at its slots: the loop kept that only where the parts too small or distorted became
   // fewer, so both stayed distorted, with three borders beside them left without a joint
   // (6 in all, 7.9 mm^2 lost). As many defects with fewer distorted is now kept as well.
+  // Since 2026-12-03 a facet its loop had grown to 91 quads, 25 mm off its plane, that still
+  // flattened inverted with an outline crossing itself, is put back as it was: no part
+  // flattens inverted; a part named unresolved there falls apart at its slots, 4 mm^2 lost
+  // (under 1 mm^2 before).
   int outline_cuts = 0;
   for (const auto& c : report["resolve"]["changes"]) outline_cuts += c["action"] == "outline";
   EXPECT_GE(outline_cuts, 1);
   EXPECT_LE(report["joints"]["borders_without_joint"].get<int>(), 3);
-  EXPECT_LT(report["joints"]["lost_area_mm2"].get<double>(), 1.0);
+  EXPECT_LT(report["joints"]["lost_area_mm2"].get<double>(), 5.0);
+  for (const auto& p : report["flatten"]["patches"]) {
+    EXPECT_EQ(p["inverted_quads"].get<int>(), 0) << p;
+    EXPECT_TRUE(p["outline_simple"].get<bool>()) << p;
+  }
   for (std::size_t at = r.err.find("--size "); at != std::string::npos;
        at = r.err.find("--size ", at + 1)) {
     const std::string rest = r.err.substr(at + 7, 20);
