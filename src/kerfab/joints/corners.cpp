@@ -49,6 +49,15 @@ std::vector<int> chain_between(int from, int to, const std::vector<std::array<in
   return chain;
 }
 
+/// The ends of the first \p n pieces, in 3D.
+std::vector<std::array<Vec3, 2>> all_piece_ends(const Strips& strips, const border::Pieces& pieces,
+                                                int n) {
+  std::vector<std::array<Vec3, 2>> ends;
+  ends.reserve(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) ends.push_back(border::piece_ends(strips, pieces, i));
+  return ends;
+}
+
 /// A border with a joint that ends at or near a corner: which end, whether at the corner itself,
 /// and how far its nearest joint is from the corner: the gap between its end and the corner
 /// (straight, in 3D) plus the way along it from that end to the joint [mm].
@@ -124,9 +133,7 @@ std::optional<std::vector<CornerEnd>> fewest_far(int from, int to, const std::ve
 void join_stubs_at_corners(Joints& joints, const Strips& strips, const border::Pieces& pieces,
                            double max_length) {
   const int n = static_cast<int>(joints.borders.size());
-  std::vector<std::array<Vec3, 2>> ends;
-  ends.reserve(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) ends.push_back(border::piece_ends(strips, pieces, i));
+  const std::vector<std::array<Vec3, 2>> ends = all_piece_ends(strips, pieces, n);
   for (int i = 0; i < n; ++i) {
     BorderJoint& stub = joints.borders[i];
     stub.joined_through.clear();
@@ -164,9 +171,7 @@ std::vector<std::vector<CornerEnd>> joints_wanted_at_corners(const Joints& joint
                                                              const border::Pieces& pieces,
                                                              double max_length) {
   const int n = static_cast<int>(joints.borders.size());
-  std::vector<std::array<Vec3, 2>> ends;
-  ends.reserve(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) ends.push_back(border::piece_ends(strips, pieces, i));
+  const std::vector<std::array<Vec3, 2>> ends = all_piece_ends(strips, pieces, n);
   std::vector<std::vector<CornerEnd>> wanted;
   for (int i = 0; i < n; ++i) {
     const BorderJoint& b = joints.borders[i];

@@ -458,10 +458,7 @@ class Builder {
       std::vector<StubTrial> trials(wave.size());
       for_each_index(static_cast<int>(wave.size()), hardware_threads(),
                      [&](int k) { give_stub_a_tooth(wave[k], forbidden, trials[k]); });
-      for (const StubTrial& t : trials) {
-        out_.teeth += t.teeth, out_.tabs += t.tabs;
-        out_.toothed_length += t.toothed_length, out_.tab_length += t.tab_length;
-      }
+      for (const StubTrial& t : trials) add_totals(t);
       pending = std::move(later);
     }
     wave_outlines_.clear();
@@ -478,7 +475,6 @@ class Builder {
   void give_corners_a_tooth() {
     if (!o_.stub_teeth) return;
     const double reach = kStubAtCorner * o_.tooth_width;
-    const double narrowest = std::max(1.0, 1.2 * o_.min_feature);
     for (const std::vector<CornerEnd>& want : joints_wanted_at_corners(out_, s_, bp_, reach)) {
       const Joints before = out_;
       const std::vector<std::vector<Polygon2>> lost_before = lost_;
@@ -504,15 +500,8 @@ class Builder {
         else
           lo = std::max(lo, b.length - reach);
         bool given = false;
-        for (double width = std::min(o_.tooth_width, hi - lo); !given && width >= narrowest - 1e-9;
-             width -= 0.5) {
-          const double slack = hi - lo - width;
-          for (double place : {0.5, 0.25, 0.75, 0.0, 1.0}) {
-            const double s0 = lo + place * slack;
-            if ((given = try_tooth(c.border, s0, s0 + width, t, true))) break;
-            if (slack < 1e-9) break;  // one place only
-          }
-        }
+        for (const auto& [s0, s1] : stub_candidates(lo, hi))
+          if ((given = try_tooth(c.border, s0, s1, t, true))) break;
         if (!given) {
           all = false;
           break;
@@ -522,8 +511,7 @@ class Builder {
         out_ = before, lost_ = lost_before;
         continue;
       }
-      out_.teeth += t.teeth, out_.tabs += t.tabs;
-      out_.toothed_length += t.toothed_length, out_.tab_length += t.tab_length;
+      add_totals(t);
     }
   }
 
@@ -536,12 +524,37 @@ class Builder {
     double toothed_length = 0, tab_length = 0;  // [mm]
   };
 
+  /// The narrowest stub tooth: one only as wide as the smallest feature is what the outline
+  /// rules call a tail (an opening by half that width takes all of it): a fifth wider, and at
+  /// least 1 mm [mm].
+  double narrowest_stub() const { return std::max(1.0, 1.2 * o_.min_feature); }
+
+  /// Stub teeth on the stretch [\p lo, \p hi] of a border [mm], in the order they are tried:
+  /// widest first (the tooth width, then 0.5 mm narrower each, down to narrowest_stub()), and
+  /// of each width centred first, then at a quarter, three quarters and either end.
+  std::vector<std::array<double, 2>> stub_candidates(double lo, double hi) const {
+    std::vector<std::array<double, 2>> candidates;
+    for (double width = std::min(o_.tooth_width, hi - lo); width >= narrowest_stub() - 1e-9;
+         width -= 0.5) {
+      const double slack = hi - lo - width;
+      for (double place : {0.5, 0.25, 0.75, 0.0, 1.0}) {
+        candidates.push_back({lo + place * slack, lo + place * slack + width});
+        if (slack < 1e-9) break;  // one place only
+      }
+    }
+    return candidates;
+  }
+
+  /// Adds what a border's stub teeth added (\p t) to the joints' totals.
+  void add_totals(const StubTrial& t) {
+    out_.teeth += t.teeth, out_.tabs += t.tabs;
+    out_.toothed_length += t.toothed_length, out_.tab_length += t.tab_length;
+  }
+
   /// give_stubs_a_tooth() for border \p i.
   void give_stub_a_tooth(int i, const std::vector<std::vector<std::array<double, 2>>>& forbidden,
                          StubTrial& t) {
-    // A tooth only as wide as the smallest feature is what the outline rules call a tail (an
-    // opening by half that width takes all of it): a fifth wider, and at least 1 mm.
-    const double narrowest = std::max(1.0, 1.2 * o_.min_feature);
+    const double narrowest = narrowest_stub();
     BorderJoint& b = out_.borders[i];
     const Piece& piece = pieces_[i];
     std::vector<std::array<double, 2>> room;  // free stretches, widest first
@@ -578,15 +591,7 @@ class Builder {
     // failed, those that look sound near the border (looks_sound) before the others; only the
     // candidates clear of third parts are drawn, and at most kStubDrawings of them (drawing is
     // what costs).
-    std::vector<std::array<double, 2>> candidates;
-    for (double width = std::min(o_.tooth_width, piece.length); width >= narrowest - 1e-9;
-         width -= 0.5) {
-      const double slack = piece.length - width;
-      for (double place : {0.5, 0.25, 0.75, 0.0, 1.0}) {
-        candidates.push_back({place * slack, place * slack + width});
-        if (slack < 1e-9) break;  // one place only
-      }
-    }
+    const std::vector<std::array<double, 2>> candidates = stub_candidates(0, piece.length);
     const int drawn_before = t.drawings;
     const bool screen = std::max(out_.parts[b.patches[0]].designed.size(),
                                  out_.parts[b.patches[1]].designed.size()) >= kScreenFrom;

@@ -1632,9 +1632,9 @@ class Resolver {
       // pairs of them where no single one keeps it a plate, against a group of up to hundreds
       // of quads: on a 7470-quad Spot one region's growth went on for minutes); it is then
       // left as it is, too small or not.
+      // (Not big enough when it starts: measured just above.)
       for (int guard = 0;
-           !groups[a].quads.empty() && !big_enough(groups[a].quads) && guard < 64 && !out_of_time();
-           ++guard) {
+           (guard == 0 || !big_enough(groups[a].quads)) && guard < 64 && !out_of_time(); ++guard) {
         // The flattest neighbour that keeps the group compact (a snake of quads falls
         // apart at its necks once its slots are cut), else the flattest.
         double best = 1e300;
