@@ -390,7 +390,9 @@ TEST(Prepare, PolygonsAreTriangulatedByEarClipping) {
 /// A 100 mm cube of triangles with what exporters leave: \p needle: two needles (a corner
 /// doubled 1e-9 mm away); else a sliver on the bottom's front edge (its middle corner on the
 /// edge, which the front face runs along whole).
-PolyMesh cube_with_degenerate_triangles(bool needle) {
+/// A 100 mm cube's eight corners (bottom 0-3, top 4-7, counter-clockwise from the origin) and
+/// \p extra as vertex 8, no faces.
+PolyMesh cube_corners_and(const Vec3& extra) {
   PolyMesh m;
   for (const auto& p : std::vector<Vec3>{{0, 0, 0},
                                          {100, 0, 0},
@@ -400,8 +402,13 @@ PolyMesh cube_with_degenerate_triangles(bool needle) {
                                          {100, 0, 100},
                                          {100, 100, 100},
                                          {0, 100, 100},
-                                         needle ? Vec3(1e-9, 0, 100) : Vec3(50, 0, 0)})
+                                         extra})
     m.add_vertex(to_openmesh(p));
+  return m;
+}
+
+PolyMesh cube_with_degenerate_triangles(bool needle) {
+  PolyMesh m = cube_corners_and(needle ? Vec3(1e-9, 0, 100) : Vec3(50, 0, 0));
   const std::vector<std::array<int, 3>> sliver = {
       {0, 3, 2}, {0, 2, 8}, {8, 2, 1}, {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},
       {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}, {4, 5, 6}, {4, 6, 7}, {0, 8, 1}};
@@ -441,6 +448,35 @@ TEST(Prepare, TrianglesOfNoAreaAreMended) {
     }
     EXPECT_NEAR(area, 6 * 100.0 * 100, 1e-6);
   }
+}
+
+// A needle beside a quad that has both its corners (a corner doubled 1e-9 mm away, the top of a
+// cube cut into a quad whose edge there has no length and two triangles): merging the needle's
+// corners leaves the quad with a corner twice in a row, a triangle of real area. Before, that
+// quad went with the needle's mate, and the cube was left with a hole of 5000 mm^2.
+TEST(Prepare, AQuadBesideANeedleBecomesATriangleNotAHole) {
+  PolyMesh m = cube_corners_and({1e-9, 0, 100});
+  const std::vector<std::vector<int>> faces = {{0, 3, 2, 1}, {0, 1, 5, 4}, {1, 2, 6, 5},
+                                               {2, 3, 7, 6}, {3, 0, 4, 7}, {4, 8, 6, 7},
+                                               {8, 5, 6},    {4, 5, 8}};
+  for (const auto& f : faces) {
+    std::vector<PolyMesh::VertexHandle> c;
+    for (int v : f) c.push_back(m.vertex_handle(v));
+    ASSERT_TRUE(m.add_face(c).is_valid());
+  }
+  EXPECT_EQ(boundary_loop_count(m), 0);
+  const PreparedInput in = prepare_input(m, std::nullopt, {});
+  ASSERT_FALSE(in.warnings.empty());
+  EXPECT_NE(in.warnings[0].find("target: 1 triangles of no area"), std::string::npos)
+      << in.warnings[0];
+  EXPECT_EQ(in.target_summary.boundary_loops, 0);
+  EXPECT_EQ(in.target_summary.euler_characteristic, 2);
+  const TriangleMesh t = triangulate(in.target);
+  double area = 0;
+  for (const auto& c : t.triangles)
+    area += 0.5 *
+            (t.vertices[c[1]] - t.vertices[c[0]]).cross(t.vertices[c[2]] - t.vertices[c[0]]).norm();
+  EXPECT_NEAR(area, 6 * 100.0 * 100, 1e-6);
 }
 
 // Cracks (sides cut differently along the line they share, as modellers export them) are

@@ -437,11 +437,12 @@ std::optional<PolyMesh> zip_cracks(const PolyMesh& mesh, int& zipped) {
 /// \p mesh with its triangles of no area (thinner than a millionth of its median edge) mended, or
 /// nothing where it has none (or where the mended faces do not make a mesh again): a sliver whose
 /// corners lie on one line (a cap) goes, its middle corner put into the face across its longest
-/// edge (a triangle there split in two at it); a needle, two corners at one point, has them merged
-/// (the faces it leaves with a corner twice go). A larger face of no area with two corners at one
+/// edge (a triangle there split in two at it); a needle, two corners at one point, has them
+/// merged. A larger face of no area with two corners at one
 /// point (a general remesher's quad whose opposite corners coincide: QuadriFlow's fandisk, face
-/// 740) has them merged the same way: a face left with a corner twice in a row keeps it once, one
-/// left with it twice apart, pinched to no area, goes. \p mended: the triangles mended;
+/// 740) has them merged the same way. Either way a face left with a corner twice in a row keeps
+/// it once (a quad beside a needle becomes a triangle), one left with it twice apart, pinched to
+/// no area, goes. \p mended: the triangles mended;
 /// \p mended_larger: the larger faces.
 std::optional<PolyMesh> mend_zero_area_faces(const PolyMesh& mesh, int& mended,
                                              int& mended_larger) {
@@ -503,6 +504,24 @@ std::optional<PolyMesh> mend_zero_area_faces(const PolyMesh& mesh, int& mended,
     if (zero(c)) ++(c.size() > 3 ? mended_larger : mended);
   // Each mend looks through every face: beyond this many the mesh is no export's slip.
   if (mended + mended_larger == 0 || mended + mended_larger > kMaxMended) return std::nullopt;
+  // Two corners at one point become one: a face left with a corner twice in a row keeps it once
+  // (a needle's neighbouring quad becomes a triangle, not a hole); one pinched (a corner twice
+  // apart) or left with under three corners (the needle's mate across its short edge) goes.
+  auto merge = [&](int keep, int gone) {
+    for (auto& c : faces) {
+      std::replace(c.begin(), c.end(), gone, keep);
+      for (std::size_t k = 0; k < c.size() && c.size() > 1;)
+        if (c[k] == c[(k + 1) % c.size()])
+          c.erase(c.begin() + static_cast<std::ptrdiff_t>(k));
+        else
+          ++k;
+    }
+    std::erase_if(faces, [](const std::vector<int>& c) {
+      std::vector<int> s = c;
+      std::sort(s.begin(), s.end());
+      return c.size() < 3 || std::adjacent_find(s.begin(), s.end()) != s.end();
+    });
+  };
   // One at a time, onwards from the last (each change may leave another, a needle's neighbour,
   // or mend one), and once more round from the start.
   std::size_t from = 0;
@@ -515,22 +534,7 @@ std::optional<PolyMesh> mend_zero_area_faces(const PolyMesh& mesh, int& mended,
     faces.erase(it);
     if (t.size() > 3) {
       const auto [i, j] = *coincident(t);
-      const int keep = t[i], gone = t[j];
-      for (auto& c : faces) {
-        std::replace(c.begin(), c.end(), gone, keep);
-        // A corner twice in a row once; a face pinched (a corner twice apart) or under three
-        // corners goes below.
-        for (std::size_t k = 0; k < c.size() && c.size() > 1;)
-          if (c[k] == c[(k + 1) % c.size()])
-            c.erase(c.begin() + static_cast<std::ptrdiff_t>(k));
-          else
-            ++k;
-      }
-      std::erase_if(faces, [](const std::vector<int>& c) {
-        std::vector<int> s = c;
-        std::sort(s.begin(), s.end());
-        return c.size() < 3 || std::adjacent_find(s.begin(), s.end()) != s.end();
-      });
+      merge(t[i], t[j]);
       continue;
     }
     int k_short = 0, k_long = 0;  // edge k: corners k, k + 1
@@ -540,13 +544,7 @@ std::optional<PolyMesh> mend_zero_area_faces(const PolyMesh& mesh, int& mended,
       if (len > (p[t[(k_long + 1) % 3]] - p[t[k_long]]).norm()) k_long = k;
     }
     if ((p[t[(k_short + 1) % 3]] - p[t[k_short]]).norm() <= short_edge) {  // a needle
-      const int keep = t[k_short], gone = t[(k_short + 1) % 3];
-      for (auto& c : faces) std::replace(c.begin(), c.end(), gone, keep);
-      std::erase_if(faces, [](const std::vector<int>& c) {
-        std::vector<int> s = c;
-        std::sort(s.begin(), s.end());
-        return std::adjacent_find(s.begin(), s.end()) != s.end();
-      });
+      merge(t[k_short], t[(k_short + 1) % 3]);
       continue;
     }
     // A cap: the face across its longest edge a -> b walks it b -> a; m goes between them.
