@@ -1240,6 +1240,10 @@ TEST(Cli, DemoWritesReportDumpsAndStripMesh) {
     EXPECT_EQ(without, 0);
     EXPECT_GT(joints["toothed_length_mm"].get<double>(),
               0.7 * joints["border_length_mm"].get<double>());
+    // No part hangs on a neck under the smallest feature (until 2026-12-03 part 150: its joints
+    // made plain there by the thin-neck pass, a stub tooth given back to a border so left bare
+    // made the neck again, just under 1 mm, and the pass put everything back).
+    EXPECT_TRUE(joints["thin_neck_parts"].empty()) << joints["thin_neck_parts"].dump();
   }
   // The assembly order: every part once, and every step after the first joins a part placed
   // before it, by the neighbour lists of the layout section (the borders, not the plan).

@@ -238,6 +238,9 @@ class Builder {
   // While stub teeth are tried in parallel: the outlines of the parts the wave's borders
   // change, as they were when it began (give_stubs_a_tooth()).
   std::map<int, Polygon2> wave_outlines_;
+  // While the thin-neck pass gives borders it left bare their tooth again the second time
+  // (widen_thin_necks()): a tooth whose part the round erosion parts is refused too.
+  bool round_necks_ = false;
 
   /// Box teeth where they are deep enough, else tabs if they are, else nothing (shallow).
   JointKind kind_for(double fold) const {
@@ -1325,7 +1328,11 @@ class Builder {
     if (changed.empty()) return false;
     Vec2 lo = changed.front(), hi = changed.front();
     for (const Vec2& v : changed) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
-    return more_pieces(clipped(after, lo, hi), clipped(before, lo, hi));
+    if (more_pieces(clipped(after, lo, hi), clipped(before, lo, hi))) return true;
+    // Where the mitred corners join the pieces again, the round erosion of the whole outline,
+    // as the final check has it (splits_apart()); only where asked (round_necks_: elsewhere a
+    // strip corner so cut off by without_hanging_corners() is the better end).
+    return round_necks_ && round_cores(after) > round_cores(before);
   }
 
   /// \p outline clipped to the box [lo, hi] grown by three smallest features: an opening by half
@@ -1335,6 +1342,12 @@ class Builder {
     const double g = 3 * o_.min_feature;
     lo -= Vec2(g, g), hi += Vec2(g, g);
     return polygon_intersection(outline, {lo, {hi.x(), lo.y()}, hi, {lo.x(), hi.y()}});
+  }
+
+  /// How many pieces \p outline's round erosion by half the smallest feature less kNeckSlack
+  /// leaves (as morphological_cores()).
+  int round_cores(const Polygon2& outline) const {
+    return outline.size() < 3 ? 0 : static_cast<int>(morphological_cores(outline).size());
   }
 
   /// True when region \p after falls in more pieces than \p before under an opening by half
@@ -1379,39 +1392,61 @@ class Builder {
     for (int p : all) {
       if (necks[p].empty()) continue;
       const Joints before = out_;
-      const std::vector<std::vector<Polygon2>> lost_before = lost_;
-      std::set<int> redo;
-      plain_near(p, necks[p], redo);
-      if (redo.empty()) continue;
-      redraw(redo);
-      std::set<int> bare;  // borders of the redrawn parts that lost their last joint
-      for (std::size_t b = 0; b < out_.borders.size(); ++b)
-        if (out_.borders[b].teeth == 0 && before.borders[b].teeth > 0 &&
-            (redo.contains(out_.borders[b].patches[0]) ||
-             redo.contains(out_.borders[b].patches[1])))
-          bare.insert(static_cast<int>(b));
-      if (!bare.empty()) give_stubs_a_tooth(forbidden, &bare);
-      std::map<int, std::vector<Polygon2>> after;
-      for (std::size_t q = 0; q < out_.parts.size(); ++q)
-        if (redo.contains(static_cast<int>(q)) ||
-            out_.parts[q].designed != before.parts[q].designed)
-          after[static_cast<int>(q)] = thin_necks(static_cast<int>(q), mitred);
-      // The mitred pass: no neck left on it, none more on the others. The morphological one:
-      // fewer on it, none more on the others, and none on any where it had none (by count
-      // alone a part with a neck elsewhere may take a new one beside the joints made plain).
-      bool better = !out_.parts[p].repaired &&
-                    (mitred ? after[p].empty()
-                            : after[p].size() < necks[p].size() && only_where(after[p], necks[p]));
-      for (const auto& [q, left] : after)
-        if (q != p && better)
-          better = (!out_.parts[q].repaired || before.parts[q].repaired) &&
-                   left.size() <= necks[q].size() && (mitred || only_where(left, necks[q]));
-      if (!better) {
-        out_ = before, lost_ = lost_before;
-        continue;
-      }
-      for (auto& [q, left] : after) necks[q] = std::move(left);
+      // Twice where the first leaves the neck: the second time the borders left bare take no
+      // tooth the round erosion parts (the demo's part 150: plain, its neck went, and a stub
+      // tooth given back made it again, just under 1 mm).
+      bool plain_mends = false;
+      if (!mend_neck(p, necks, before, forbidden, mitred, false, plain_mends) && plain_mends)
+        mend_neck(p, necks, before, forbidden, mitred, true, plain_mends);
     }
+  }
+
+  /// One try of widen_thin_necks() at part \p p: the joints near its necks made plain, the
+  /// borders so left bare given a stub tooth again, kept where that is better (\p necks
+  /// updated), else \p before put back. \p round: the second try, where no such tooth may be
+  /// one the round erosion parts and every such border must get one. \p plain_mends (first
+  /// try): whether making the joints plain alone had mended the neck of a border left bare.
+  bool mend_neck(int p, std::vector<std::vector<Polygon2>>& necks, const Joints& before,
+                 const std::vector<std::vector<std::array<double, 2>>>& forbidden, bool mitred,
+                 bool round, bool& plain_mends) {
+    const std::vector<std::vector<Polygon2>> lost_before = lost_;
+    std::set<int> redo, bare;
+    plain_near(p, necks[p], redo);
+    if (redo.empty()) return false;
+    redraw(redo);
+    for (std::size_t b = 0; b < out_.borders.size(); ++b)
+      if (out_.borders[b].teeth == 0 && before.borders[b].teeth > 0 &&
+          (redo.contains(out_.borders[b].patches[0]) || redo.contains(out_.borders[b].patches[1])))
+        bare.insert(static_cast<int>(b));
+    if (!round && !bare.empty()) {
+      const std::size_t left = thin_necks(p, mitred).size();
+      plain_mends = mitred ? left == 0 : left < necks[p].size();
+    }
+    round_necks_ = round;
+    if (!bare.empty()) give_stubs_a_tooth(forbidden, &bare);
+    round_necks_ = false;
+    std::map<int, std::vector<Polygon2>> after;
+    for (std::size_t q = 0; q < out_.parts.size(); ++q)
+      if (redo.contains(static_cast<int>(q)) || out_.parts[q].designed != before.parts[q].designed)
+        after[static_cast<int>(q)] = thin_necks(static_cast<int>(q), mitred);
+    // The mitred pass: no neck left on it, none more on the others. The morphological one:
+    // fewer on it, none more on the others, and none on any where it had none (by count
+    // alone a part with a neck elsewhere may take a new one beside the joints made plain).
+    bool better = !out_.parts[p].repaired &&
+                  (mitred ? after[p].empty()
+                          : after[p].size() < necks[p].size() && only_where(after[p], necks[p]));
+    for (const auto& [q, left] : after)
+      if (q != p && better)
+        better = (!out_.parts[q].repaired || before.parts[q].repaired) &&
+                 left.size() <= necks[q].size() && (mitred || only_where(left, necks[q]));
+    if (round)
+      for (int b : bare) better = better && out_.borders[b].teeth > 0;
+    if (!better) {
+      out_ = before, lost_ = lost_before;
+      return false;
+    }
+    for (auto& [q, left] : after) necks[q] = std::move(left);
+    return true;
   }
 
   /// True when every neck of \p now lies where one of \p was did (within the smallest feature).
