@@ -1404,7 +1404,8 @@ class Builder {
   /// One try of widen_thin_necks() at part \p p: the joints near its necks made plain, the
   /// borders so left bare given a stub tooth again, kept where that is better (\p necks
   /// updated), else \p before put back. \p round: the second try, where no such tooth may be
-  /// one the round erosion parts and every such border must get one. \p plain_mends (first
+  /// one the round erosion parts and every such border must get one or be a stub held at a
+  /// corner (join_stubs_at_corners()). \p plain_mends (first
   /// try): whether making the joints plain alone had mended the neck of a border left bare.
   bool mend_neck(int p, std::vector<std::vector<Polygon2>>& necks, const Joints& before,
                  const std::vector<std::vector<std::array<double, 2>>>& forbidden, bool mitred,
@@ -1439,8 +1440,14 @@ class Builder {
       if (q != p && better)
         better = (!out_.parts[q].repaired || before.parts[q].repaired) &&
                  left.size() <= necks[q].size() && (mitred || only_where(left, necks[q]));
-    if (round)
-      for (int b : bare) better = better && out_.borders[b].teeth > 0;
+    if (round && better) {
+      // Each border so left bare has its tooth again, or is a stub its parts' joints at one
+      // of its corners hold (spot_quadrangulated's 1.2 mm stubs beside parts 392 and 439,
+      // whose only tooth made the neck).
+      join_stubs_at_corners(out_, s_, bp_, kStubAtCorner * o_.tooth_width);
+      for (int b : bare)
+        better = better && (out_.borders[b].teeth > 0 || !out_.borders[b].joined_through.empty());
+    }
     if (!better) {
       out_ = before, lost_ = lost_before;
       return false;
