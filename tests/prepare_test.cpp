@@ -387,9 +387,6 @@ TEST(Prepare, PolygonsAreTriangulatedByEarClipping) {
   for (int k = 0; k < 4; ++k) EXPECT_EQ(t[k], (std::array<int, 3>{0, k + 1, k + 2}));
 }
 
-/// A 100 mm cube of triangles with what exporters leave: \p needle: two needles (a corner
-/// doubled 1e-9 mm away); else a sliver on the bottom's front edge (its middle corner on the
-/// edge, which the front face runs along whole).
 /// A 100 mm cube's eight corners (bottom 0-3, top 4-7, counter-clockwise from the origin) and
 /// \p extra as vertex 8, no faces.
 PolyMesh cube_corners_and(const Vec3& extra) {
@@ -407,6 +404,9 @@ PolyMesh cube_corners_and(const Vec3& extra) {
   return m;
 }
 
+/// A 100 mm cube of triangles with what exporters leave: \p needle: two needles (a corner
+/// doubled 1e-9 mm away); else a sliver on the bottom's front edge (its middle corner on the
+/// edge, which the front face runs along whole).
 PolyMesh cube_with_degenerate_triangles(bool needle) {
   PolyMesh m = cube_corners_and(needle ? Vec3(1e-9, 0, 100) : Vec3(50, 0, 0));
   const std::vector<std::array<int, 3>> sliver = {

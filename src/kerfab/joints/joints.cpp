@@ -1289,7 +1289,7 @@ class Builder {
         [&] {
           int eroded = 0;
           for (const auto& c : polygon_offset({outline}, -r)) eroded += polygon_area(c) > 0;
-          const int cores = eroded > 1 ? static_cast<int>(morphological_cores(outline).size()) : 0;
+          const int cores = eroded > 1 ? round_cores(outline) : 0;
           return OutlineCheck{{}, {cores}};
         });
     return found.positions.front() > 1;
@@ -1393,8 +1393,8 @@ class Builder {
       if (necks[p].empty()) continue;
       const Joints before = out_;
       // Twice where the first leaves the neck: the second time the borders left bare take no
-      // tooth the round erosion parts (the demo's part 150: plain, its neck went, and a stub
-      // tooth given back made it again, just under 1 mm).
+      // tooth the round erosion parts, or stay bare where a corner holds them (the demo's part
+      // 150: plain, its neck went, and a stub tooth given back made it again, just under 1 mm).
       bool plain_mends = false;
       if (!mend_neck(p, necks, before, forbidden, mitred, false, plain_mends) && plain_mends)
         mend_neck(p, necks, before, forbidden, mitred, true, plain_mends);
@@ -1405,8 +1405,8 @@ class Builder {
   /// borders so left bare given a stub tooth again, kept where that is better (\p necks
   /// updated), else \p before put back. \p round: the second try, where no such tooth may be
   /// one the round erosion parts and every such border must get one or be a stub held at a
-  /// corner (join_stubs_at_corners()). \p plain_mends (first
-  /// try): whether making the joints plain alone had mended the neck of a border left bare.
+  /// corner (join_stubs_at_corners()). \p plain_mends (first try): whether making the joints
+  /// plain alone had mended the neck, where that left a border bare.
   bool mend_neck(int p, std::vector<std::vector<Polygon2>>& necks, const Joints& before,
                  const std::vector<std::vector<std::array<double, 2>>>& forbidden, bool mitred,
                  bool round, bool& plain_mends) {
