@@ -1299,11 +1299,7 @@ class Builder {
   /// smallest feature less kNeckSlack: two or more where a neck narrower than that feature
   /// parts them.
   std::vector<Polygon2> morphological_cores(const Polygon2& outline) const {
-    std::vector<Polygon2> cores;
-    for (auto& c :
-         polygon_offset_round({outline}, -(0.5 * o_.min_feature - kNeckSlack), kOpeningArc))
-      if (polygon_area(c) > 0) cores.push_back(std::move(c));
-    return cores;
+    return neck_cores(outline, o_.min_feature);
   }
 
   /// True when outline \p after (a part drawn with one joint changed) falls in more pieces than
@@ -1929,6 +1925,13 @@ Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Poly
     if (left.size() == 1) kept = std::move(left.front());
   }
   return kept.size() >= 3 ? kept : outline;
+}
+
+std::vector<Polygon2> neck_cores(const Polygon2& outline, double min_feature) {
+  std::vector<Polygon2> cores;
+  for (auto& c : polygon_offset_round({outline}, -(0.5 * min_feature - kNeckSlack), kOpeningArc))
+    if (polygon_area(c) > 0) cores.push_back(std::move(c));
+  return cores;
 }
 
 double plain_offset(double fold, double thickness) {

@@ -282,6 +282,11 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
 Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Polygon2>& teeth,
                                  double min_feature, double largest);
 
+/// The pieces of \p outline's morphological erosion (round corners) by half \p min_feature less
+/// 10 um [mm]: two or more where a neck narrower than that feature parts them (what names a part
+/// in Joints::thin_neck_parts where the mitred erosion falls in two as well).
+std::vector<Polygon2> neck_cores(const Polygon2& outline, double min_feature);
+
 /// Offset of both parts where a border has no teeth: the edges meet at the inner mitre point,
 /// -h/2 tan(min(|fold|, kMaxJointFold)/2) [mm]; never overlapping.
 double plain_offset(double fold, double thickness);

@@ -58,6 +58,9 @@ struct Region {
   // Of a small part that fell apart into pieces a maker could handle each on its own: the
   // columns at whose first ruling it is split so that each becomes a part (columns_apart).
   std::vector<int> apart_at;
+  // Of a facet that narrows to a neck: its quads in the groups that become facets of their own
+  // (facet_quads_at_necks).
+  std::vector<std::vector<int>> facet_groups;
 };
 
 /// Area of \p part as cut; 0 where its outline has nothing left [mm^2].
@@ -193,6 +196,44 @@ std::vector<int> columns_apart(const PartsBuild& b, int p, double min_area) {
     last = col;
   }
   return at;
+}
+
+/// Where facet \p p of \p b narrows, as cut, to a neck under \p min_feature [mm] between two
+/// stretches of it (the pieces of its erosion, neck_cores): its coarse quads in groups, each
+/// quad with the piece that covers most of its flattened quad (one no piece reaches goes with
+/// the piece nearest its middle). Empty where the quads fall in fewer than two groups (a
+/// corner within one quad hanging on a neck) or the part is a strip.
+std::vector<std::vector<int>> facet_quads_at_necks(const PartsBuild& b, int p, double min_feature) {
+  const Patch& patch = b.flat.strips.patches[p];
+  const Polygon2& outline = b.joints.parts[p].designed;
+  if (!patch.flat || patch.quads.size() < 2 || outline.size() < 3) return {};
+  const std::vector<Polygon2> cores = neck_cores(outline, min_feature);
+  if (cores.size() < 2) return {};
+  const std::vector<Vec2>& x = b.flat.flattening.patches[p].points;
+  std::vector<std::vector<int>> groups(cores.size());
+  for (std::size_t i = 0; i < patch.quads.size(); ++i) {
+    Polygon2 quad;
+    Vec2 middle = Vec2::Zero();
+    for (int v : patch.flat_quads[i]) quad.push_back(x[v]), middle += 0.25 * x[v];
+    make_counter_clockwise(quad);
+    std::size_t best = 0;
+    double most = 0, nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < cores.size(); ++k) {
+      double area = 0;
+      for (const Polygon2& c : polygon_intersection(quad, cores[k]))
+        area += std::abs(polygon_area(c));
+      double d = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < cores[k].size(); ++j)
+        d = std::min(d,
+                     distance_to_segment(middle, cores[k][j], cores[k][(j + 1) % cores[k].size()]));
+      if (area > most || (most == 0 && d < nearest)) best = k;
+      most = std::max(most, area), nearest = std::min(nearest, d);
+    }
+    groups[best].push_back(patch.quads[i]);
+  }
+  std::erase_if(groups, [](const std::vector<int>& g) { return g.empty(); });
+  if (groups.size() < 2) return {};
+  return groups;
 }
 
 /// Largest fold across ruling \p i of patch \p p, over its rows' rail vertices [rad].
@@ -516,6 +557,7 @@ class Resolver {
     for (int k = 0; r_.enabled && k < 3 && (k == 0 || !out_of_time()) && omit_thin_parts(small);
          ++k) {
     }
+    if (r_.enabled) split_thin_necks(small);
     for (const CriticalRegion& c : build_.kerf.critical) {
       const Region r = region_of(build_.flat.strips, build_.flat.flattening, c);
       record(r, "unresolved");
@@ -841,6 +883,107 @@ class Resolver {
       c.reason = why.str();
     }
     return true;
+  }
+
+  /// Facets that narrow to a neck no joint made (Joints::thin_neck_parts; the joints stage
+  /// mends the necks its slots and teeth make): at 250 mm, fandisk kept a facet of 9 quads where
+  /// the mitre of a sharp fold reached within 0.75 mm of its far side, and decimated-max's
+  /// QuadriFlow quads one with a quad hanging on such a neck. Each is cut in two facets between
+  /// the two largest stretches (facet_quads_at_necks, two_groups), all in one rebuild; a
+  /// stretch split off too small to handle then grows as the loop grows such a facet, once.
+  /// Kept where the build has no more defects (critical regions and parts too small), fewer
+  /// parts with a thin neck and no more borders without a joint after it; where it was not,
+  /// each alone. Even past the time limit (a part that breaks at its neck is worse than a late
+  /// run). \p small: small_now(), updated.
+  void split_thin_necks(std::vector<int>& small) {
+    const auto necks = [&] {
+      std::vector<Region> out;
+      for (int p : build_.joints.thin_neck_parts) {
+        Region region = part_region(strips(), p);
+        region.facet_groups = two_groups(facet_quads_at_necks(build_, p, o_.joints.min_feature));
+        if (!region.facet_groups.empty()) out.push_back(std::move(region));
+      }
+      return out;
+    };
+    const std::vector<Region> regions = necks();
+    const auto score = [&](const PartsBuild& b) {
+      return std::tuple(defects(b), b.joints.thin_neck_parts.size(),
+                        b.joints.borders_without_joint);
+    };
+    // Tries the splits of \p tried together; true where kept.
+    const auto attempt = [&](const std::vector<Region>& tried) {
+      Added trial = accepted_;
+      for (const Region& region : tried)
+        if (!split_facet(region, trial)) return false;
+      std::optional<PartsBuild> built;
+      try {
+        built = rebuild(trial);
+      } catch (const InvalidInput&) {  // the strips refused the facets
+        return false;
+      }
+      ++out_.rounds;
+      // A stretch split off too small to handle grows as the loop grows such a facet (facets()),
+      // once (decimated-max's QuadriFlow quads: one quad of 15 mm^2 hung on the neck).
+      std::set<int> split_quads;
+      for (const Region& region : tried)
+        split_quads.insert(region.quads.begin(), region.quads.end());
+      std::vector<Region> grow;
+      for (int p :
+           small_parts(*built, r_.min_part_area, r_.min_part_width, o_.flatten.max_angle_error)) {
+        const Patch& patch = built->flat.strips.patches[p];
+        if (patch.flat && split_quads.count(patch.quads.front()))
+          grow.push_back(part_region(built->flat.strips, p));
+      }
+      bool made = false;
+      if (!grow.empty()) {
+        std::swap(build_, *built);  // facets() reads the build the regions were found in
+        Added own_facets;
+        for (const Region& region : grow) made = facets(region, trial, own_facets) || made;
+        std::swap(build_, *built);
+        if (made) {
+          try {
+            built = rebuild(trial);
+          } catch (const InvalidInput&) {
+            return false;
+          }
+          ++out_.rounds;
+        }
+      }
+      const auto [defects_before, necks_before, bare_before] = score(build_);
+      const auto [defects_after, necks_after, bare_after] = score(*built);
+      if (defects_after > defects_before || necks_after >= necks_before || bare_after > bare_before)
+        return false;
+      build_ = std::move(*built);
+      accepted_ = std::move(trial);
+      for (const Region& region : tried) {
+        record(region, remedy_name(Remedy::kSplit));
+        out_.changes.back().reason =
+            "split where the part narrowed to a neck under the smallest feature: each stretch "
+            "is a part of its own";
+      }
+      for (const Region& region : made ? grow : std::vector<Region>{}) {
+        record(region, remedy_name(Remedy::kFacets));
+        out_.changes.back().reason = "a stretch split off at a neck, grown to be handled";
+      }
+      return true;
+    };
+    if (regions.empty() || attempt(regions) || regions.size() == 1) {
+      small = small_now();
+      return;
+    }
+    // One at a time, each found again in the build as the ones before left it.
+    std::set<int> tried;
+    for (bool more = true; more;) {
+      more = false;
+      for (const Region& region : necks()) {
+        if (tried.count(region.quads.front())) continue;
+        tried.insert(region.quads.begin(), region.quads.end());
+        attempt({region});
+        more = true;
+        break;
+      }
+    }
+    small = small_now();
   }
 
   /// Facets still bent when the loop ends (it regrows a bent facet from its single quads under a
@@ -1250,6 +1393,50 @@ class Resolver {
       edges.push_back(edge);
     }
     for (int edge : edges) add_split(edge, state, own);
+    return true;
+  }
+
+  /// \p groups of quads (none, or two or more) merged down to two: the one of fewest quads joins
+  /// the group it shares the most quad edges with, until two are left. The split then comes only
+  /// between the two largest stretches (spot_quadrangulated at 250 mm: a facet split in three
+  /// left a piece too small to handle).
+  std::vector<std::vector<int>> two_groups(std::vector<std::vector<int>> groups) const {
+    while (groups.size() > 2) {
+      const std::size_t smallest = static_cast<std::size_t>(
+          std::min_element(groups.begin(), groups.end(),
+                           [](const std::vector<int>& a, const std::vector<int>& b) {
+                             return a.size() < b.size();
+                           }) -
+          groups.begin());
+      const std::set<int> in(groups[smallest].begin(), groups[smallest].end());
+      std::size_t best = smallest == 0 ? 1 : 0, most = 0;
+      for (std::size_t g = 0; g < groups.size(); ++g) {
+        if (g == smallest) continue;
+        std::size_t shared = 0;
+        for (int q : groups[g])
+          for (auto f : m_.ff_range(m_.face_handle(q))) shared += in.count(f.idx());
+        if (shared > most) best = g, most = shared;
+      }
+      groups[best].insert(groups[best].end(), groups[smallest].begin(), groups[smallest].end());
+      groups.erase(groups.begin() + static_cast<std::ptrdiff_t>(smallest));
+    }
+    return groups;
+  }
+
+  /// Replaces the loop's facet of region \p r's quads in \p state by the groups
+  /// r.facet_groups, each a facet of its own; false where the loop made no such facet (the
+  /// user's) or a group is not a disk.
+  bool split_facet(const Region& r, Added& state) const {
+    auto& list = state.guidance.facets;
+    const std::set<int> quads(r.quads.begin(), r.quads.end());
+    const auto at = std::find_if(list.begin(), list.end(), [&](const std::vector<int>& g) {
+      return std::set<int>(g.begin(), g.end()) == quads;
+    });
+    if (at == list.end()) return false;
+    for (const std::vector<int>& group : r.facet_groups)
+      if (!disk(std::set<int>(group.begin(), group.end()))) return false;
+    list.erase(at);
+    list.insert(list.end(), r.facet_groups.begin(), r.facet_groups.end());
     return true;
   }
 
