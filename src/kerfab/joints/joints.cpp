@@ -1245,7 +1245,7 @@ class Builder {
   /// The opening grows back with mitred corners, which reach up to four times the offset: where
   /// that joins the eroded pieces again (fertility's triangle mesh in 3 mm plywood at 350 mm: a
   /// 3 x 4.8 mm tab on a neck 0.08 mm wide, found only by the auditor), the morphological
-  /// opening decides instead (morphological_cores()), each piece of its erosion grown back on
+  /// opening decides instead (neck_cores()), each piece of its erosion grown back on
   /// its own. It is taken only there: the mitred erosion, inside the round one,
   /// falls in two first.
   std::vector<Polygon2> thin_necks_drawn(const Polygon2& outline, bool mitred) const {
@@ -1261,7 +1261,7 @@ class Builder {
     if (opened.size() < 2) {
       if (mitred) return {};
       opened.clear();
-      const std::vector<Polygon2> cores = morphological_cores(outline);
+      const std::vector<Polygon2> cores = neck_cores(outline, o_.min_feature);
       if (cores.size() < 2) return {};
       for (const Polygon2& core : cores)
         for (auto& c : polygon_offset_round({core}, r - kNeckSlack, kOpeningArc))
@@ -1293,13 +1293,6 @@ class Builder {
           return OutlineCheck{{}, {cores}};
         });
     return found.positions.front() > 1;
-  }
-
-  /// The pieces of \p outline's morphological erosion (round corners, kOpeningArc) by half the
-  /// smallest feature less kNeckSlack: two or more where a neck narrower than that feature
-  /// parts them.
-  std::vector<Polygon2> morphological_cores(const Polygon2& outline) const {
-    return neck_cores(outline, o_.min_feature);
   }
 
   /// True when outline \p after (a part drawn with one joint changed) falls in more pieces than
@@ -1341,9 +1334,9 @@ class Builder {
   }
 
   /// How many pieces \p outline's round erosion by half the smallest feature less kNeckSlack
-  /// leaves (as morphological_cores()).
+  /// leaves (neck_cores()).
   int round_cores(const Polygon2& outline) const {
-    return outline.size() < 3 ? 0 : static_cast<int>(morphological_cores(outline).size());
+    return outline.size() < 3 ? 0 : static_cast<int>(neck_cores(outline, o_.min_feature).size());
   }
 
   /// True when region \p after falls in more pieces than \p before under an opening by half

@@ -151,6 +151,13 @@ Region part_region(const Strips& s, int p) {
   return r;
 }
 
+/// The area \p a and \p b have in common [mm^2].
+double common_area(const Polygon2& a, const Polygon2& b) {
+  double area = 0;
+  for (const Polygon2& c : polygon_intersection(a, b)) area += std::abs(polygon_area(c));
+  return area;
+}
+
 /// Where part \p p of \p b fell apart when cut into the piece kept and a lost piece of at least
 /// \p min_area (one a maker can handle on its own; parts fall apart where the mitres of two
 /// sharp folds meet across a strip, which no joint cures): the columns at whose first ruling the
@@ -167,11 +174,6 @@ std::vector<int> columns_apart(const PartsBuild& b, int p, double min_area) {
   if (large.empty()) return {};
   const std::vector<Vec2>& x = b.flat.flattening.patches[p].points;
   const auto starts = column_starts(b.flat.strips, patch);
-  const auto area_in = [](const Polygon2& a, const Polygon2& piece) {
-    double area = 0;
-    for (const Polygon2& c : polygon_intersection(a, piece)) area += std::abs(polygon_area(c));
-    return area;
-  };
   // Per column: 1 where it lies mostly in the piece kept, -1 in a large lost one, else 0.
   const int columns = static_cast<int>(patch.quads.size());
   std::vector<int> side(static_cast<std::size_t>(columns), 0);
@@ -180,9 +182,9 @@ std::vector<int> columns_apart(const PartsBuild& b, int p, double min_area) {
     for (int i = starts[col]; i <= starts[col + 1]; ++i) quad.push_back(x[2 * i]);
     for (int i = starts[col + 1]; i >= starts[col]; --i) quad.push_back(x[2 * i + 1]);
     make_counter_clockwise(quad);
-    const double whole = std::abs(polygon_area(quad)), kept = area_in(quad, part.designed);
+    const double whole = std::abs(polygon_area(quad)), kept = common_area(quad, part.designed);
     double lost = 0;
-    for (const Polygon2& piece : large) lost += area_in(quad, piece);
+    for (const Polygon2& piece : large) lost += common_area(quad, piece);
     if (kept >= 0.5 * whole)
       side[col] = 1;
     else if (lost >= 0.5 * whole)
@@ -219,13 +221,7 @@ std::vector<std::vector<int>> facet_quads_at_necks(const PartsBuild& b, int p, d
     std::size_t best = 0;
     double most = 0, nearest = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < cores.size(); ++k) {
-      double area = 0;
-      for (const Polygon2& c : polygon_intersection(quad, cores[k]))
-        area += std::abs(polygon_area(c));
-      double d = std::numeric_limits<double>::infinity();
-      for (std::size_t j = 0; j < cores[k].size(); ++j)
-        d = std::min(d,
-                     distance_to_segment(middle, cores[k][j], cores[k][(j + 1) % cores[k].size()]));
+      const double area = common_area(quad, cores[k]), d = distance_to_boundary(middle, cores[k]);
       if (area > most || (most == 0 && d < nearest)) best = k;
       most = std::max(most, area), nearest = std::min(nearest, d);
     }
@@ -977,16 +973,14 @@ class Resolver {
       return;
     }
     // One at a time, each found again in the build as the ones before left it.
-    std::set<int> tried;
-    for (bool more = true; more;) {
-      more = false;
-      for (const Region& region : necks()) {
-        if (tried.count(region.quads.front())) continue;
-        tried.insert(region.quads.begin(), region.quads.end());
-        attempt({region});
-        more = true;
-        break;
-      }
+    std::set<int> seen;  // quads of the facets tried
+    for (;;) {
+      const std::vector<Region> left = necks();
+      const auto next = std::find_if(left.begin(), left.end(),
+                                     [&](const Region& r) { return !seen.count(r.quads.front()); });
+      if (next == left.end()) break;
+      seen.insert(next->quads.begin(), next->quads.end());
+      attempt({*next});
     }
     small = small_now();
   }
