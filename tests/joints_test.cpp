@@ -1540,6 +1540,34 @@ TEST(Joints, AToothsSliverGoesButItsSquareCornersStay) {
       tooth_slivers(polygon_difference({plain}, plain_opened), plain_opened, {tooth}, 1.0).empty());
 }
 
+// A tooth of which the opening by half the smallest feature keeps nothing is narrower than that
+// feature everywhere: the cleanup takes it off like any tail (demosthenes at 250 mm: an L of tooth
+// material 0.08 mm wide, left of two thin tooth rectangles round a tail's corner, was kept and the
+// laser path passed within 0.5 mm of itself). A body 10 x 10 mm with a 2 x 3 mm tooth on top
+// and, on its right side, an L 0.08 mm thick with legs of 1.5 and 1.2 mm, all tooth material.
+TEST(Joints, AToothNarrowerThanAFeatureEverywhereIsNoTooth) {
+  const Polygon2 outline = {{0, 0},       {10, 0},       {10, 5},    {11.5, 5}, {11.5, 6.2},
+                            {11.42, 6.2}, {11.42, 5.08}, {10, 5.08}, {10, 10},  {5, 10},
+                            {5, 13},      {3, 13},       {3, 10},    {0, 10}};
+  const Polygon2 tooth = {{3, 10 - 1e-3}, {5, 10 - 1e-3}, {5, 13}, {3, 13}};
+  const Polygon2 leg = {{10 - 1e-3, 5}, {11.5, 5}, {11.5, 5.08}, {10 - 1e-3, 5.08}};
+  const Polygon2 up = {{11.42, 5}, {11.5, 5}, {11.5, 6.2}, {11.42, 6.2}};
+  const auto opened = polygon_offset(polygon_offset({outline}, -0.5), 0.5);
+  const auto kept = teeth_kept_by_opening(outline, opened, {tooth, leg, up});
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0], tooth) << "the 2 mm tooth stays, though the opening rounds its corners";
+  // Kept as teeth, the L stayed on the outline: the cleanup's tails spare tooth material.
+  const auto taken = polygon_difference({outline}, opened);
+  double l_area = 0;
+  for (const Polygon2& piece : taken)
+    for (const Polygon2& t : {leg, up})
+      for (const Polygon2& c : polygon_intersection(piece, t)) l_area += polygon_area(c);
+  EXPECT_NEAR(l_area, 0.08 * 1.5 + 0.08 * 1.12, 0.01) << "all of the L is what the opening takes";
+  // No tooth in the outline at all: nothing to judge, nothing dropped.
+  const Polygon2 away = {{20, 20}, {21, 20}, {21, 21}, {20, 21}};
+  EXPECT_EQ(teeth_kept_by_opening(outline, opened, {away}).size(), 1u);
+}
+
 TEST(Joints, RejectsBadOptions) {
   const Case c = folded_sheet(90);
   Material thin;

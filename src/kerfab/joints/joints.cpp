@@ -1734,7 +1734,8 @@ class Builder {
     if (outline.size() < 3 || !(r > 0)) return {outline};
     const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
     if (opened.empty()) return {outline};  // narrower than a feature everywhere: reported as such
-    const std::vector<Polygon2> teeth = tooth_regions(spans);
+    const std::vector<Polygon2> teeth =
+        teeth_kept_by_opening(outline, opened, tooth_regions(spans));
     // Tails: of what the opening takes away (\p taken), the features but for tooth material.
     auto tails = [&](const std::vector<Polygon2>& taken,
                      const std::vector<Polygon2>& opened_shape) {
@@ -1819,6 +1820,22 @@ std::string BorderJoint::kind() const {
     box |= in.kind == JointKind::kBox, tab |= in.kind == JointKind::kTab;
   if (box || tab || glue > 0) return box && tab ? "box+tab" : box ? "box" : tab ? "tab" : "glue";
   return joined_through.empty() ? "none" : "corner";
+}
+
+std::vector<Polygon2> teeth_kept_by_opening(const Polygon2& outline,
+                                            const std::vector<Polygon2>& opened,
+                                            std::vector<Polygon2> teeth) {
+  constexpr double kWhole = 1e-3;  // share of a tooth's material the opening may keep [1]
+  std::vector<Polygon2> kept;
+  for (Polygon2& tooth : teeth) {
+    const std::vector<Polygon2> held = polygon_intersection(outline, tooth);
+    double in_outline = 0, taken = 0;
+    for (const Polygon2& c : held) in_outline += polygon_area(c);
+    for (const Polygon2& c : polygon_difference(held, opened)) taken += polygon_area(c);
+    if (in_outline > 0 && taken >= (1 - kWhole) * in_outline) continue;
+    kept.push_back(std::move(tooth));
+  }
+  return kept;
 }
 
 std::vector<Polygon2> tooth_slivers(const std::vector<Polygon2>& taken,

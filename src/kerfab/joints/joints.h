@@ -248,6 +248,16 @@ inline constexpr double kFoldBackAngle = 150.0 * M_PI / 180.0;
 /// growing without bound; at 170 degrees it is h/2 tan(85 deg) = 5.7 h.
 inline constexpr double kMaxJointFold = 170.0 * M_PI / 180.0;
 
+/// The tooth regions \p teeth but those whose material in \p outline the opening by half the
+/// smallest feature (\p opened) takes all of: such a tooth is narrower than the smallest feature
+/// everywhere, a tail the laser burns away like any other, not a tooth the outline cleanup keeps
+/// (demosthenes from its triangles at 250 mm: an L of tooth material 0.08 mm wide and 1.8 mm
+/// long, what two thin tooth rectangles left round the corner of a tail the cleanup cut off;
+/// the auditor found the laser path passing within 0.5 mm of itself there).
+std::vector<Polygon2> teeth_kept_by_opening(const Polygon2& outline,
+                                            const std::vector<Polygon2>& opened,
+                                            std::vector<Polygon2> teeth);
+
 /// The tooth material among \p taken, what an opening by half \p min_feature (\p opened) takes
 /// from an outline, in the pieces that reach farther than \p min_feature from the rest or hold
 /// more than its square [mm, mm2]: a sliver of a tooth (where a cut-back at a corner narrowed it)
