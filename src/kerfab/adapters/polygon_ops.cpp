@@ -365,6 +365,12 @@ std::vector<Polygon2> polygon_intersection(const Polygon2& a, const Polygon2& b)
   return boolean(Op::kIntersection, {std::move(pa)}, {std::move(pb)});
 }
 
+double common_area(const Polygon2& a, const Polygon2& b) {
+  double area = 0;
+  for (const Polygon2& c : polygon_intersection(a, b)) area += polygon_area(c);
+  return area;
+}
+
 std::vector<Polygon2> polygon_union(const std::vector<Polygon2>& polygons) {
   return boolean(Op::kUnion, to_paths(polygons), {});
 }

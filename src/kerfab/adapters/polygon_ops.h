@@ -13,6 +13,9 @@ namespace kerfab {
 /// Intersection of two polygons (non-zero fill), as polygons (holes as clockwise rings).
 std::vector<Polygon2> polygon_intersection(const Polygon2& a, const Polygon2& b);
 
+/// The area \p a and \p b have in common: their intersection's, holes subtracted [mm^2].
+double common_area(const Polygon2& a, const Polygon2& b);
+
 /// Union of polygons (non-zero fill).
 std::vector<Polygon2> polygon_union(const std::vector<Polygon2>& polygons);
 

@@ -530,10 +530,8 @@ class GlueBuilder {
       Polygon2 tip = {b, b + std::min(reach, lu) / lu * u, b + std::min(reach, lv) / lv * v};
       make_counter_clockwise(tip);
       if (!(polygon_area(tip) > 1e-6)) continue;
-      double inside = 0;  // none of it may lie on the part (another edge reaching into the V)
-      for (const auto& piece : polygon_intersection(outline, tip))
-        inside += std::abs(polygon_area(piece));
-      if (inside < 1e-6) all.push_back(std::move(tip));
+      // None of it may lie on the part (another edge reaching into the V).
+      if (common_area(outline, tip) < 1e-6) all.push_back(std::move(tip));
     }
     if (all.empty()) return outline;
     // Grown by a hair: united exactly, a fill sharing its sides with the outline can come back

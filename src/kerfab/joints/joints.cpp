@@ -683,14 +683,11 @@ class Builder {
       for (const Polygon2& r : joint_rects(i, in, owner, k, 0.0)) {
         const double area = std::abs(polygon_area(r));
         if (area < 1e-9) continue;
-        double inside = 0;
-        for (const Polygon2& x : polygon_intersection({drawn}, {r})) inside += polygon_area(x);
+        const double inside = common_area(drawn, r);
         if (k == owner ? inside < 0.99 * area : inside > 0.01 * area) return false;
         if (k == owner || lost_before[k].empty()) continue;
         double on_lost = 0;
-        for (const Polygon2& piece : lost_before[k])
-          for (const Polygon2& x : polygon_intersection(piece, r))
-            on_lost += std::abs(polygon_area(x));
+        for (const Polygon2& piece : lost_before[k]) on_lost += common_area(piece, r);
         if (on_lost > 0.01 * area) return false;
       }
     }
@@ -926,8 +923,7 @@ class Builder {
       for (std::size_t c = 0; c < sh.cut.size(); ++c) {
         const auto& o = cut_boxes[c];
         if (o[0] > box[2] || box[0] > o[2] || o[1] > box[3] || box[1] > o[3]) continue;
-        for (const auto& overlap : polygon_intersection(sp.region, sh.cut[c]))
-          lost += std::abs(polygon_area(overlap));
+        lost += common_area(sp.region, sh.cut[c]);
       }
       if (lost > 0.05 * std::abs(sp.offset)) bitten.push_back(static_cast<int>(k));
     }
@@ -1929,9 +1925,7 @@ Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Poly
     // business.
     bool tooth = false;
     for (const Polygon2& t : teeth) {
-      double in = 0;
-      for (const auto& c : polygon_intersection(t, piece)) in += std::abs(polygon_area(c));
-      if (in > 0.01) tooth = true;
+      if (common_area(t, piece) > 0.01) tooth = true;
     }
     if (tooth) continue;
     // Only what hangs at one end goes: a piece between two larger ones is a link of the part,

@@ -151,13 +151,6 @@ Region part_region(const Strips& s, int p) {
   return r;
 }
 
-/// The area \p a and \p b have in common [mm^2].
-double common_area(const Polygon2& a, const Polygon2& b) {
-  double area = 0;
-  for (const Polygon2& c : polygon_intersection(a, b)) area += std::abs(polygon_area(c));
-  return area;
-}
-
 /// Where part \p p of \p b fell apart when cut into the piece kept and a lost piece of at least
 /// \p min_area (one a maker can handle on its own; parts fall apart where the mitres of two
 /// sharp folds meet across a strip, which no joint cures): the columns at whose first ruling the
