@@ -1794,6 +1794,36 @@ int splits_saying(const nlohmann::json& report, const std::string& phrase) {
   return n;
 }
 
+// Fandisk from its triangles at 250 mm in 4 mm plywood (quads sized for that material): a facet
+// of 6 quads narrowed to a neck 0.38 mm wide (a near-triangle quad of the mesh), whose far
+// stretch the laser would burn or a maker break off. The resolve loop's cut across the neck was
+// refused because the border it makes there, 0.38 mm long, has no joint; a neck that narrow
+// holds none either, so the cut is now kept and that border named as too short for any tooth.
+TEST(Cli, APlywoodFacetOnANeckIsCutInTwoAcrossIt) {
+  KERFAB_SKIP_WITHOUT_SHARED_MESHES();
+  const fs::path scratch = test::fresh_dir(), out = scratch / "out";
+  const CliRun r = run_cli("run --target " + (test::shared_meshes() / "fandisk.obj").string() +
+                               " --size 250 --material plywood --out " + out.string(),
+                           scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  EXPECT_TRUE(report["joints"]["thin_neck_parts"].empty()) << report["joints"]["thin_neck_parts"];
+  EXPECT_GE(splits_saying(report, "narrowed to a neck"), 1);
+  // Every border left without a joint is shorter than the smallest feature, and said to be.
+  for (const auto& b : report["joints"]["borders"]) {
+    if (b["joint"] == "none") {
+      EXPECT_LT(b["length_mm"].get<double>(), 1.0) << b;
+    }
+  }
+  if (report["joints"]["borders_without_joint"].get<int>() > 0) {
+    EXPECT_NE(r.err.find("shorter than the smallest feature"), std::string::npos) << r.err;
+  }
+  // Read back from the sheet: no tail, slit or part a cutter or a maker cannot handle (the neck
+  // was a tail under 1 mm, and the laser path passed within 0.5 mm of itself there).
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_TRUE(audit.clean()) << (audit.findings.empty() ? "" : audit.findings[0]);
+}
+
 // Fandisk from its triangles at 250 mm: a strip runs between a sharp fold and a part folded back
 // onto it, whose mitres cut across it (one 17 mm deep); even with plain borders it came apart,
 // and the run kept its larger piece only: 594 mm^2 of surface lost, with three borders beside it

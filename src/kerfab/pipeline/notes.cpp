@@ -244,7 +244,7 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
   // borders.)
   const bool plain_asked = paper && options.glue_tab == 0;
   if (j.borders_without_joint > 0 && !plain_asked) {
-    int left = 0, apart = 0, folded_back = 0, too_shallow = 0, crowded = 0;
+    int left = 0, apart = 0, folded_back = 0, too_shallow = 0, too_short = 0, crowded = 0;
     double length = 0;  // [mm]
     std::vector<std::string> where;
     const auto fell = [&](int p) {
@@ -264,6 +264,8 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
         ++folded_back;
       else if (b.shallow > 0 && b.blocked == 0)
         ++too_shallow;
+      else if (b.length < options.min_feature)
+        ++too_short;
       else
         ++crowded;
       if (where.size() < kBordersNamed)
@@ -299,6 +301,13 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
         << " mm deep (--min-tooth-depth";
       if (options.tab_misfit == 0) w << "; dovetail tabs are off: --tab-misfit 0";
       w << ")";
+      sep = "; ";
+    }
+    if (too_short > 0) {
+      w << sep << too_short << " shorter than the smallest feature (" << options.min_feature
+        << " mm), too short for any " << (paper ? "glue tab" : "tooth")
+        << " (where the resolve stage cut a part across a neck that narrow, it is where the neck "
+           "was)";
       sep = "; ";
     }
     if (crowded > 0)
