@@ -1824,6 +1824,22 @@ TEST(Cli, APlywoodFacetOnANeckIsCutInTwoAcrossIt) {
   EXPECT_TRUE(audit.clean()) << (audit.findings.empty() ? "" : audit.findings[0]);
 }
 
+// Demosthenes from its triangles at 250 mm in 2 mm MDF: a notch 4.4 mm deep tapering to 0.79 mm
+// at its end (part 402). The outline cleanup widened it once, by what it lacked on average, and
+// left its end under the smallest feature; the auditor, reading the laser path, found a slit
+// under 1 mm on a part the run did not name. The cleanup now widens again until none is left.
+TEST(Cli, ATaperingSlitIsWidenedAllTheWayToItsEnd) {
+  KERFAB_SKIP_WITHOUT_SHARED_MESHES();
+  const fs::path scratch = test::fresh_dir(), out = scratch / "out";
+  const CliRun r =
+      run_cli("run --target " + (test::shared_meshes() / "demosthenes-low-res.obj").string() +
+                  " --size 250 --material mdf2 --out " + out.string(),
+              scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_EQ(audit.thin_features, 0) << (audit.findings.empty() ? "" : audit.findings[0]);
+}
+
 // Fandisk from its triangles at 250 mm: a strip runs between a sharp fold and a part folded back
 // onto it, whose mitres cut across it (one 17 mm deep); even with plain borders it came apart,
 // and the run kept its larger piece only: 594 mm^2 of surface lost, with three borders beside it

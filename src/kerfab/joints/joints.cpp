@@ -1764,6 +1764,23 @@ class Builder {
       if (polygon_area(c) > 0) left.push_back(std::move(c));
     if (left.empty()) return {outline};
     if (!widened) return left;
+    // Widened by what it lacked on average, a slit that tapers to its end can stay narrower
+    // than the smallest feature there (demosthenes from its triangles at 250 mm in 2 mm MDF: a
+    // notch 4.4 mm deep, 0.79 mm wide at its end, which the auditor found): widened again, at
+    // most twice more, until none is left.
+    for (int again = 0; again < 2; ++again) {
+      std::vector<Polygon2> more;
+      for (const Polygon2& piece : left)
+        for (auto& w : slit_widenings(piece, teeth, o_.min_feature)) more.push_back(std::move(w));
+      if (more.empty()) break;
+      for (auto& poly : more) make_counter_clockwise(poly);
+      more = polygon_offset(more, 1e-4);
+      std::vector<Polygon2> next;
+      for (auto& c : polygon_difference(left, more))
+        if (polygon_area(c) > 0) next.push_back(std::move(c));
+      if (next.empty()) break;
+      left = std::move(next);
+    }
     // A widened slit narrows the material beside it: what became a tail there goes too.
     std::vector<Polygon2> final_pieces;
     for (const Polygon2& piece : left) {
