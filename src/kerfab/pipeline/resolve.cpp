@@ -941,11 +941,11 @@ class Resolver {
       // The border a cut makes between its two facets lies across the neck and is short
       // (fandisk: 0.38 mm): held at a corner, it counts as one stub more; any other border it
       // leaves held only at a corner is one too many (Spot's fine quad mesh from its triangles:
-      // a 1.6 mm border lost its tooth beside the 5.1 mm cut). Left without a joint, it is one
-      // more border without a joint only where it is at least the smallest feature long: a
-      // shorter one is where the neck was, which no tooth or slot could cross either and which
-      // broke where the part was handled (fandisk from its triangles at 250 mm in 4 mm
-      // plywood: a facet of 6 quads on a neck 0.38 mm wide, cut in two across it).
+      // a 1.6 mm border lost its tooth beside the 5.1 mm cut). Left without a joint, it counts
+      // against the cut only where it is at least the smallest feature long (the report counts
+      // it either way): a shorter one is where the neck was, which no tooth or slot could cross
+      // either and which broke where the part was handled (fandisk from its triangles at 250 mm
+      // in 4 mm plywood: a facet of 6 quads on a neck 0.38 mm wide, cut in two across it).
       const auto [defects_before, necks_before, bare_before, stubs_before] = score(build_);
       const auto [defects_after, necks_after, bare_after, stubs_after] = score(*built);
       int bare_at_necks = 0;  // cuts' own borders, shorter than the smallest feature
