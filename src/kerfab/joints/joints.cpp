@@ -1754,14 +1754,18 @@ class Builder {
     remove.insert(remove.end(), wide.begin(), wide.end());
     const bool widened = !wide.empty();
     if (remove.empty()) return {outline};
-    for (auto& poly : remove) make_counter_clockwise(poly);
-    // Grown by a hair: a tail shares its sides with the outline, and taken away exactly it can
-    // come back as a hole touching the outline (the outline whole, with the tail as a hole),
-    // which left the tail on the part (a spike of a quad sphere's facet, 4.7 mm under 1 mm wide).
-    remove = polygon_offset(remove, 1e-4);
-    std::vector<Polygon2> left;
-    for (auto& c : polygon_difference({outline}, remove))
-      if (polygon_area(c) > 0) left.push_back(std::move(c));
+    // \p from less \p cut, grown by a hair: a tail shares its sides with the outline, and taken
+    // away exactly it can come back as a hole touching the outline (the outline whole, with the
+    // tail as a hole), which left the tail on the part (a spike of a quad sphere's facet, 4.7 mm
+    // under 1 mm wide).
+    const auto cut_away = [](const std::vector<Polygon2>& from, std::vector<Polygon2> cut) {
+      for (auto& poly : cut) make_counter_clockwise(poly);
+      std::vector<Polygon2> kept;
+      for (auto& c : polygon_difference(from, polygon_offset(cut, 1e-4)))
+        if (polygon_area(c) > 0) kept.push_back(std::move(c));
+      return kept;
+    };
+    std::vector<Polygon2> left = cut_away({outline}, std::move(remove));
     if (left.empty()) return {outline};
     if (!widened) return left;
     // Widened by what it lacked on average, a slit that tapers to its end can stay narrower
@@ -1773,11 +1777,7 @@ class Builder {
       for (const Polygon2& piece : left)
         for (auto& w : slit_widenings(piece, teeth, o_.min_feature)) more.push_back(std::move(w));
       if (more.empty()) break;
-      for (auto& poly : more) make_counter_clockwise(poly);
-      more = polygon_offset(more, 1e-4);
-      std::vector<Polygon2> next;
-      for (auto& c : polygon_difference(left, more))
-        if (polygon_area(c) > 0) next.push_back(std::move(c));
+      std::vector<Polygon2> next = cut_away(left, std::move(more));
       if (next.empty()) break;
       left = std::move(next);
     }

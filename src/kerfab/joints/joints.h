@@ -277,7 +277,8 @@ bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, 
 /// what a closing by half that width fills and that reaches more than half of it from the rest,
 /// grown by what it lacks on each side, never into \p teeth (counter-clockwise regions; their
 /// slots are cut to their width). Where a tooth stops the growth on one side, the other side
-/// gives all the slit lacks.
+/// gives all the slit lacks. One step, by what a slit lacks on average: a slit that tapers can
+/// keep its end under the width, so the outline cleanup applies it again until it returns none.
 std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<Polygon2>& teeth,
                                      double min_feature);
 

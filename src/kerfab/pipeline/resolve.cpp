@@ -916,13 +916,15 @@ class Resolver {
       std::set<int> split_quads;
       for (const Region& region : tried)
         split_quads.insert(region.quads.begin(), region.quads.end());
+      // Part \p p of \p b is a facet the cuts made (of the quads they split).
+      const auto cut_facet = [&](const PartsBuild& b, int p) {
+        const Patch& patch = b.flat.strips.patches[p];
+        return patch.flat && !patch.quads.empty() && split_quads.count(patch.quads.front()) > 0;
+      };
       std::vector<Region> grow;
       for (int p :
-           small_parts(*built, r_.min_part_area, r_.min_part_width, o_.flatten.max_angle_error)) {
-        const Patch& patch = built->flat.strips.patches[p];
-        if (patch.flat && split_quads.count(patch.quads.front()))
-          grow.push_back(part_region(built->flat.strips, p));
-      }
+           small_parts(*built, r_.min_part_area, r_.min_part_width, o_.flatten.max_angle_error))
+        if (cut_facet(*built, p)) grow.push_back(part_region(built->flat.strips, p));
       bool made = false;
       if (!grow.empty()) {
         std::swap(build_, *built);  // facets() reads the build the regions were found in
@@ -951,12 +953,8 @@ class Resolver {
       int bare_at_necks = 0;  // cuts' own borders, shorter than the smallest feature
       for (const BorderJoint& border : built->joints.borders) {
         if (border.kind() != "none" || !(border.length < o_.joints.min_feature)) continue;
-        bool cut = true;
-        for (int p : border.patches) {
-          const Patch& patch = built->flat.strips.patches[p];
-          cut = cut && patch.flat && !patch.quads.empty() && split_quads.count(patch.quads.front());
-        }
-        bare_at_necks += cut ? 1 : 0;
+        bare_at_necks +=
+            cut_facet(*built, border.patches[0]) && cut_facet(*built, border.patches[1]) ? 1 : 0;
       }
       if (defects_after > defects_before || necks_after >= necks_before ||
           bare_after > bare_before + bare_at_necks ||
