@@ -1840,6 +1840,24 @@ TEST(Cli, ATaperingSlitIsWidenedAllTheWayToItsEnd) {
   EXPECT_EQ(audit.thin_features, 0) << (audit.findings.empty() ? "" : audit.findings[0]);
 }
 
+// Demosthenes from its triangles at 500 mm (3 mm MDF): a slit widened beside a box tooth 0.56 mm
+// deep at a part's corner (part 328) narrowed the material under it to a stalk 1 mm wide, and the
+// tooth hung over it, its overhang under 1 mm thick: a tail the auditor found on a part the run
+// did not name. The cleanup's pass after the widening took the tails it made but spared tooth
+// material; it now takes a tooth's slivers there too, as its first pass does.
+TEST(Cli, AToothLeftOverhangingAWidenedSlitLosesItsOverhang) {
+  KERFAB_SKIP_WITHOUT_SHARED_MESHES();
+  const fs::path scratch = test::fresh_dir(), out = scratch / "out";
+  const CliRun r =
+      run_cli("run --target " + (test::shared_meshes() / "demosthenes-low-res.obj").string() +
+                  " --size 500 --out " + out.string(),
+              scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_EQ(audit.thin_features, 0) << (audit.findings.empty() ? "" : audit.findings[0]);
+  EXPECT_EQ(read_report(out)["resolve"]["critical_after"].get<int>(), 0);
+}
+
 // Fandisk from its triangles at 250 mm: a strip runs between a sharp fold and a part folded back
 // onto it, whose mitres cut across it (one 17 mm deep); even with plain borders it came apart,
 // and the run kept its larger piece only: 594 mm^2 of surface lost, with three borders beside it
