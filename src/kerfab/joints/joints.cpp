@@ -1744,10 +1744,16 @@ class Builder {
       }
       return out;
     };
-    const std::vector<Polygon2> taken = polygon_difference({outline}, opened);
-    std::vector<Polygon2> remove = tails(taken, opened);
-    for (auto& sliver : tooth_slivers(taken, opened, teeth, o_.min_feature))
-      remove.push_back(std::move(sliver));
+    // What goes of \p shape, given its opening \p opened_shape: the tails, and a tooth's slivers
+    // (tooth_slivers).
+    auto thin_bits = [&](const Polygon2& shape, const std::vector<Polygon2>& opened_shape) {
+      const std::vector<Polygon2> taken = polygon_difference({shape}, opened_shape);
+      std::vector<Polygon2> out = tails(taken, opened_shape);
+      for (auto& sliver : tooth_slivers(taken, opened_shape, teeth, o_.min_feature))
+        out.push_back(std::move(sliver));
+      return out;
+    };
+    std::vector<Polygon2> remove = thin_bits(outline, opened);
     // Slits: what the closing would fill, widened to the minimum width instead (never into a
     // tooth: the slot it goes into is cut to its width).
     const std::vector<Polygon2> wide = slit_widenings(outline, teeth, o_.min_feature);
@@ -1788,13 +1794,7 @@ class Builder {
     std::vector<Polygon2> final_pieces;
     for (const Polygon2& piece : left) {
       const auto opened_piece = polygon_offset(polygon_offset({piece}, -r), r);
-      std::vector<Polygon2> more;
-      if (!opened_piece.empty()) {
-        const auto taken_here = polygon_difference({piece}, opened_piece);
-        more = tails(taken_here, opened_piece);
-        for (auto& sliver : tooth_slivers(taken_here, opened_piece, teeth, o_.min_feature))
-          more.push_back(std::move(sliver));
-      }
+      auto more = opened_piece.empty() ? std::vector<Polygon2>{} : thin_bits(piece, opened_piece);
       if (more.empty()) {
         final_pieces.push_back(piece);
         continue;
