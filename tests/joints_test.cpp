@@ -1513,6 +1513,40 @@ TEST(Joints, ASlitBesideAToothWidensOnItsOtherSide) {
   EXPECT_TRUE(slit_widenings(wide, {tooth}, 1.0).empty());
 }
 
+// A V between two teeth (two borders' teeth meeting at a part's corner) narrower than the
+// smallest feature has nothing but tooth on both sides: the teeth give it a wedge each, as
+// little as makes it a cut the laser can make (demosthenes from its triangles at 500 mm: a V
+// 1.25 mm deep, 0.6 mm wide at its mouth, found by the auditor on a part the run did not name).
+// A body 10 x 10 mm with two teeth 3 mm high on top, between them a V 2.5 mm deep, 0.6 mm wide
+// at its mouth.
+TEST(Joints, AVBetweenTwoTeethIsWidenedIntoThem) {
+  const Polygon2 outline = {{0, 0}, {10, 0}, {10, 13}, {5.3, 13}, {5, 10.5}, {4.7, 13}, {0, 13}};
+  const Polygon2 left_tooth = {{0, 10}, {5, 10}, {5, 13}, {0, 13}};
+  const Polygon2 right_tooth = {{5, 10}, {10, 10}, {10, 13}, {5, 13}};
+  const auto cut = slit_widenings(outline, {left_tooth, right_tooth}, 1.0);
+  ASSERT_FALSE(cut.empty());
+  const std::vector<Polygon2> left = polygon_difference({outline}, polygon_offset(cut, 1e-4));
+  ASSERT_EQ(left.size(), 1u);
+  // No slit left that the closing by half the smallest feature fills beyond that half.
+  const auto closed = polygon_offset(polygon_offset({left[0]}, 0.5), -0.5);
+  for (const auto& gap : polygon_difference(closed, {left[0]}))
+    EXPECT_FALSE(reaches_beyond(gap, closed, 0.5)) << polygon_area(gap) << " mm^2";
+  // Each tooth loses a wedge at the V, not more than a millimetre of its flank's width.
+  for (const Polygon2& tooth : {left_tooth, right_tooth}) {
+    double lost = 0;
+    for (const auto& piece : polygon_difference({tooth}, left))
+      lost += std::abs(polygon_area(piece));
+    EXPECT_GT(lost, 0.1);
+    EXPECT_LT(lost, 3.0);  // a 1 mm wedge along the 3 mm flank at most
+  }
+  // The body under the teeth is untouched.
+  const Polygon2 body = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+  double body_lost = 0;
+  for (const auto& piece : polygon_difference({body}, left))
+    body_lost += std::abs(polygon_area(piece));
+  EXPECT_LT(body_lost, 1e-3);
+}
+
 // A sliver of a tooth narrower than the smallest feature, left where a cut-back narrowed the tooth,
 // goes (horse_quad: 0.27 mm wide, reaching 1.19 mm; the cleanup kept all tooth material); the
 // rest of the tooth and the roundings of its square corners stay. A body 10 x 10 mm; its tooth

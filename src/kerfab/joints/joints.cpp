@@ -1666,6 +1666,33 @@ class Builder {
     // cylinder: three), which the kerf offset below grew into hairs as wide as the beam.
     set_outline(part, largest_polygon(
                           polygon_offset(polygon_offset({largest_polygon(left)}, 1e-3), -1e-3)));
+    // Looked at again as the laser cuts it: the part the path half a kerf outside leaves, with
+    // notches narrower than the kerf filled (what the sheet auditor reads back). The test of a
+    // tail is an opening whose mitred corners follow the outline's short edges, so a tail can
+    // hide from it on the outline as designed and show on the outline as cut (demosthenes from
+    // its triangles, 250 mm, 2 mm MDF, feature angle 65 deg: a spike 1.4 mm long, 0.6 mm wide
+    // at its root, seen only where the path's offset merged two corners 0.04 mm apart).
+    if (!(kerf_width_ > 0)) return part;
+    const Polygon2 as_cut = largest_polygon(polygon_offset({part.cut}, -0.5 * kerf_width_));
+    if (as_cut.size() < 3) return part;
+    const auto again = without_thin_features(as_cut, part.spans);
+    if (again.size() == 1 && again.front() == as_cut) return part;
+    // What it finds there may be a tail, never a tooth: more tooth material than a sliver
+    // taken and the outline as designed stays (the quad sphere's narrow strip near a pole,
+    // in pieces before the resolve stage, lost a whole tooth 3 mm wide that way).
+    double tooth_taken = 0;
+    const auto teeth = tooth_regions(part.spans);
+    for (const auto& gone : polygon_difference({as_cut}, again))
+      for (const auto& tooth : teeth)
+        for (const auto& c : polygon_intersection(gone, tooth)) tooth_taken += polygon_area(c);
+    if (tooth_taken > 0.25 * o_.min_feature * o_.min_feature) return part;
+    const Polygon2 rest = largest_polygon(again);
+    for (const auto& c : again)
+      if (polygon_area(c) > significant && c != rest) {
+        part.repaired = true;
+        lost.push_back(c);
+      }
+    set_outline(part, largest_polygon(polygon_offset(polygon_offset({rest}, 1e-3), -1e-3)));
     return part;
   }
 
@@ -1881,6 +1908,30 @@ std::vector<Polygon2> tooth_slivers(const std::vector<Polygon2>& taken,
   return out;
 }
 
+namespace {
+
+/// True when every wall of \p gap (a slit's closing, counter-clockwise: its edges on
+/// \p outline, not its mouth) has tooth material beside it: a point a micrometre into the
+/// material from each wall's middle lies in one of \p teeth.
+bool walls_all_teeth(const Polygon2& gap, const Polygon2& outline,
+                     const std::vector<Polygon2>& teeth) {
+  constexpr double kOn = 1e-6, kInto = 1e-3;  // [mm]
+  bool any = false;
+  for (std::size_t i = 0; i < gap.size(); ++i) {
+    const Vec2 &a = gap[i], &b = gap[(i + 1) % gap.size()];
+    const double len = (b - a).norm();
+    if (len < 10 * kInto) continue;
+    const Vec2 mid = 0.5 * (a + b);
+    if (distance_to_boundary(mid, outline) > kOn) continue;     // the mouth
+    const Vec2 out = Vec2(b.y() - a.y(), a.x() - b.x()) / len;  // right of a ccw edge: outside
+    if (!inside(mid + kInto * out, teeth)) return false;
+    any = true;
+  }
+  return any;
+}
+
+}  // namespace
+
 std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<Polygon2>& teeth,
                                      double min_feature) {
   const double r = 0.5 * min_feature;
@@ -1910,6 +1961,32 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
       for (const auto& poly : wide) before += polygon_area(poly);
       for (const auto& poly : kept) after += polygon_area(poly);
       if (after < before - 1e-6) kept = polygon_difference(widened_by(2 * grow), teeth);
+      // Teeth on both sides (two borders' teeth meeting at a part's corner in a V): nothing
+      // but tooth to take, so the teeth give it, each losing a wedge of its flank at the tip;
+      // it still fills its mate's slot, less that wedge (demosthenes from its triangles at
+      // 500 mm: a V 1.25 mm deep, 0.6 mm wide at its mouth, between two teeth). A V lacks
+      // the whole width at its tip, whatever its mean width: each side gives half of it. The
+      // part's body beyond the teeth is not cut into, and no tooth gives more than a quarter
+      // of itself (a shallow tooth whose top faces the slit would go whole: the slit stays).
+      if (walls_all_teeth(gap, outline, teeth)) {
+        std::vector<Polygon2> into;
+        bool small = true;
+        const auto widened = widened_by(r);
+        for (const auto& tooth : teeth) {
+          double taken = 0, held = 0;
+          for (const auto& poly : widened)
+            for (auto& in : polygon_intersection(poly, tooth)) {
+              if (!(polygon_area(in) > 0)) continue;
+              for (const auto& material : polygon_intersection(in, outline))
+                taken += polygon_area(material);
+              into.push_back(std::move(in));
+            }
+          if (taken == 0) continue;
+          for (const auto& in : polygon_intersection(outline, tooth)) held += polygon_area(in);
+          small = small && taken <= 0.25 * held;
+        }
+        if (small) kept = std::move(into);
+      }
       wide = std::move(kept);
     }
     out.insert(out.end(), wide.begin(), wide.end());
