@@ -1764,10 +1764,17 @@ TEST(Cli, AnUnseenBustEndsItsResolveLoopAndNamesNoAbsurdSize) {
   EXPECT_GE(outline_cuts, 1);
   EXPECT_LE(report["joints"]["borders_without_joint"].get<int>(), 3);
   EXPECT_LT(report["joints"]["lost_area_mm2"].get<double>(), 5.0);
-  // No part hangs on a neck under 1 mm (parts 281 and 305 until 2026-12-03: the stub tooth of the
-  // 5.1 mm border between them, its only joint, made the necks; that border is now held at a
-  // corner instead).
-  EXPECT_TRUE(report["joints"]["thin_neck_parts"].empty()) << report["joints"]["thin_neck_parts"];
+  // No part hangs on a neck under 1 mm that the run does not name (parts 281 and 305 until
+  // 2026-12-03: the stub tooth of the 5.1 mm border between them, its only joint, made the
+  // necks; that border is now held at a corner instead). Since 2026-12-04 its quads are made at
+  // a feature angle of 65 deg (docs/quad-meshing.md): one part (313) is a strip end with a tooth
+  // on a neck 0.94 mm wide where a slit of its flattened outline ends, and the run names it
+  // (with the quads of 60 deg none here, but 4 to 6 at 150, 200 and 320 mm, where the new
+  // quads leave 3, 1 and 2; 10 against 23 over the bust's eight runs measured).
+  EXPECT_LE(report["joints"]["thin_neck_parts"].size(), 1u) << report["joints"]["thin_neck_parts"];
+  if (!report["joints"]["thin_neck_parts"].empty()) {
+    EXPECT_NE(r.err.find("joints.thin_neck_parts"), std::string::npos) << r.err;
+  }
   // Its sheet, read back by the auditor: no tail or slit a cutter cannot follow (until
   // 2026-12-03 part 295 kept an L of tooth material 0.08 mm wide, and the laser path passed
   // within 0.5 mm of itself there).
@@ -1828,6 +1835,11 @@ TEST(Cli, APlywoodFacetOnANeckIsCutInTwoAcrossIt) {
 // at its end (part 402). The outline cleanup widened it once, by what it lacked on average, and
 // left its end under the smallest feature; the auditor, reading the laser path, found a slit
 // under 1 mm on a part the run did not name. The cleanup now widens again until none is left.
+// Since the bust's quads are made with its feature angle raised to 65 deg (its lattice pairs
+// there), the same run found a spike 1.4 mm long and 0.6 mm wide at its root (part 293) that
+// the cleanup's opening kept on the outline as designed and the auditor's took off the outline
+// as cut, where the laser path's offset had merged two corners 0.04 mm apart. The cleanup now
+// looks again at the outline as cut.
 TEST(Cli, ATaperingSlitIsWidenedAllTheWayToItsEnd) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
   const fs::path scratch = test::fresh_dir(), out = scratch / "out";
@@ -1836,6 +1848,9 @@ TEST(Cli, ATaperingSlitIsWidenedAllTheWayToItsEnd) {
                   " --size 250 --material mdf2 --out " + out.string(),
               scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json quads = read_report(out)["quads"];
+  EXPECT_NEAR(quads["feature_angle_deg"].get<double>(), 65, 1e-9) << quads;
+  EXPECT_EQ(quads["unpaired_triangles"].get<int>(), 0) << quads;
   const auto audit = test::audit_sheets(out / "cut");
   EXPECT_EQ(audit.thin_features, 0) << (audit.findings.empty() ? "" : audit.findings[0]);
 }

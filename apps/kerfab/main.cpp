@@ -103,6 +103,7 @@ struct RunFlags {
   std::string sheet = "600x450";
   CLI::Option* sheet_option = nullptr;        // to tell a given --sheet from the default
   CLI::Option* split_angle_option = nullptr;  // to tell a given --split-angle from the default
+  CLI::Option* feature_angle_option = nullptr;  // and a given --quad-feature-angle
   CLI::Option* stroke_option = nullptr;       // to tell a given --stroke from the default
   std::string format = "svg,dxf,pdf";
   std::optional<double> thickness, shear_modulus, yield_strength, safety;
@@ -147,13 +148,15 @@ void add_pipeline_options(CLI::App& cmd, RunFlags& f) {
                  "With a target not all quads and no --quad: quad edge length (wins over --quads) "
                  "[mm, > 0]")
       ->check(kPositive);
-  cmd.add_option(
-         "--quad-feature-angle", f.quad_feature_angle_deg,
-         "With a target not all quads and no --quad: target edges folding more than this are "
-         "sharp features the quad edges follow (shallower folds over 20 deg between "
-         "two wide planes too) [deg, (0, 180)]")
-      ->capture_default_str()
-      ->check(CLI::Range(1e-6, 179.999));
+  f.feature_angle_option =
+      cmd.add_option(
+             "--quad-feature-angle", f.quad_feature_angle_deg,
+             "With a target not all quads and no --quad: target edges folding more than this are "
+             "sharp features the quad edges follow (shallower folds over 20 deg between "
+             "two wide planes too); the default is raised 5 deg at a time, up to 90, where a "
+             "triangle walled in by such edges leaves the lattice without quads [deg, (0, 180)]")
+          ->capture_default_str()
+          ->check(CLI::Range(1e-6, 179.999));
   cmd.add_option("--max-quad-distance", in.max_quad_distance,
                  "Refuse a quad mesh with a vertex farther from the target than this fraction of "
                  "the target's bbox diagonal [ratio]")
@@ -401,6 +404,10 @@ int run(const kerfab::RunInputs& inputs, RunFlags& f) {
   if (f.material == "paper" && f.split_angle_option && f.split_angle_option->count() == 0)
     options.strips.split_angle = kerfab::kPaperSplitAngle;
   options.quads.feature_angle = f.quad_feature_angle_deg * M_PI / 180.0;
+  // The default angle may be raised where a triangle walled in by creases loses the lattice
+  // (docs/quad-meshing.md); an angle the user gives is kept.
+  options.quads.raise_feature_angle =
+      !f.feature_angle_option || f.feature_angle_option->count() == 0;
   try {
     options.material = kerfab::material_preset(f.material);
   } catch (const kerfab::InvalidInput& e) {

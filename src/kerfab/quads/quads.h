@@ -21,6 +21,10 @@ struct QuadMeshOptions {
   std::optional<double> quad_size;    ///< set: quad edge length [mm], > 0 (wins over quads)
   double feature_angle = 1.05;        ///< edges folding more are sharp features [rad], (0, pi)
                                       ///< (and shallower ones between wide planes)
+  /// Where the lattice at the quad size leaves a triangle with no partner (one walled in by
+  /// feature lines), whether make_quad_mesh may raise feature_angle, up to 90 deg, until it
+  /// pairs them all; false where the user chose the angle.
+  bool raise_feature_angle = true;
   double min_cut_spacing = 0.9;       ///< the laser's closest cuts [mm] (the size rule), > 0
   double tolerance = 0.002;           ///< wanted deviation of a straight ruling from the
                                       ///< surface, fraction of the bbox diagonal [-], > 0
@@ -59,6 +63,12 @@ struct QuadMeshResult {
   /// Rows of quads split to make the left-over triangles quads in pairs (pure lattice; a split
   /// lattice makes each triangle 3 quads instead).
   int triangle_rows = 0;
+  /// Triangles the lattice at the quad size left with no partner, where the lattice with every
+  /// face split was taken instead (0 where it paired them all).
+  int unpaired_triangles = 0;
+  double feature_angle = 0;  ///< the sharp features' angle the quads were made for [rad]
+  /// The option's feature angle, where feature_angle was raised from it (else 0) [rad].
+  double feature_angle_asked = 0;
   /// Unit dislocations of the position field (dislocations.h) found, and left after the
   /// global integer step (which is kept only where it leaves none).
   int dislocations = 0, dislocations_left = 0;
