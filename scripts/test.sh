@@ -21,7 +21,7 @@ if [ "${KERFAB_NO_SANITIZE:-0}" != 1 ]; then
   slow='^(Cli\.|OutputSafety\.|HostileInput\.MemoryLimits|Layout\.(EveryTestShape|Oversized)'
   slow+='|Bending\.Spot|Flatten\.RealMeshes|Strips\.(CylinderRings|RealMeshes)|Joints\.(RealMeshes|StubTeethPinch)'
   slow+='|Kerf\.Spot|Quads\.(RealMeshes|ClosedShapes|Deterministic|SizeRule|TriangleTarget'
-  slow+='|QuadsTooNarrow|SpotsQuads|FandisksSharpEdges|TorusComesOut|ANoisyTarget)|SurfaceDistance\.TheSearchAgreesWithADense'
+  slow+='|QuadsTooNarrow|SpotsQuads|FandisksSharpEdges|TorusComesOut|ANoisyTarget|ATriangleWalledIn)|SurfaceDistance\.TheSearchAgreesWithADense'
   slow+='|Assembly\.EveryStep|Guide\.)'
   ctest --test-dir "$root/build-sanitize" --output-on-failure -j "$(nproc)" --timeout 900 \
     -E "$slow" "$@"

@@ -792,8 +792,16 @@ QuadMeshResult with_features_raised(const TargetSurface& target, const Material&
                                     QuadMeshResult first) {
   QuadMeshOptions raised = o;
   int unpaired = first.unpaired_triangles;
+  const std::vector<double>& folds = first.folds_over_feature_angle;
+  double tried = o.feature_angle;
   for (double angle = o.feature_angle + kFeatureAngleStep; angle <= kMostRaisedFeatureAngle + 1e-9;
        angle += kFeatureAngleStep) {
+    // No fold of the target between the last angle tried and this one: the same features, the
+    // same quads (a chamfered cube's folds are all under 60 deg: nothing to try).
+    if (std::upper_bound(folds.begin(), folds.end(), tried) ==
+        std::upper_bound(folds.begin(), folds.end(), angle))
+      continue;
+    tried = angle;
     if (progress)
       progress(std::to_string(unpaired) + " triangles of the lattice found no partner at " +
                fmt(raised.feature_angle * 180 / kPi) + " deg; trying sharp features over " +
@@ -906,6 +914,10 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
   // partner, the lattice at twice the size with every face split (quads into 4, triangles
   // into 3), which is all quads by construction.
   const Folds folds(mesh);
+  std::vector<double> raisable;  // QuadMeshResult::folds_over_feature_angle
+  for (const auto& [edge, fold] : folds.fold)
+    if (fold > o.feature_angle && fold <= kMostRaisedFeatureAngle + 1e-9) raisable.push_back(fold);
+  std::sort(raisable.begin(), raisable.end());
   const auto features_at = [&](double size) {
     std::vector<std::array<int, 2>> features = sharp_edges(folds, o.feature_angle);
     for (const auto& e : drop_short_features(mesh, shallow_creases(folds, o.feature_angle, size),
@@ -1208,6 +1220,7 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
 
   r.feature_length_on_quads = feature_length_on_edges(q, remeshed, r.size.size);
   r.feature_angle = o.feature_angle;
+  r.folds_over_feature_angle = std::move(raisable);
   return r;
 }
 

@@ -69,6 +69,9 @@ struct QuadMeshResult {
   double feature_angle = 0;  ///< the sharp features' angle the quads were made for [rad]
   /// The option's feature angle, where feature_angle was raised from it (else 0) [rad].
   double feature_angle_asked = 0;
+  /// The target's folds over feature_angle, up to 90 deg, ascending [rad]: raising the feature
+  /// angle changes the sharp features (and so the quads) only past one of them.
+  std::vector<double> folds_over_feature_angle;
   /// Unit dislocations of the position field (dislocations.h) found, and left after the
   /// global integer step (which is kept only where it leaves none).
   int dislocations = 0, dislocations_left = 0;
