@@ -1664,8 +1664,10 @@ class Builder {
     // needles taken off: where a slot's cut-back and the wedge beside it nearly share a side,
     // the Booleans left needles of material 3 um at the base and 1.6 mm long (the capped
     // cylinder: three), which the kerf offset below grew into hairs as wide as the beam.
-    set_outline(part, largest_polygon(
-                          polygon_offset(polygon_offset({largest_polygon(left)}, 1e-3), -1e-3)));
+    const auto pinches_closed = [](const Polygon2& ring) {
+      return largest_polygon(polygon_offset(polygon_offset({ring}, 1e-3), -1e-3));
+    };
+    set_outline(part, pinches_closed(largest_polygon(left)));
     // Looked at again as the laser cuts it: the part the path half a kerf outside leaves, with
     // notches narrower than the kerf filled (what the sheet auditor reads back). The test of a
     // tail is an opening whose mitred corners follow the outline's short edges, so a tail can
@@ -1692,7 +1694,7 @@ class Builder {
         part.repaired = true;
         lost.push_back(c);
       }
-    set_outline(part, largest_polygon(polygon_offset(polygon_offset({rest}, 1e-3), -1e-3)));
+    set_outline(part, pinches_closed(rest));
     return part;
   }
 
