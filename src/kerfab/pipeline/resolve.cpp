@@ -643,6 +643,18 @@ class Resolver {
   // Quads of facets that flattened inverted or crossing (corners shared with facets at other
   // angles bent them): regrown from single quads, flatter.
   mutable std::set<int> bent_;
+  mutable std::vector<char> marked_;  // plane_of(): per quad-mesh vertex, met (cleared after)
+  // Per quad its corners (quad_vertices), read once: the facet tests read them for every
+  // neighbour of a growing facet.
+  mutable std::vector<std::array<int, 4>> corners_;
+  const std::array<int, 4>& corners_of(int q) const {
+    if (corners_.empty()) {
+      corners_.reserve(m_.n_faces());
+      for (int f = 0; f < static_cast<int>(m_.n_faces()); ++f)
+        corners_.push_back(quad_vertices(m_, m_.face_handle(f)));
+    }
+    return corners_[q];
+  }
   // The rebuilds change a few regions each: most parts' outlines are drawn and most patches'
   // cuts placed once.
   PartsMemo own_memo_;
@@ -1066,7 +1078,7 @@ class Resolver {
       const Vec3 origin = corner(quad_vertices(m_, m_.face_handle(seed))[0]);
       auto on_plane = [&](int q) {
         if (quad_normal(q).dot(normal) < std::cos(kPlateTilt)) return false;
-        for (int v : quad_vertices(m_, m_.face_handle(q)))
+        for (int v : corners_of(q))
           if (std::abs((corner(v) - origin).dot(normal)) > kPlateFlatness) return false;
         return true;
       };
@@ -1130,7 +1142,7 @@ class Resolver {
       r.quads.assign(group.begin(), group.end());
       int corners = 0;
       for (int q : group)
-        for (int v : quad_vertices(m_, m_.face_handle(q))) r.centre += corner(v), ++corners;
+        for (int v : corners_of(q)) r.centre += corner(v), ++corners;
       r.centre /= corners;
       record(r, "plate");
       out_.changes.back().reason = "a flat panel of the model, cut as one plate";
@@ -1148,7 +1160,7 @@ class Resolver {
     const Plane p = plane_of(group);
     auto centre = [&](int q) {
       Vec3 c = Vec3::Zero();
-      for (int v : quad_vertices(m_, m_.face_handle(q))) c += 0.25 * corner(v);
+      for (int v : corners_of(q)) c += 0.25 * corner(v);
       return c;
     };
     double lo_u = std::numeric_limits<double>::infinity(), hi_u = -lo_u, lo_w = lo_u, hi_w = -lo_u;
@@ -1563,8 +1575,9 @@ class Resolver {
   /// Largest distance of the quads' corners (on the target) to their best-fit plane [mm].
   double flatness(const std::set<int>& quads) const {
     std::vector<Vec3> pts;
+    pts.reserve(4 * quads.size());
     for (int q : quads)
-      for (int v : quad_vertices(m_, m_.face_handle(q))) pts.push_back(corner(v));
+      for (int v : corners_of(q)) pts.push_back(corner(v));
     Vec3 mean = Vec3::Zero();
     for (const Vec3& p : pts) mean += p;
     mean /= static_cast<double>(pts.size());
@@ -1584,34 +1597,44 @@ class Resolver {
     std::optional<bool> joins;
   };
 
-  /// The flatness of the union \p merged() of a pair of groups where it is at most \p best and
-  /// \p may_join(flatness, union) holds; each measured once per \p key in \p memo (a pair
-  /// meeting along n quad edges is met n times, and again after every join that leaves both
-  /// groups as they are).
-  template <class Key, class Union, class MayJoin>
-  std::optional<double> flat_enough(std::map<Key, PairMeasure>& memo, const Key& key, double best,
-                                    Union merged, MayJoin may_join) const {
-    std::set<int> quads;
-    auto it = memo.find(key);
-    if (it == memo.end()) {
-      quads = merged();
-      it = memo.emplace(key, PairMeasure{flatness(quads), {}}).first;
+  /// Of the pairs of groups \p met (in the order a scan meets them; \p key(i) the memo key of
+  /// pair i, \p merged(i) the union of its groups), the one a scan keeping the flattest pair
+  /// that may join would keep: of the pairs at most \p limit flat whose union \p may_join
+  /// (flatness, union), the flattest, of equally flat ones the last met; -1: none. Each pair's
+  /// flatness and whether it may join are measured once per key in \p memo (a pair meeting
+  /// along n quad edges is met n times, and again after every join that leaves both groups as
+  /// they are). Whether a pair may join (the plate test, which walks its whole outline) is
+  /// measured flattest first and only until one may: the same pick as a scan keeping the
+  /// flattest so far, which measured it for every pair as flat as that (on a flat face, most
+  /// of them after every join).
+  template <class Key, class KeyOf, class Union, class MayJoin>
+  int flattest_joining(std::map<Key, PairMeasure>& memo, int met, KeyOf key, double limit,
+                       Union merged, MayJoin may_join) const {
+    std::vector<std::pair<double, int>> flat;  // (flatness, -i) of the pairs within the limit
+    std::vector<PairMeasure*> measure(met, nullptr);
+    for (int i = 0; i < met; ++i) {
+      auto it = memo.find(key(i));
+      if (it == memo.end()) it = memo.emplace(key(i), PairMeasure{flatness(merged(i)), {}}).first;
+      measure[i] = &it->second;
+      if (it->second.flatness <= limit) flat.emplace_back(it->second.flatness, -i);
     }
-    PairMeasure& m = it->second;
-    if (m.flatness > best) return std::nullopt;
-    if (!m.joins) {
-      if (quads.empty()) quads = merged();
-      m.joins = may_join(m.flatness, quads);
+    std::sort(flat.begin(), flat.end());
+    for (const auto& [e, minus_i] : flat) {
+      PairMeasure& m = *measure[-minus_i];
+      if (!m.joins) m.joins = may_join(e, merged(-minus_i));
+      if (*m.joins) return -minus_i;
     }
-    return *m.joins ? std::optional<double>(m.flatness) : std::nullopt;
+    return -1;
   }
 
   /// True when the quads can be one flat plate: a disk whose quads all face the same way as
   /// the best-fit plane (within \p max_tilt [rad]; a group flat within the tolerance can still
   /// fold back on itself in small quads), with a simple outline on that plane.
   bool plate(const std::set<int>& quads, double max_tilt = M_PI / 4) const {
-    if (!disk(quads)) return false;
-    const Vec3 n = plane_of(quads).n;
+    // The tilt first: it is the cheaper test, and the one a group grown to the edge of a face
+    // fails for every neighbour across the fold (the disk test walks the whole outline).
+    const Plane plane = plane_of(quads);
+    const Vec3& n = plane.n;
     for (int q : quads) {
       // Each corner's triangle, so that a quad folded along a diagonal cannot flip half of it;
       // but a corner as good as straight (within kPlateFlatness of the line through its
@@ -1619,7 +1642,7 @@ class Resolver {
       // 250 mm: a quad with three corners on a ridge, the middle one 0.01 mm over it, whose
       // triangle there faced the next side's way, 72 degrees off; that side came out as 28
       // strips beside four plates).
-      const auto v = quad_vertices(m_, m_.face_handle(q));
+      const auto v = corners_of(q);
       for (int k = 0; k < 4; ++k) {
         const Vec3 to_next = corner(v[(k + 1) % 4]) - corner(v[k]);
         const Vec3 to_prev = corner(v[(k + 3) % 4]) - corner(v[k]);
@@ -1629,7 +1652,8 @@ class Resolver {
         if (!(a.norm() > 0) || a.normalized().dot(n) < std::cos(max_tilt)) return false;
       }
     }
-    const Polygon2 poly = plane_outline(quads);
+    if (!disk(quads)) return false;
+    const Polygon2 poly = plane_outline(quads, plane);
     // No corner nearly closing on itself (a fan of quads almost all around a vertex): moving
     // the corners onto the plane would make such an outline cross itself.
     const std::size_t m = poly.size();
@@ -1653,7 +1677,7 @@ class Resolver {
     std::vector<std::pair<int, int>> directed;
     directed.reserve(4 * quads.size());
     for (int q : quads) {
-      const auto v = quad_vertices(m_, m_.face_handle(q));
+      const auto v = corners_of(q);
       for (int k = 0; k < 4; ++k) directed.emplace_back(v[k], v[(k + 1) % 4]);
     }
     std::sort(directed.begin(), directed.end());
@@ -1786,25 +1810,27 @@ class Resolver {
     std::vector<int> version(groups.size(), 0);
     std::map<std::array<int, 4>, PairMeasure> pairs;
     for (;;) {  // the flattest merge of two groups of the region, within the tolerance
-      double best = tight ? 0.5 * tolerance : tolerance;
-      int ba = kNone, bq = kNone;
+      std::vector<std::pair<int, int>> met;  // (group, a neighbour quad in another group)
       for (std::size_t a = 0; a < groups.size(); ++a) {
         if (groups[a].quads.empty()) continue;
         for (int q : neighbours(groups[a], false)) {
           const auto it = group_of.find(q);
           if (it == group_of.end() || it->second == static_cast<int>(a)) continue;
-          const int lo = std::min(static_cast<int>(a), it->second),
-                    hi = std::max(static_cast<int>(a), it->second);
-          const std::array<int, 4> key = {lo, version[lo], hi, version[hi]};
-          const auto e = flat_enough(
-              pairs, key, best, [&] { return with(static_cast<int>(a), q); },
-              [&](double, const std::set<int>& merged) {
-                return plate(merged) && compact(merged);
-              });
-          if (e) best = *e, ba = static_cast<int>(a), bq = q;
+          met.emplace_back(static_cast<int>(a), q);
         }
       }
-      if (ba == kNone) break;
+      const int pick = flattest_joining(
+          pairs, static_cast<int>(met.size()),
+          [&](int i) {
+            const int a = met[i].first, b = group_of.at(met[i].second);
+            const int lo = std::min(a, b), hi = std::max(a, b);
+            return std::array<int, 4>{lo, version[lo], hi, version[hi]};
+          },
+          tight ? 0.5 * tolerance : tolerance,
+          [&](int i) { return with(met[i].first, met[i].second); },
+          [&](double, const std::set<int>& merged) { return plate(merged) && compact(merged); });
+      if (pick < 0) break;
+      const int ba = met[pick].first, bq = met[pick].second;
       ++version[group_of.at(bq)];
       ++version[ba];
       take(ba, bq);
@@ -1931,11 +1957,24 @@ class Resolver {
     corners.reserve(4 * quads.size());
     Vec3 facing = Vec3::Zero();
     for (int q : quads) {
-      for (int v : quad_vertices(m_, m_.face_handle(q))) corners.push_back(v);
+      for (int v : corners_of(q)) corners.push_back(v);
       facing += quad_normal(q);
     }
-    std::sort(corners.begin(), corners.end());
-    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    // Each once, ascending: marked and read off between the smallest and the largest where
+    // that span is short, else sorted (the plate test fits a plane to every neighbour of a
+    // growing facet; sorting four corners per quad was most of a thin rod's resolve stage).
+    const auto [lo, hi] = std::minmax_element(corners.begin(), corners.end());
+    if (!corners.empty() && *hi - *lo < 16 * static_cast<long>(corners.size())) {
+      if (marked_.size() <= static_cast<std::size_t>(*hi)) marked_.resize(*hi + 1, 0);
+      const int from = *lo, to = *hi;
+      for (int v : corners) marked_[v] = 1;
+      corners.clear();
+      for (int v = from; v <= to; ++v)
+        if (marked_[v]) corners.push_back(v), marked_[v] = 0;
+    } else {
+      std::sort(corners.begin(), corners.end());
+      corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    }
     Plane p;
     p.mean = Vec3::Zero();
     for (int v : corners) p.mean += corner(v) / static_cast<double>(corners.size());
@@ -1994,7 +2033,7 @@ class Resolver {
   }
 
   Vec3 quad_normal(int q) const {
-    const auto v = quad_vertices(m_, m_.face_handle(q));
+    const auto v = corners_of(q);
     const Vec3 a = (corner(v[2]) - corner(v[0])).cross(corner(v[3]) - corner(v[1]));
     return a.norm() > 0 ? Vec3(a.normalized()) : Vec3::Zero();
   }
@@ -2025,7 +2064,10 @@ class Resolver {
 
   /// The boundary loop of a disk of quads on its best-fit plane, counter-clockwise [mm].
   Polygon2 plane_outline(const std::set<int>& quads) const {
-    const Plane pl = plane_of(quads);
+    return plane_outline(quads, plane_of(quads));
+  }
+  /// The same on \p pl, the quads' plane_of().
+  Polygon2 plane_outline(const std::set<int>& quads, const Plane& pl) const {
     Polygon2 poly;
     for (int v : boundary_loop(quads))
       poly.emplace_back((corner(v) - pl.mean).dot(pl.u), (corner(v) - pl.mean).dot(pl.w));
@@ -2048,27 +2090,31 @@ class Resolver {
       std::map<int, int> group_of;
       for (std::size_t g = 0; g < groups.size(); ++g)
         for (int q : groups[g]) group_of[q] = static_cast<int>(g);
-      double best = tolerance;
-      int ba = kNone, bb = kNone;
+      std::vector<std::pair<int, int>> met;  // pairs of adjacent groups, a < b
       for (std::size_t a = 0; a < groups.size(); ++a)
         for (int q : groups[a])
           for (auto f : m_.ff_range(m_.face_handle(q))) {
             const auto it = group_of.find(f.idx());
             if (it == group_of.end() || it->second <= static_cast<int>(a)) continue;
-            const int b = it->second;
-            auto merged = [&] {
-              std::set<int> quads(groups[a].begin(), groups[a].end());
-              quads.insert(groups[b].begin(), groups[b].end());
-              return quads;
-            };
-            // A facet that flattened bent joins only a flatter one.
-            auto may_join = [&](double e, const std::set<int>& quads) {
-              return (e <= 0.5 * tolerance || !any_bent(quads)) && plate(quads) && compact(quads);
-            };
-            const auto e = flat_enough(pairs, std::pair{id[a], id[b]}, best, merged, may_join);
-            if (e) best = *e, ba = static_cast<int>(a), bb = b;
+            met.emplace_back(static_cast<int>(a), it->second);
           }
-      if (ba == kNone) break;
+      const int pick = flattest_joining(
+          pairs, static_cast<int>(met.size()),
+          [&](int i) {
+            return std::pair{id[met[i].first], id[met[i].second]};
+          },
+          tolerance,
+          [&](int i) {
+            std::set<int> quads(groups[met[i].first].begin(), groups[met[i].first].end());
+            quads.insert(groups[met[i].second].begin(), groups[met[i].second].end());
+            return quads;
+          },
+          // A facet that flattened bent joins only a flatter one.
+          [&](double e, const std::set<int>& quads) {
+            return (e <= 0.5 * tolerance || !any_bent(quads)) && plate(quads) && compact(quads);
+          });
+      if (pick < 0) break;
+      const int ba = met[pick].first, bb = met[pick].second;
       groups[ba].insert(groups[ba].end(), groups[bb].begin(), groups[bb].end());
       groups.erase(groups.begin() + bb);
       id[ba] = next_id++;
