@@ -705,6 +705,80 @@ std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri, std::vector<char>&
   return {turned, closed};
 }
 
+/// Where pieces of \p tri (triangles joined through shared vertices) lie on one another: the
+/// area of the triangles whose middle lies within \p eps of another piece's surface (of each
+/// pair, the first piece's), and one such middle. Two solids glued face to face, each closed,
+/// come so: their surfaces share the face they touch along, and no quad mesh follows both.
+struct PieceContact {
+  double area = 0;  ///< [mm^2]
+  Vec3 at = Vec3::Zero();
+};
+PieceContact touching_pieces(const TriangleMesh& tri, double eps) {
+  const int n = static_cast<int>(tri.vertices.size());
+  std::vector<int> root(n);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](int v) {
+    int r = v;
+    while (root[r] != r) r = root[r];
+    while (root[v] != r) v = std::exchange(root[v], r);
+    return r;
+  };
+  for (const auto& t : tri.triangles)
+    for (int k = 0; k < 3; ++k) root[find(t[k])] = find(t[(k + 1) % 3]);
+  std::map<int, int> id;  // root -> piece
+  std::vector<std::vector<int>> pieces;
+  for (int i = 0; i < static_cast<int>(tri.triangles.size()); ++i) {
+    const auto [it, added] = id.try_emplace(find(tri.triangles[i][0]), static_cast<int>(id.size()));
+    if (added) pieces.emplace_back();
+    pieces[it->second].push_back(i);
+  }
+  PieceContact contact;
+  if (pieces.size() < 2) return contact;
+  std::vector<BoundingBox> box(pieces.size());
+  for (std::size_t p = 0; p < pieces.size(); ++p)
+    for (int i : pieces[p])
+      for (int v : tri.triangles[i]) {
+        box[p].min = box[p].min.cwiseMin(tri.vertices[v]);
+        box[p].max = box[p].max.cwiseMax(tri.vertices[v]);
+      }
+  auto near = [&](const BoundingBox& a, const BoundingBox& b) {
+    return (a.min.array() <= b.max.array() + eps).all() &&
+           (b.min.array() <= a.max.array() + eps).all();
+  };
+  std::vector<std::optional<TargetSurface>> surface(pieces.size());
+  for (std::size_t b = 0; b < pieces.size(); ++b)
+    for (std::size_t a = 0; a < b; ++a) {
+      if (!near(box[a], box[b])) continue;
+      if (!surface[b]) {  // piece b on its own
+        TriangleMesh m;
+        std::unordered_map<int, int> index;
+        for (int i : pieces[b]) {
+          std::array<int, 3> t{};
+          for (int k = 0; k < 3; ++k) {
+            const auto [it, added] =
+                index.try_emplace(tri.triangles[i][k], static_cast<int>(m.vertices.size()));
+            if (added) m.vertices.push_back(tri.vertices[tri.triangles[i][k]]);
+            t[k] = it->second;
+          }
+          m.triangles.push_back(t);
+        }
+        surface[b].emplace(m);
+      }
+      for (int i : pieces[a]) {
+        const auto& t = tri.triangles[i];
+        const Vec3 &p0 = tri.vertices[t[0]], &p1 = tri.vertices[t[1]], &p2 = tri.vertices[t[2]];
+        const Vec3 middle = (p0 + p1 + p2) / 3.0;
+        if (!(middle.array() >= box[b].min.array() - eps).all() ||
+            !(middle.array() <= box[b].max.array() + eps).all())
+          continue;
+        if (surface[b]->closest(middle).distance > eps) continue;
+        contact.area += 0.5 * (p1 - p0).cross(p2 - p0).norm();
+        contact.at = middle;
+      }
+    }
+  return contact;
+}
+
 }  // namespace
 
 PolyMesh catmull_clark(const PolyMesh& mesh, int steps) {
@@ -868,6 +942,13 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
       warnings.push_back(w.str());
     }
   }
+  // Solids glued face to face: refused, naming where (two cubes sharing a face had the quads
+  // stage try four lattices and a smoothed copy for 86 s, then fail on folded quads).
+  if (const PieceContact c = touching_pieces(tri, 1e-4 * bounding_box(tri).diagonal()); c.area > 0)
+    throw InvalidInput("target: pieces of it lie on one another over " + fmt(c.area) +
+                       " mm^2 (at " + fmt(c.at.x()) + ", " + fmt(c.at.y()) + ", " + fmt(c.at.z()) +
+                       " mm): solids touching face to face are no one surface to cut; join them "
+                       "into one (a mesh union in the modeller) or move them apart");
   PreparedInput out{.target = std::move(target),
                     .quads = std::move(quads),
                     .surface = TargetSurface(tri),

@@ -62,8 +62,9 @@ struct PreparedInput {
 /// their midpoint, where that leaves the mesh manifold (at most 64 tries; the rest are counted
 /// in a warning).
 /// \throw InvalidInput empty mesh, NaN/inf coordinates, other zero-area faces, non-quad faces
-///        without subdivision, a model outside the accepted size range without `size`, or a
-///        quad mesh far from the target (distance named).
+///        without subdivision, a model outside the accepted size range without `size`, pieces
+///        of the target lying on one another (solids touching face to face: the area and where
+///        named), or a quad mesh far from the target (distance named).
 PreparedInput prepare_input(const PolyMesh& target, const std::optional<PolyMesh>& quad,
                             const InputOptions& options);
 
