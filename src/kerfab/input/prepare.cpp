@@ -644,13 +644,10 @@ bool ray_crosses(const TriangleMesh& tri, const std::array<int, 3>& t, const Vec
   return e2.dot(r) / det > 0;
 }
 
-/// Turns the triangles of every closed piece of \p tri (triangles joined through shared
-/// vertices, each of their edges on two of them) that faces inwards (negative volume), unless
-/// the piece lies inside another closed piece (a cavity, which faces inwards by right).
-/// Returns {pieces turned, closed pieces}; \p turned_vertex: per vertex, 1 in a piece turned.
-std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri, std::vector<char>& turned_vertex) {
+/// The pieces of \p tri (triangles joined through shared vertices): per piece its triangles,
+/// ascending; the pieces in the order of their first triangles.
+std::vector<std::vector<int>> pieces_of(const TriangleMesh& tri) {
   const int n = static_cast<int>(tri.vertices.size());
-  turned_vertex.assign(n, 0);
   std::vector<int> root(n);
   std::iota(root.begin(), root.end(), 0);
   auto find = [&](int v) {  // iterative: a scan's million vertices would recurse too deep
@@ -659,42 +656,59 @@ std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri, std::vector<char>&
     while (root[v] != r) v = std::exchange(root[v], r);
     return r;
   };
+  for (const auto& t : tri.triangles)
+    for (int k = 0; k < 3; ++k) root[find(t[k])] = find(t[(k + 1) % 3]);
+  std::unordered_map<int, int> id;  // root -> piece
+  std::vector<std::vector<int>> pieces;
+  for (int i = 0; i < static_cast<int>(tri.triangles.size()); ++i) {
+    const auto [it, added] = id.try_emplace(find(tri.triangles[i][0]), static_cast<int>(id.size()));
+    if (added) pieces.emplace_back();
+    pieces[it->second].push_back(i);
+  }
+  return pieces;
+}
+
+/// Turns the triangles of every closed piece of \p tri (triangles joined through shared
+/// vertices, each of their edges on two of them) that faces inwards (negative volume), unless
+/// the piece lies inside another closed piece (a cavity, which faces inwards by right).
+/// \p pieces: pieces_of(\p tri). Returns {pieces turned, closed pieces}; \p turned_vertex: per
+/// vertex, 1 in a piece turned.
+std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri,
+                                           const std::vector<std::vector<int>>& pieces,
+                                           std::vector<char>& turned_vertex) {
+  turned_vertex.assign(tri.vertices.size(), 0);
   std::unordered_map<std::uint64_t, int> edges;
   edges.reserve(tri.triangles.size() * 2);
   for (const auto& t : tri.triangles)
-    for (int k = 0; k < 3; ++k) {
-      root[find(t[k])] = find(t[(k + 1) % 3]);
-      ++edges[undirected_edge_key(t[k], t[(k + 1) % 3])];
-    }
-  std::map<int, std::vector<int>> pieces;  // root -> its triangles
-  std::map<int, bool> open;
-  for (int i = 0; i < static_cast<int>(tri.triangles.size()); ++i) {
-    const auto& t = tri.triangles[i];
-    const int r = find(t[0]);
-    pieces[r].push_back(i);
-    for (int k = 0; k < 3; ++k)
-      if (edges[undirected_edge_key(t[k], t[(k + 1) % 3])] != 2) open[r] = true;
-  }
+    for (int k = 0; k < 3; ++k) ++edges[undirected_edge_key(t[k], t[(k + 1) % 3])];
+  std::vector<char> open(pieces.size(), 0);
+  for (std::size_t r = 0; r < pieces.size(); ++r)
+    for (int i : pieces[r])
+      for (int k = 0; k < 3; ++k) {
+        const auto& t = tri.triangles[i];
+        if (edges[undirected_edge_key(t[k], t[(k + 1) % 3])] != 2) open[r] = 1;
+      }
   std::vector<int> inward;
   int closed = 0;
-  for (const auto& [r, list] : pieces) {
+  for (std::size_t r = 0; r < pieces.size(); ++r) {
     if (open[r]) continue;
+    const std::vector<int>& list = pieces[r];
     ++closed;
     double volume = 0;
     for (int i : list) {
       const auto& t = tri.triangles[i];
       volume += tri.vertices[t[0]].dot(tri.vertices[t[1]].cross(tri.vertices[t[2]])) / 6.0;
     }
-    if (volume < 0) inward.push_back(r);
+    if (volume < 0) inward.push_back(static_cast<int>(r));
   }
   int turned = 0;
   const Vec3 dir = Vec3(0.5773, 0.5774, 0.5775).normalized();  // generic: no axis, no diagonal
   for (int r : inward) {
     const Vec3 from = tri.vertices[tri.triangles[pieces[r].front()][0]];
     int crossings = 0;
-    for (const auto& [other, list] : pieces)
-      if (other != r && !open[other])
-        for (int i : list) crossings += ray_crosses(tri, tri.triangles[i], from, dir);
+    for (std::size_t other = 0; other < pieces.size(); ++other)
+      if (static_cast<int>(other) != r && !open[other])
+        for (int i : pieces[other]) crossings += ray_crosses(tri, tri.triangles[i], from, dir);
     if (crossings % 2 == 1) continue;  // a cavity
     for (int i : pieces[r]) {
       std::swap(tri.triangles[i][1], tri.triangles[i][2]);
@@ -705,73 +719,48 @@ std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri, std::vector<char>&
   return {turned, closed};
 }
 
-/// Where pieces of \p tri (triangles joined through shared vertices) lie on one another: the
-/// area of the triangles whose middle lies within \p eps of another piece's surface (of each
-/// pair, the first piece's), and one such middle. Two solids glued face to face, each closed,
-/// come so: their surfaces share the face they touch along, and no quad mesh follows both.
+/// Where \p pieces of \p tri (pieces_of: triangles joined through shared vertices) lie on one
+/// another: the area of the triangles whose middle lies within \p eps of another piece's
+/// surface (of each pair, the first piece's), and one such middle. Two solids glued face to face,
+/// each closed, come so: their surfaces share the face they touch along, and no quad mesh follows
+/// both.
 struct PieceContact {
   double area = 0;  ///< [mm^2]
   Vec3 at = Vec3::Zero();
 };
-PieceContact touching_pieces(const TriangleMesh& tri, double eps) {
-  const int n = static_cast<int>(tri.vertices.size());
-  std::vector<int> root(n);
-  std::iota(root.begin(), root.end(), 0);
-  auto find = [&](int v) {
-    int r = v;
-    while (root[r] != r) r = root[r];
-    while (root[v] != r) v = std::exchange(root[v], r);
-    return r;
-  };
-  for (const auto& t : tri.triangles)
-    for (int k = 0; k < 3; ++k) root[find(t[k])] = find(t[(k + 1) % 3]);
-  std::map<int, int> id;  // root -> piece
-  std::vector<std::vector<int>> pieces;
-  for (int i = 0; i < static_cast<int>(tri.triangles.size()); ++i) {
-    const auto [it, added] = id.try_emplace(find(tri.triangles[i][0]), static_cast<int>(id.size()));
-    if (added) pieces.emplace_back();
-    pieces[it->second].push_back(i);
-  }
+PieceContact touching_pieces(const TriangleMesh& tri, const std::vector<std::vector<int>>& pieces,
+                             double eps) {
   PieceContact contact;
   if (pieces.size() < 2) return contact;
-  std::vector<BoundingBox> box(pieces.size());
-  for (std::size_t p = 0; p < pieces.size(); ++p)
-    for (int i : pieces[p])
-      for (int v : tri.triangles[i]) {
-        box[p].min = box[p].min.cwiseMin(tri.vertices[v]);
-        box[p].max = box[p].max.cwiseMax(tri.vertices[v]);
+  std::vector<TriangleMesh> piece(pieces.size());  // each on its own
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    std::unordered_map<int, int> index;
+    for (int i : pieces[p]) {
+      std::array<int, 3> t{};
+      for (int k = 0; k < 3; ++k) {
+        const int v = tri.triangles[i][k];
+        const auto [it, added] = index.try_emplace(v, static_cast<int>(piece[p].vertices.size()));
+        if (added) piece[p].vertices.push_back(tri.vertices[v]);
+        t[k] = it->second;
       }
-  auto near = [&](const BoundingBox& a, const BoundingBox& b) {
-    return (a.min.array() <= b.max.array() + eps).all() &&
-           (b.min.array() <= a.max.array() + eps).all();
+      piece[p].triangles.push_back(t);
+    }
+  }
+  std::vector<BoundingBox> box(pieces.size());
+  for (std::size_t p = 0; p < pieces.size(); ++p) box[p] = bounding_box(piece[p]);
+  auto within = [&](const Vec3& lo, const Vec3& hi, const BoundingBox& b) {
+    return (lo.array() <= b.max.array() + eps).all() && (b.min.array() <= hi.array() + eps).all();
   };
-  std::vector<std::optional<TargetSurface>> surface(pieces.size());
+  std::vector<std::optional<TargetSurface>> surface(pieces.size());  // built where needed
   for (std::size_t b = 0; b < pieces.size(); ++b)
     for (std::size_t a = 0; a < b; ++a) {
-      if (!near(box[a], box[b])) continue;
-      if (!surface[b]) {  // piece b on its own
-        TriangleMesh m;
-        std::unordered_map<int, int> index;
-        for (int i : pieces[b]) {
-          std::array<int, 3> t{};
-          for (int k = 0; k < 3; ++k) {
-            const auto [it, added] =
-                index.try_emplace(tri.triangles[i][k], static_cast<int>(m.vertices.size()));
-            if (added) m.vertices.push_back(tri.vertices[tri.triangles[i][k]]);
-            t[k] = it->second;
-          }
-          m.triangles.push_back(t);
-        }
-        surface[b].emplace(m);
-      }
-      for (int i : pieces[a]) {
-        const auto& t = tri.triangles[i];
-        const Vec3 &p0 = tri.vertices[t[0]], &p1 = tri.vertices[t[1]], &p2 = tri.vertices[t[2]];
+      if (!within(box[a].min, box[a].max, box[b])) continue;
+      if (!surface[b]) surface[b].emplace(piece[b]);
+      for (const auto& t : piece[a].triangles) {
+        const Vec3 &p0 = piece[a].vertices[t[0]], &p1 = piece[a].vertices[t[1]],
+                   &p2 = piece[a].vertices[t[2]];
         const Vec3 middle = (p0 + p1 + p2) / 3.0;
-        if (!(middle.array() >= box[b].min.array() - eps).all() ||
-            !(middle.array() <= box[b].max.array() + eps).all())
-          continue;
-        if (surface[b]->closest(middle).distance > eps) continue;
+        if (!within(middle, middle, box[b]) || surface[b]->closest(middle).distance > eps) continue;
         contact.area += 0.5 * (p1 - p0).cross(p2 - p0).norm();
         contact.at = middle;
       }
@@ -918,7 +907,9 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
 
   TriangleMesh tri = triangulate(target);
   std::vector<char> turned_vertex;
-  if (const auto [turned, closed] = turn_closed_pieces_out(tri, turned_vertex); turned > 0) {
+  const std::vector<std::vector<int>> pieces = pieces_of(tri);  // turning keeps them
+  if (const auto [turned, closed] = turn_closed_pieces_out(tri, pieces, turned_vertex);
+      turned > 0) {
     // The target as used (model/target.obj) faces the same way: the turned pieces' faces in
     // the other order, each first corner kept first.
     PolyMesh turned_target;
@@ -944,7 +935,8 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
   }
   // Solids glued face to face: refused, naming where (two cubes sharing a face had the quads
   // stage try four lattices and a smoothed copy for 86 s, then fail on folded quads).
-  if (const PieceContact c = touching_pieces(tri, 1e-4 * bounding_box(tri).diagonal()); c.area > 0)
+  if (const PieceContact c = touching_pieces(tri, pieces, 1e-4 * bounding_box(tri).diagonal());
+      c.area > 0)
     throw InvalidInput("target: pieces of it lie on one another over " + fmt(c.area) +
                        " mm^2 (at " + fmt(c.at.x()) + ", " + fmt(c.at.y()) + ", " + fmt(c.at.z()) +
                        " mm): solids touching face to face are no one surface to cut; join them "

@@ -1075,7 +1075,7 @@ class Resolver {
       seen[seed] = 1;
       const Vec3 normal = quad_normal(seed);
       if (!(normal.norm() > 0)) continue;
-      const Vec3 origin = corner(quad_vertices(m_, m_.face_handle(seed))[0]);
+      const Vec3 origin = corner(corners_of(seed)[0]);
       auto on_plane = [&](int q) {
         if (quad_normal(q).dot(normal) < std::cos(kPlateTilt)) return false;
         for (int v : corners_of(q))
@@ -1631,6 +1631,12 @@ class Resolver {
   /// the best-fit plane (within \p max_tilt [rad]; a group flat within the tolerance can still
   /// fold back on itself in small quads), with a simple outline on that plane.
   bool plate(const std::set<int>& quads, double max_tilt = M_PI / 4) const {
+    return plate_outline(quads, max_tilt).has_value();
+  }
+  /// The same test, and where it holds the plate's outline on its plane (plane_outline), which
+  /// compact() measures next.
+  std::optional<Polygon2> plate_outline(const std::set<int>& quads,
+                                        double max_tilt = M_PI / 4) const {
     // The tilt first: it is the cheaper test, and the one a group grown to the edge of a face
     // fails for every neighbour across the fold (the disk test walks the whole outline).
     const Plane plane = plane_of(quads);
@@ -1649,11 +1655,11 @@ class Resolver {
         const Vec3 a = to_next.cross(to_prev);
         const double chord = (to_next - to_prev).norm();
         if (to_next.dot(to_prev) < 0 && chord > 0 && a.norm() / chord <= kPlateFlatness) continue;
-        if (!(a.norm() > 0) || a.normalized().dot(n) < std::cos(max_tilt)) return false;
+        if (!(a.norm() > 0) || a.normalized().dot(n) < std::cos(max_tilt)) return std::nullopt;
       }
     }
-    if (!disk(quads)) return false;
-    const Polygon2 poly = plane_outline(quads, plane);
+    if (!disk(quads)) return std::nullopt;
+    Polygon2 poly = plane_outline(quads, plane);
     // No corner nearly closing on itself (a fan of quads almost all around a vertex): moving
     // the corners onto the plane would make such an outline cross itself.
     const std::size_t m = poly.size();
@@ -1662,11 +1668,12 @@ class Resolver {
       double inner = std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));  // b to a, ccw
       if (inner < 0) inner += 2 * M_PI;
       inner = 2 * M_PI - inner;
-      if (inner > 2 * M_PI - M_PI / 9) return false;
+      if (inner > 2 * M_PI - M_PI / 9) return std::nullopt;
     }
     std::vector<int> ring(m);
     for (std::size_t i = 0; i < m; ++i) ring[i] = static_cast<int>(i);
-    return is_simple_polygon(poly, ring);
+    if (!is_simple_polygon(poly, ring)) return std::nullopt;
+    return poly;
   }
 
   /// The boundary of a group of quads, in the quads' own order: each boundary vertex -> the next.
@@ -1828,7 +1835,10 @@ class Resolver {
           },
           tight ? 0.5 * tolerance : tolerance,
           [&](int i) { return with(met[i].first, met[i].second); },
-          [&](double, const std::set<int>& merged) { return plate(merged) && compact(merged); });
+          [&](double, const std::set<int>& merged) {
+            const auto outline = plate_outline(merged);
+            return outline && compact(*outline);
+          });
       if (pick < 0) break;
       const int ba = met[pick].first, bq = met[pick].second;
       ++version[group_of.at(bq)];
@@ -1870,8 +1880,9 @@ class Resolver {
             // is compact, the plate and compactness tests only for a flatter one.
             const double e = flatness(merged);
             if (best_compact && !(e < best)) continue;
-            if (!plate(merged, tilt)) continue;
-            const bool c = compact(merged);
+            const auto outline = plate_outline(merged, tilt);
+            if (!outline) continue;
+            const bool c = compact(*outline);
             if ((c && !best_compact) || (c == best_compact && e < best))
               best = e, best_compact = c, pick = q;
           }
@@ -2052,10 +2063,10 @@ class Resolver {
     return !polygon_offset(left, -0.5 * r_.min_part_width).empty();
   }
 
-  /// True when no more than a tenth of the facet lies in necks or tails narrower than a part
-  /// may be with a slot cut into each side: such a facet would fall apart when cut.
-  bool compact(const std::set<int>& quads) const {
-    const Polygon2 poly = plane_outline(quads);
+  /// True when no more than a tenth of the facet whose outline on its plane is \p poly (as
+  /// plate_outline() gives it) lies in necks or tails narrower than a part may be with a slot
+  /// cut into each side: such a facet would fall apart when cut.
+  bool compact(const Polygon2& poly) const {
     const double r = 0.5 * r_.min_part_width + 0.5 * o_.material.thickness;
     double kept = 0;
     for (const auto& p : polygon_offset(polygon_offset({poly}, -r), r)) kept += polygon_area(p);
@@ -2111,7 +2122,9 @@ class Resolver {
           },
           // A facet that flattened bent joins only a flatter one.
           [&](double e, const std::set<int>& quads) {
-            return (e <= 0.5 * tolerance || !any_bent(quads)) && plate(quads) && compact(quads);
+            if (e > 0.5 * tolerance && any_bent(quads)) return false;
+            const auto outline = plate_outline(quads);
+            return outline && compact(*outline);
           });
       if (pick < 0) break;
       const int ba = met[pick].first, bb = met[pick].second;
