@@ -399,6 +399,51 @@ TEST(Cli, ACubeWithNeedleTrianglesIsMendedAndCutAsSixPlates) {
   EXPECT_EQ(expect_one_plate_per_face(out, 6, 12).size(), 6u);
 }
 
+// Two 100 mm cubes from their triangles, glued face to face, each its own closed piece (as a
+// modeller exports two blocks): each surface on its own left the quads stage to try four
+// lattices for 86 s and fail on folded quads. They are one solid to the maker: the run joins
+// them into their union and cuts the six plates of one 200 x 100 x 100 box, one piece to
+// assemble, the plates exactly on its faces.
+TEST(Cli, TwoCubesGluedFaceToFaceAreCutAsTheSixPlatesOfOneBox) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "glued.obj";
+  {
+    std::ofstream f(target);
+    for (int cube = 0; cube < 2; ++cube) {
+      for (int i = 0; i < 8; ++i)
+        f << "v " << 100 * cube + (i & 1 ? 100 : 0) << " " << (i & 2 ? 100 : 0) << " "
+          << (i & 4 ? 100 : 0) << "\n";
+      const int o = 8 * cube;
+      for (const auto& t : std::vector<std::array<int, 3>>{{1, 3, 4},
+                                                           {1, 4, 2},
+                                                           {5, 6, 8},
+                                                           {5, 8, 7},
+                                                           {1, 2, 6},
+                                                           {1, 6, 5},
+                                                           {3, 7, 8},
+                                                           {3, 8, 4},
+                                                           {1, 5, 7},
+                                                           {1, 7, 3},
+                                                           {2, 4, 8},
+                                                           {2, 8, 6}})
+        f << "f " << t[0] + o << " " << t[1] + o << " " << t[2] + o << "\n";
+    }
+  }
+  const fs::path out = scratch / "out";
+  const CliRun r =
+      run_cli("run --target " + target.string() + " --size 200 --out " + out.string(), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("target: 2 solids whose surfaces cross or touch joined into one"),
+            std::string::npos)
+      << r.err;
+  const auto report = read_report(out);
+  EXPECT_EQ(report["input"]["united_solids"].get<int>(), 2);
+  // The shared face, 100 x 100 mm on each cube, at the size asked (scale 1).
+  EXPECT_NEAR(report["input"]["united_surface_gone_mm2"].get<double>(), 2e4, 1e-6);
+  EXPECT_EQ(report["assembly"]["pieces"].get<int>(), 1);
+  EXPECT_EQ(expect_one_plate_per_face(out, 6, 12).size(), 6u);
+}
+
 // A slab 120 x 60 x 1 mm from its 12 triangles, in 3 mm MDF: its top and bottom are 1 mm
 // apart, so their sheets, each standing 1.5 mm to either side of its face, would overlap by
 // 2 mm. The run says so, names the parts and where, and the size at which they clear

@@ -357,6 +357,8 @@ TEST(Prepare, OnlyTheClosedPiecesFacingInwardAreTurned) {
 // Before, the quads stage tried four lattices and a smoothed copy for 86 s and then failed
 // on folded quads, naming neither the cause nor the fix. Boxes 1 mm apart, or meeting along
 // an edge only, are not touching face to face and are prepared as before.
+// Where the target is itself the quad mesh (no union is meshed anew), solids glued face to
+// face are refused.
 TEST(Prepare, SolidsGluedFaceToFaceAreRefusedNamingWhere) {
   auto two_boxes = [](const Vec3& shift) {
     PolyMesh m;
@@ -386,6 +388,59 @@ TEST(Prepare, SolidsGluedFaceToFaceAreRefusedNamingWhere) {
     const PreparedInput in = prepare_input(two_boxes(shift), std::nullopt, {});
     EXPECT_EQ(in.target_summary.faces, 2 * 24) << shift.transpose();
   }
+}
+
+// Solids of triangles that cross or touch are one solid to the maker: where kerfab makes the
+// quads, the target becomes the surface of their union (CGAL's corefinement), measured here
+// against the exact area and volume. Two 100 mm cubes glued face to face: a 200 x 100 x 100 box
+// (100000 mm^2, 2e6 mm^3, where the two surfaces had 120000 mm^2); a 100 mm cube with a 50 mm
+// square bar pushed 50 mm into it: 60000 - 2500 + 5 * 2500 = 70000 mm^2 and 1e6 + 50^3 mm^3.
+// Cubes meeting along an edge only have no manifold union and stay two pieces.
+TEST(Prepare, SolidsThatMeetAreJoinedIntoTheirUnion) {
+  auto boxes = [](const std::vector<std::pair<Vec3, Vec3>>& corners) {
+    PolyMesh m;
+    for (const auto& [lo, hi] : corners) {
+      const PolyMesh box = test::cube_grid_mesh(2, [&](const Vec3& p) {
+        return Vec3(lo + (0.5 * (p + Vec3::Ones())).cwiseProduct(hi - lo));
+      });
+      const TriangleMesh tri = triangulate(box);
+      const int offset = static_cast<int>(m.n_vertices());
+      for (const Vec3& v : tri.vertices) m.add_vertex(PolyMesh::Point(v.x(), v.y(), v.z()));
+      for (const auto& t : tri.triangles)
+        m.add_face(m.vertex_handle(offset + t[0]), m.vertex_handle(offset + t[1]),
+                   m.vertex_handle(offset + t[2]));
+    }
+    return m;
+  };
+  auto measure = [](const PreparedInput& in) {
+    const TriangleMesh& t = in.surface.mesh();
+    double area = 0, volume = 0;
+    for (const auto& c : t.triangles) {
+      const Vec3 &a = t.vertices[c[0]], &b = t.vertices[c[1]], &d = t.vertices[c[2]];
+      area += 0.5 * (b - a).cross(d - a).norm();
+      volume += a.dot(b.cross(d)) / 6;
+    }
+    return std::pair{area, volume};
+  };
+  auto joined = [](const PreparedInput& in) {
+    for (const std::string& w : in.warnings)
+      if (w.find("2 solids whose surfaces cross or touch joined into one") != std::string::npos)
+        return true;
+    return false;
+  };
+  auto expect = [&](const Vec3& lo, const Vec3& hi, double area, double volume, int euler,
+                    bool united) {
+    const PreparedInput in =
+        prepare_input(boxes({{Vec3(0, 0, 0), Vec3(100, 100, 100)}, {lo, hi}}), std::nullopt, {});
+    const auto [a, v] = measure(in);
+    EXPECT_NEAR(a, area, 1e-6) << lo.transpose();
+    EXPECT_NEAR(v, volume, 1e-4) << lo.transpose();
+    EXPECT_EQ(in.target_summary.euler_characteristic, euler) << lo.transpose();
+    EXPECT_EQ(joined(in), united) << lo.transpose();
+  };
+  expect({100, 0, 0}, {200, 100, 100}, 1e5, 2e6, 2, true);
+  expect({50, 25, 25}, {150, 75, 75}, 7e4, 1.125e6, 2, true);
+  expect({100, 100, 0}, {200, 200, 100}, 1.2e5, 2e6, 4, false);  // two pieces: Euler 2 + 2
 }
 
 // Polygons of more than four corners are cut by ear clipping: a U (concave, 8 corners, area

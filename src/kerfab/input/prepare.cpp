@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "kerfab/adapters/solid_union.h"
 #include "kerfab/core/errors.h"
 
 namespace kerfab {
@@ -728,11 +729,10 @@ struct PieceContact {
   double area = 0;  ///< [mm^2]
   Vec3 at = Vec3::Zero();
 };
-PieceContact touching_pieces(const TriangleMesh& tri, const std::vector<std::vector<int>>& pieces,
-                             double eps) {
-  PieceContact contact;
-  if (pieces.size() < 2) return contact;
-  std::vector<TriangleMesh> piece(pieces.size());  // each on its own
+/// Each of \p pieces (pieces_of) of \p tri as a mesh on its own.
+std::vector<TriangleMesh> piece_meshes(const TriangleMesh& tri,
+                                       const std::vector<std::vector<int>>& pieces) {
+  std::vector<TriangleMesh> piece(pieces.size());
   for (std::size_t p = 0; p < pieces.size(); ++p) {
     std::unordered_map<int, int> index;
     for (int i : pieces[p]) {
@@ -746,10 +746,97 @@ PieceContact touching_pieces(const TriangleMesh& tri, const std::vector<std::vec
       piece[p].triangles.push_back(t);
     }
   }
+  return piece;
+}
+
+/// True when boxes \p a and \p b meet, each grown by \p eps.
+bool boxes_meet(const BoundingBox& a, const BoundingBox& b, double eps) {
+  return (a.min.array() <= b.max.array() + eps).all() &&
+         (b.min.array() <= a.max.array() + eps).all();
+}
+
+double surface_area(const TriangleMesh& mesh) {
+  double area = 0;
+  for (const auto& t : mesh.triangles)
+    area += 0.5 * (mesh.vertices[t[1]] - mesh.vertices[t[0]])
+                      .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]])
+                      .norm();
+  return area;
+}
+
+/// Most pieces among which unite_meeting_solids() looks for solids that meet (a scan in
+/// thousands of crumbs is not a model built of solids) [-].
+constexpr std::size_t kMaxPiecesToUnite = 200;
+
+/// Solids whose surfaces cross or touch, united: the closed pieces of \p tri (\p pieces:
+/// pieces_of) that bound a solid (bounds_solid) and meet another such, grouped, each group
+/// replaced by the surface of its union (solid_union), the other pieces kept as they are.
+/// Nothing where no group is united (a group whose union has no manifold surface, such as two
+/// boxes meeting along an edge only, is kept as it is). \p united: how many pieces went into
+/// unions.
+std::optional<TriangleMesh> unite_meeting_solids(const TriangleMesh& tri,
+                                                 const std::vector<std::vector<int>>& pieces,
+                                                 int& united) {
+  united = 0;
+  if (pieces.size() < 2 || pieces.size() > kMaxPiecesToUnite) return std::nullopt;
+  const std::vector<TriangleMesh> piece = piece_meshes(tri, pieces);
+  std::vector<BoundingBox> box(piece.size());
+  for (std::size_t p = 0; p < piece.size(); ++p) box[p] = bounding_box(piece[p]);
+  std::vector<signed char> solid(piece.size(), -1);  // bounds_solid, once asked
+  auto is_solid = [&](std::size_t p) {
+    if (solid[p] < 0) solid[p] = bounds_solid(piece[p]) ? 1 : 0;
+    return solid[p] == 1;
+  };
+  std::vector<int> group(piece.size());
+  std::iota(group.begin(), group.end(), 0);
+  auto find = [&](int p) {
+    while (group[p] != p) p = group[p] = group[group[p]];
+    return p;
+  };
+  bool any = false;
+  for (std::size_t b = 0; b < piece.size(); ++b)
+    for (std::size_t a = 0; a < b; ++a)
+      if (boxes_meet(box[a], box[b], 0.0) &&
+          find(static_cast<int>(a)) != find(static_cast<int>(b)) && is_solid(a) && is_solid(b) &&
+          surfaces_meet(piece[a], piece[b])) {
+        group[find(static_cast<int>(a))] = find(static_cast<int>(b));
+        any = true;
+      }
+  if (!any) return std::nullopt;
+  std::map<int, std::vector<int>> groups;
+  for (std::size_t p = 0; p < piece.size(); ++p)
+    groups[find(static_cast<int>(p))].push_back(static_cast<int>(p));
+  TriangleMesh out;
+  auto append = [&](const TriangleMesh& m) {
+    const int base = static_cast<int>(out.vertices.size());
+    out.vertices.insert(out.vertices.end(), m.vertices.begin(), m.vertices.end());
+    for (const auto& t : m.triangles)
+      out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  };
+  for (const auto& [root, members] : groups) {
+    std::optional<TriangleMesh> whole = piece[members.front()];
+    for (std::size_t k = 1; k < members.size() && whole; ++k)
+      whole = solid_union(*whole, piece[members[k]]);
+    if (members.size() > 1 && whole) {
+      append(*whole);
+      united += static_cast<int>(members.size());
+    } else {
+      for (int p : members) append(piece[p]);
+    }
+  }
+  if (united == 0) return std::nullopt;
+  return out;
+}
+
+PieceContact touching_pieces(const TriangleMesh& tri, const std::vector<std::vector<int>>& pieces,
+                             double eps) {
+  PieceContact contact;
+  if (pieces.size() < 2) return contact;
+  const std::vector<TriangleMesh> piece = piece_meshes(tri, pieces);
   std::vector<BoundingBox> box(pieces.size());
   for (std::size_t p = 0; p < pieces.size(); ++p) box[p] = bounding_box(piece[p]);
   auto within = [&](const Vec3& lo, const Vec3& hi, const BoundingBox& b) {
-    return (lo.array() <= b.max.array() + eps).all() && (b.min.array() <= hi.array() + eps).all();
+    return boxes_meet(BoundingBox{lo, hi}, b, eps);
   };
   std::vector<std::optional<TargetSurface>> surface(pieces.size());  // built where needed
   for (std::size_t b = 0; b < pieces.size(); ++b)
@@ -907,7 +994,7 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
 
   TriangleMesh tri = triangulate(target);
   std::vector<char> turned_vertex;
-  const std::vector<std::vector<int>> pieces = pieces_of(tri);  // turning keeps them
+  std::vector<std::vector<int>> pieces = pieces_of(tri);  // turning keeps them
   if (const auto [turned, closed] = turn_closed_pieces_out(tri, pieces, turned_vertex);
       turned > 0) {
     // The target as used (model/target.obj) faces the same way: the turned pieces' faces in
@@ -933,6 +1020,31 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
       warnings.push_back(w.str());
     }
   }
+  // Solids whose surfaces cross or touch (a model built of overlapping primitives, or of blocks
+  // glued face to face) are one solid to the maker: where kerfab makes the quads, they mesh
+  // the surface of the union. (Each surface on its own had rows of quads run into the other
+  // solid, and the sheets of the two meet there.)
+  int united = 0;
+  double united_gone = 0;  // [mm^2]
+  if (needs_quads) {
+    if (std::optional<TriangleMesh> whole = unite_meeting_solids(tri, pieces, united)) {
+      const double before = surface_area(tri);
+      united_gone = before - surface_area(*whole);
+      tri = std::move(*whole);
+      pieces = pieces_of(tri);
+      PolyMesh joined;
+      for (const Vec3& v : tri.vertices) joined.add_vertex(PolyMesh::Point(v.x(), v.y(), v.z()));
+      for (const auto& t : tri.triangles)
+        joined.add_face(joined.vertex_handle(t[0]), joined.vertex_handle(t[1]),
+                        joined.vertex_handle(t[2]));
+      target = std::move(joined);
+      warnings.push_back("target: " + std::to_string(united) +
+                         " solids whose surfaces cross or touch joined into one (their union, as "
+                         "a modeller's mesh union makes it): " +
+                         fmt(united_gone) + " of their " + fmt(before) +
+                         " mm^2 of surface lay inside another solid or on two, and is gone");
+    }
+  }
   // Solids glued face to face: refused, naming where (two cubes sharing a face had the quads
   // stage try four lattices and a smoothed copy for 86 s, then fail on folded quads).
   if (const PieceContact c = touching_pieces(tri, pieces, 1e-4 * bounding_box(tri).diagonal());
@@ -947,6 +1059,8 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
                     .scale = scale,
                     .quads_from_target = from_target && !needs_quads,
                     .needs_quads = needs_quads,
+                    .united_solids = united,
+                    .united_surface_gone = united_gone,
                     .warnings = std::move(warnings)};
   out.target_summary = summarize(out.target);
   out.target_diagonal = bounding_box(out.surface.mesh()).diagonal();

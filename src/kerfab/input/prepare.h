@@ -44,6 +44,10 @@ struct PreparedInput {
   MeshSummary quad_summary;
   double quad_max_distance = 0;   ///< max distance of a quad vertex to the target [mm]
   double quad_mean_distance = 0;  ///< mean distance of the quad vertices to the target [mm]
+  /// Solids whose surfaces crossed or touched, joined into their union (0: none) [-], and the
+  /// surface that lay inside another solid or on two, gone with it [mm^2].
+  int united_solids = 0;
+  double united_surface_gone = 0;
   std::vector<std::string> warnings;
 };
 
@@ -61,10 +65,14 @@ struct PreparedInput {
 /// (a dart, as QuadriFlow leaves at sharp edges): its two corners off that diagonal merge at
 /// their midpoint, where that leaves the mesh manifold (at most 64 tries; the rest are counted
 /// in a warning).
+/// Where the quads stage makes the quad mesh (needs_quads), closed pieces of the target that
+/// bound solids whose surfaces cross or touch are replaced by the surface of their union, with
+/// a warning giving the surface gone (solids meeting along an edge or at a point only, whose
+/// union has no manifold surface, are kept as they are).
 /// \throw InvalidInput empty mesh, NaN/inf coordinates, other zero-area faces, non-quad faces
 ///        without subdivision, a model outside the accepted size range without `size`, pieces
-///        of the target lying on one another (solids touching face to face: the area and where
-///        named), or a quad mesh far from the target (distance named).
+///        of the target lying on one another that were not united (solids touching face to
+///        face: the area and where named), or a quad mesh far from the target (distance named).
 PreparedInput prepare_input(const PolyMesh& target, const std::optional<PolyMesh>& quad,
                             const InputOptions& options);
 

@@ -55,6 +55,8 @@ json input_section(const RunInputs& inputs, const std::optional<LoadedInputs>& l
     j["quad_mesh"] = summary_json(in.quad_summary);
     j["quad_max_distance_mm"] = in.quad_max_distance;
     j["quad_mean_distance_mm"] = in.quad_mean_distance;
+    j["united_solids"] = in.united_solids;
+    j["united_surface_gone_mm2"] = in.united_surface_gone;
   }
   return j;
 }

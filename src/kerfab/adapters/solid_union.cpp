@@ -1,0 +1,74 @@
+#include "kerfab/adapters/solid_union.h"
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/intersection.h>
+#include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Surface_mesh.h>
+
+namespace kerfab {
+namespace {
+
+// Exact constructions: the corefinement computes the crossing points of the two surfaces, and
+// with rounded ones its result may cross itself.
+using Kernel = CGAL::Exact_predicates_exact_constructions_kernel;
+using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
+namespace PMP = CGAL::Polygon_mesh_processing;
+
+/// \p mesh as a CGAL surface; nothing where a triangle would make it non-manifold.
+std::optional<SurfaceMesh> surface_of(const TriangleMesh& mesh) {
+  SurfaceMesh sm;
+  std::vector<SurfaceMesh::Vertex_index> vh;
+  vh.reserve(mesh.vertices.size());
+  for (const Vec3& p : mesh.vertices) vh.push_back(sm.add_vertex({p.x(), p.y(), p.z()}));
+  for (const auto& t : mesh.triangles)
+    if (sm.add_face(vh[t[0]], vh[t[1]], vh[t[2]]) == SurfaceMesh::null_face()) return std::nullopt;
+  return sm;
+}
+
+}  // namespace
+
+bool bounds_solid(const TriangleMesh& solid) {
+  const std::optional<SurfaceMesh> sm = surface_of(solid);
+  if (!sm || sm->is_empty() || !CGAL::is_closed(*sm)) return false;
+  return !PMP::does_self_intersect(*sm) && PMP::does_bound_a_volume(*sm) &&
+         PMP::is_outward_oriented(*sm);
+}
+
+bool surfaces_meet(const TriangleMesh& a, const TriangleMesh& b) {
+  const std::optional<SurfaceMesh> sa = surface_of(a), sb = surface_of(b);
+  return sa && sb && PMP::do_intersect(*sa, *sb);
+}
+
+std::optional<TriangleMesh> solid_union(const TriangleMesh& a, const TriangleMesh& b) {
+  std::optional<SurfaceMesh> sa = surface_of(a), sb = surface_of(b);
+  if (!sa || !sb) return std::nullopt;
+  SurfaceMesh united;
+  try {
+    if (!PMP::corefine_and_compute_union(*sa, *sb, united)) return std::nullopt;
+  } catch (const std::exception&) {  // CGAL's precondition failures are exceptions
+    return std::nullopt;
+  }
+  TriangleMesh out;
+  std::vector<int> index(united.number_of_vertices() + united.number_of_removed_vertices(), -1);
+  for (auto v : united.vertices()) {
+    const auto& p = united.point(v);
+    index[v.idx()] = static_cast<int>(out.vertices.size());
+    out.vertices.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
+                              CGAL::to_double(p.z()));
+  }
+  for (auto f : united.faces()) {
+    std::array<int, 3> t{};
+    int k = 0;
+    for (auto v : united.vertices_around_face(united.halfedge(f))) {
+      if (k == 3) return std::nullopt;  // the union's faces are triangles
+      t[k++] = index[v.idx()];
+    }
+    if (k != 3) return std::nullopt;
+    out.triangles.push_back(t);
+  }
+  return out;
+}
+
+}  // namespace kerfab

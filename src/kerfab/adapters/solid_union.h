@@ -1,0 +1,25 @@
+#pragma once
+/// \file The union of solids given by their closed triangle surfaces (CGAL Polygon Mesh
+/// Processing's corefinement, exact constructions, behind this interface; no CGAL type leaks
+/// out).
+#include <optional>
+#include <vector>
+
+#include "kerfab/core/mesh.h"
+
+namespace kerfab {
+
+/// True when \p solid is a closed, manifold, outward-facing triangle surface that does not cross
+/// itself: a surface CGAL can unite with another.
+bool bounds_solid(const TriangleMesh& solid);
+
+/// True when the surfaces of \p a and \p b cross or touch (share a point), triangles tested
+/// exactly.
+bool surfaces_meet(const TriangleMesh& a, const TriangleMesh& b);
+
+/// The surface of the union of the solids \p a and \p b (each bounds_solid()), or nothing
+/// where that union has no manifold surface (two solids meeting along an edge or at a point
+/// only) or CGAL cannot make it.
+std::optional<TriangleMesh> solid_union(const TriangleMesh& a, const TriangleMesh& b);
+
+}  // namespace kerfab
