@@ -14,6 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "kerfab/core/geometry2d.h"
+
 namespace kerfab {
 namespace {
 
@@ -223,6 +225,63 @@ TEST(PolygonOps, GridCellsGiveTheExactAreaAndStrictlySimpleRings) {
     EXPECT_NEAR(signed_total(removed), 144 - kept, 1e-9) << "round " << round;
     expect_strictly_simple(removed);
   }
+}
+
+// holds_point_deeper_than (core/geometry2d.h) spares the resolve stage an inward offset of
+// every part to see that it is wide enough: where it finds a point farther than d from every
+// edge, the offset by d / 2 is not empty. Exact cases: a 12 x 100 mm strip holds points 5.9 mm
+// deep and none 6 mm deep; half an annulus 12 mm wide (radius 100 to 112, its centroid off the
+// part) holds one 5 mm deep. Then the promise itself against Clipper's offset, on random toothed
+// strips of 2 to 16 mm (seeded), offsets of up to 5 mm: never true where the offset is empty,
+// always true where the strip is wider than three times the depth beyond its slots.
+TEST(PolygonOps, APointDeeperThanTwiceTheOffsetMeansTheOffsetIsNotEmpty) {
+  EXPECT_TRUE(holds_point_deeper_than(rect(0, 0, 100, 12), 5.9));
+  EXPECT_FALSE(holds_point_deeper_than(rect(0, 0, 100, 12), 6.0));
+  Polygon2 arc;
+  for (int k = 0; k <= 60; ++k) {
+    const double a = std::numbers::pi * k / 60;
+    arc.emplace_back(112 * std::cos(a), 112 * std::sin(a));
+  }
+  for (int k = 60; k >= 0; --k) {
+    const double a = std::numbers::pi * k / 60;
+    arc.emplace_back(100 * std::cos(a), 100 * std::sin(a));
+  }
+  Vec2 centroid = Vec2::Zero();
+  for (const Vec2& v : arc) centroid += v / static_cast<double>(arc.size());
+  EXPECT_FALSE(inside(centroid, arc));
+  EXPECT_TRUE(holds_point_deeper_than(arc, 5.0));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> width(2, 16), tooth(-1.5, 1.5), d(0.5, 10);
+  int empty = 0, wide = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    // A strip 60 mm long with teeth and slots along both long sides.
+    const double w = width(rng);
+    Polygon2 strip;
+    for (int k = 0; k <= 20; ++k) {
+      const double e = k % 2 ? tooth(rng) : 0.0;
+      strip.emplace_back(3.0 * k, -e);
+      strip.emplace_back(3.0 * k + 3.0, -e);
+    }
+    for (int k = 20; k >= 0; --k) {
+      const double e = k % 2 ? tooth(rng) : 0.0;
+      strip.emplace_back(3.0 * k + 3.0, w + e);
+      strip.emplace_back(3.0 * k, w + e);
+    }
+    const double depth = d(rng);
+    const bool offset = !polygon_offset({strip}, -0.5 * depth).empty();
+    const bool found = holds_point_deeper_than(strip, depth + 0.01);
+    if (!offset) ++empty;
+    if (found) {
+      EXPECT_TRUE(offset) << "width " << w << ", depth " << depth;
+    }
+    // Wider than three times the depth beyond its slots: its middle line is found.
+    if (w - 3 > 3 * depth) {
+      ++wide;
+      EXPECT_TRUE(found) << "width " << w << ", depth " << depth;
+    }
+  }
+  EXPECT_GT(empty, 20);  // the test can fail on both sides
+  EXPECT_GT(wide, 50);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <vector>
 
 namespace kerfab {
 
@@ -132,6 +134,31 @@ Vec2 StripFrame::along(double at) const {
   const int f = face_at(at);
   const Vec2 d = mid(std::min(f + 1, n)) - mid(f);
   return d.norm() > 0 ? Vec2(d.normalized()) : Vec2(1, 0);
+}
+
+bool holds_point_deeper_than(const Polygon2& outline, double depth) {
+  const std::size_t n = outline.size();
+  if (n < 3) return false;
+  const double turn = polygon_area(outline) > 0 ? 1.0 : -1.0;  // left of the edges: inside
+  std::vector<std::size_t> edges(n);
+  std::iota(edges.begin(), edges.end(), std::size_t{0});
+  auto length = [&](std::size_t i) { return (outline[(i + 1) % n] - outline[i]).squaredNorm(); };
+  const std::size_t tried = std::min<std::size_t>(n, 8);
+  std::partial_sort(edges.begin(), edges.begin() + static_cast<std::ptrdiff_t>(tried), edges.end(),
+                    [&](std::size_t a, std::size_t b) { return length(a) > length(b); });
+  for (std::size_t k = 0; k < tried; ++k) {
+    const Vec2 a = outline[edges[k]], b = outline[(edges[k] + 1) % n];
+    if (!((b - a).norm() > 0)) continue;
+    const Vec2 along = (b - a).normalized(), in = turn * Vec2(-along.y(), along.x());
+    for (double t : {1.5, 2.0, 3.0, 5.0}) {
+      const Vec2 p = 0.5 * (a + b) + t * depth * in;
+      bool deep = inside(p, outline);
+      for (std::size_t i = 0; i < n && deep; ++i)
+        deep = distance_to_segment(p, outline[i], outline[(i + 1) % n]) > depth;
+      if (deep) return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace kerfab

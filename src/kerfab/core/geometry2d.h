@@ -34,6 +34,14 @@ double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b);
 /// Distance from \p p to the boundary of \p polygon [mm].
 double distance_to_boundary(const Vec2& p, const Polygon2& polygon);
 
+/// True when \p outline holds a point farther than \p depth [mm] from each of its edges:
+/// looked for at 1.5, 2, 3 and 5 times \p depth in from the middles of its eight longest edges
+/// (a strip's middle line is found at once). Sufficient, not necessary: false says nothing. Where
+/// true, an offset of the outline inward by up to half \p depth is not empty, whatever its
+/// joins (a mitre reaches at most twice the offset from the outline, so the offset path never
+/// passes such a point, which keeps its winding number): the cheap half of a width test.
+bool holds_point_deeper_than(const Polygon2& outline, double depth);
+
 /// The polygon of largest positive area among \p polygons (holes, clockwise, never), or an
 /// empty polygon if none has a positive area.
 Polygon2 largest_polygon(const std::vector<Polygon2>& polygons);

@@ -84,6 +84,10 @@ bool bent_facet(const PartsBuild& b, int p, double max_angle_error) {
   return b.flat.strips.patches[p].flat && distorted(b, p, max_angle_error);
 }
 
+/// Beyond twice the offset, the margin small_parts() keeps when it asks holds_point_deeper_than()
+/// for the offset's rounding to Clipper's grid (10 nm) [mm].
+constexpr double kDeepMargin = 0.01;
+
 /// Parts a maker cannot handle: less than \p min_area as cut, nowhere as wide as \p
 /// min_width (the outline shrunk by half of it is empty), fallen apart when cut, or one that
 /// flattens inverted, crossing itself or with a corner off by the flattening's limit or more: a
@@ -98,7 +102,8 @@ std::vector<int> small_parts(const PartsBuild& b, double min_area, double min_wi
     const Polygon2& outline = b.joints.parts[p].designed;
     if (distorted(b, static_cast<int>(p), max_angle_error) || b.joints.parts[p].repaired ||
         outline.size() < 3 || std::abs(polygon_area(outline)) < min_area ||
-        polygon_offset({outline}, -0.5 * min_width).empty())
+        (!holds_point_deeper_than(outline, min_width + kDeepMargin) &&
+         polygon_offset({outline}, -0.5 * min_width).empty()))
       out.push_back(static_cast<int>(p));
   }
   return out;
