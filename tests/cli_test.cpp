@@ -433,8 +433,7 @@ TEST(Cli, TwoCubesGluedFaceToFaceAreCutAsTheSixPlatesOfOneBox) {
   const CliRun r =
       run_cli("run --target " + target.string() + " --size 200 --out " + out.string(), scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("target: 2 solids whose surfaces cross or touch joined into one"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("target: 2 solids that overlap or touch joined into one"), std::string::npos)
       << r.err;
   const auto report = read_report(out);
   EXPECT_EQ(report["input"]["united_solids"].get<int>(), 2);

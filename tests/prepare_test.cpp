@@ -395,7 +395,8 @@ TEST(Prepare, SolidsGluedFaceToFaceAreRefusedNamingWhere) {
 // against the exact area and volume. Two 100 mm cubes glued face to face: a 200 x 100 x 100 box
 // (100000 mm^2, 2e6 mm^3, where the two surfaces had 120000 mm^2); a 100 mm cube with a 50 mm
 // square bar pushed 50 mm into it: 60000 - 2500 + 5 * 2500 = 70000 mm^2 and 1e6 + 50^3 mm^3.
-// Cubes meeting along an edge only have no manifold union and stay two pieces.
+// A 20 mm cube hidden inside the 100 mm one is gone with its surface. Cubes meeting along an
+// edge only have no manifold union and stay two pieces.
 TEST(Prepare, SolidsThatMeetAreJoinedIntoTheirUnion) {
   auto boxes = [](const std::vector<std::pair<Vec3, Vec3>>& corners) {
     PolyMesh m;
@@ -424,7 +425,7 @@ TEST(Prepare, SolidsThatMeetAreJoinedIntoTheirUnion) {
   };
   auto joined = [](const PreparedInput& in) {
     for (const std::string& w : in.warnings)
-      if (w.find("2 solids whose surfaces cross or touch joined into one") != std::string::npos)
+      if (w.find("2 solids that overlap or touch joined into one") != std::string::npos)
         return true;
     return false;
   };
@@ -441,6 +442,44 @@ TEST(Prepare, SolidsThatMeetAreJoinedIntoTheirUnion) {
   expect({100, 0, 0}, {200, 100, 100}, 1e5, 2e6, 2, true);
   expect({50, 25, 25}, {150, 75, 75}, 7e4, 1.125e6, 2, true);
   expect({100, 100, 0}, {200, 200, 100}, 1.2e5, 2e6, 4, false);  // two pieces: Euler 2 + 2
+  expect({40, 40, 40}, {60, 60, 60}, 6e4, 1e6, 2, true);         // a 20 mm cube hidden inside
+}
+
+// A hollowed model (as for 3D printing: a closed inner wall facing inwards) is cut as its outer
+// shell: the cavity, which turn_closed_pieces_out leaves facing inwards, is left out with a
+// warning giving its area, where kerfab makes the quads. A 100 mm cube hollowed to a 60 mm cavity:
+// 60000 mm^2 of surface, 1e6 mm^3 of volume, one piece (Euler characteristic 2), the cavity's
+// 21600 mm^2 named.
+TEST(Prepare, AHollowModelsInnerWallIsLeftOut) {
+  PolyMesh m;
+  for (const double half : {50.0, 30.0}) {
+    const PolyMesh box =
+        test::cube_grid_mesh(2, [&](const Vec3& p) { return Vec3(half * p + Vec3::Constant(50)); });
+    TriangleMesh tri = triangulate(box);
+    if (half < 50)
+      for (auto& t : tri.triangles) std::swap(t[1], t[2]);  // the cavity faces inwards
+    const int offset = static_cast<int>(m.n_vertices());
+    for (const Vec3& v : tri.vertices) m.add_vertex(PolyMesh::Point(v.x(), v.y(), v.z()));
+    for (const auto& t : tri.triangles)
+      m.add_face(m.vertex_handle(offset + t[0]), m.vertex_handle(offset + t[1]),
+                 m.vertex_handle(offset + t[2]));
+  }
+  const PreparedInput in = prepare_input(m, std::nullopt, {});
+  double area = 0, volume = 0;
+  const TriangleMesh& t = in.surface.mesh();
+  for (const auto& c : t.triangles) {
+    const Vec3 &a = t.vertices[c[0]], &b = t.vertices[c[1]], &d = t.vertices[c[2]];
+    area += 0.5 * (b - a).cross(d - a).norm();
+    volume += a.dot(b.cross(d)) / 6;
+  }
+  EXPECT_NEAR(area, 6e4, 1e-6);
+  EXPECT_NEAR(volume, 1e6, 1e-4);
+  EXPECT_EQ(in.target_summary.euler_characteristic, 2);
+  bool named = false;
+  for (const std::string& w : in.warnings)
+    named = named || (w.find("1 inner surface (a cavity") != std::string::npos &&
+                      w.find("2.16e+04 mm^2") != std::string::npos);
+  EXPECT_TRUE(named);
 }
 
 // Polygons of more than four corners are cut by ear clipping: a U (concave, 8 corners, area

@@ -36,9 +36,11 @@ bool bounds_solid(const TriangleMesh& solid) {
          PMP::is_outward_oriented(*sm);
 }
 
-bool surfaces_meet(const TriangleMesh& a, const TriangleMesh& b) {
+bool solids_meet(const TriangleMesh& a, const TriangleMesh& b) {
   const std::optional<SurfaceMesh> sa = surface_of(a), sb = surface_of(b);
-  return sa && sb && PMP::do_intersect(*sa, *sb);
+  if (!sa || !sb || !CGAL::is_closed(*sa) || !CGAL::is_closed(*sb)) return false;
+  const auto inside_too = PMP::parameters::do_overlap_test_of_bounded_sides(true);
+  return PMP::do_intersect(*sa, *sb, inside_too, inside_too);
 }
 
 std::optional<TriangleMesh> solid_union(const TriangleMesh& a, const TriangleMesh& b) {

@@ -13,9 +13,9 @@ namespace kerfab {
 /// itself: a surface CGAL can unite with another.
 bool bounds_solid(const TriangleMesh& solid);
 
-/// True when the surfaces of \p a and \p b cross or touch (share a point), triangles tested
-/// exactly.
-bool surfaces_meet(const TriangleMesh& a, const TriangleMesh& b);
+/// True when the solids bounded by the closed surfaces \p a and \p b meet: their surfaces
+/// cross or touch (share a point), or one lies inside the other (tested exactly).
+bool solids_meet(const TriangleMesh& a, const TriangleMesh& b);
 
 /// The surface of the union of the solids \p a and \p b (each bounds_solid()), or nothing
 /// where that union has no manifold surface (two solids meeting along an edge or at a point

@@ -764,12 +764,62 @@ double surface_area(const TriangleMesh& mesh) {
   return area;
 }
 
+/// \p tri without its cavities: the closed pieces (\p pieces: pieces_of) that face inwards,
+/// which turn_closed_pieces_out() leaves so only inside another closed piece (a hollowed model's
+/// inner wall). Nothing where there are none; \p dropped: how many, \p area: their surface
+/// [mm^2].
+std::optional<TriangleMesh> without_cavities(const TriangleMesh& tri,
+                                             const std::vector<std::vector<int>>& pieces,
+                                             int& dropped, double& area) {
+  dropped = 0;
+  area = 0;
+  if (pieces.size() < 2) return std::nullopt;
+  std::unordered_map<std::uint64_t, int> edges;
+  for (const auto& t : tri.triangles)
+    for (int k = 0; k < 3; ++k) ++edges[undirected_edge_key(t[k], t[(k + 1) % 3])];
+  std::vector<char> drop(tri.triangles.size(), 0);
+  for (const std::vector<int>& piece : pieces) {
+    double volume = 0, piece_area = 0;
+    bool closed = true;
+    for (int i : piece) {
+      const auto& t = tri.triangles[i];
+      const Vec3 &a = tri.vertices[t[0]], &b = tri.vertices[t[1]], &c = tri.vertices[t[2]];
+      volume += a.dot(b.cross(c)) / 6.0;
+      piece_area += 0.5 * (b - a).cross(c - a).norm();
+      for (int k = 0; k < 3; ++k)
+        closed = closed && edges[undirected_edge_key(t[k], t[(k + 1) % 3])] == 2;
+    }
+    if (!closed || !(volume < 0)) continue;
+    for (int i : piece) drop[i] = 1;
+    ++dropped;
+    area += piece_area;
+  }
+  if (dropped == 0 || dropped == static_cast<int>(pieces.size())) return std::nullopt;
+  TriangleMesh out;
+  std::vector<int> index(tri.vertices.size(), -1);
+  for (std::size_t i = 0; i < tri.triangles.size(); ++i) {
+    if (drop[i]) continue;
+    std::array<int, 3> t{};
+    for (int k = 0; k < 3; ++k) {
+      int& v = index[tri.triangles[i][k]];
+      if (v < 0) {
+        v = static_cast<int>(out.vertices.size());
+        out.vertices.push_back(tri.vertices[tri.triangles[i][k]]);
+      }
+      t[k] = v;
+    }
+    out.triangles.push_back(t);
+  }
+  return out;
+}
+
 /// Most pieces among which unite_meeting_solids() looks for solids that meet (a scan in
 /// thousands of crumbs is not a model built of solids) [-].
 constexpr std::size_t kMaxPiecesToUnite = 200;
 
-/// Solids whose surfaces cross or touch, united: the closed pieces of \p tri (\p pieces:
-/// pieces_of) that bound a solid (bounds_solid) and meet another such, grouped, each group
+/// Solids that overlap or touch, united: the closed pieces of \p tri (\p pieces:
+/// pieces_of) that bound a solid (bounds_solid) and meet another such (solids_meet: their
+/// surfaces cross or touch, or one lies inside the other), grouped, each group
 /// replaced by the surface of its union (solid_union), the other pieces kept as they are.
 /// Nothing where no group is united (a group whose union has no manifold surface, such as two
 /// boxes meeting along an edge only, is kept as it is). \p united: how many pieces went into
@@ -798,7 +848,7 @@ std::optional<TriangleMesh> unite_meeting_solids(const TriangleMesh& tri,
     for (std::size_t a = 0; a < b; ++a)
       if (boxes_meet(box[a], box[b], 0.0) &&
           find(static_cast<int>(a)) != find(static_cast<int>(b)) && is_solid(a) && is_solid(b) &&
-          surfaces_meet(piece[a], piece[b])) {
+          solids_meet(piece[a], piece[b])) {
         group[find(static_cast<int>(a))] = find(static_cast<int>(b));
         any = true;
       }
@@ -1020,30 +1070,45 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
       warnings.push_back(w.str());
     }
   }
-  // Solids whose surfaces cross or touch (a model built of overlapping primitives, or of blocks
-  // glued face to face) are one solid to the maker: where kerfab makes the quads, they mesh
-  // the surface of the union. (Each surface on its own had rows of quads run into the other
-  // solid, and the sheets of the two meet there.)
-  int united = 0;
-  double united_gone = 0;  // [mm^2]
+  // Solids that overlap or touch (a model built of overlapping primitives, of blocks glued face
+  // to face, or with a part hidden inside another) are one solid to the maker: where kerfab makes
+  // the quads, they mesh the surface of the union. (Each surface on its own had rows of quads run
+  // into the other solid, and the sheets of the two meet there.)
+  int united = 0, cavities = 0;
+  double united_gone = 0, cavity_area = 0;  // [mm^2]
+  // A hollowed model's inner wall (a cavity) is no surface a kerfed shell can have: the shell is
+  // one sheet thick. Where kerfab makes the quads, it meshes the outer surface alone (a hollow
+  // sphere with both walls was cut as two shells through one another: 23 parts inside out).
+  if (needs_quads) {
+    if (std::optional<TriangleMesh> outer = without_cavities(tri, pieces, cavities, cavity_area)) {
+      tri = std::move(*outer);
+      pieces = pieces_of(tri);
+      warnings.push_back("target: " + std::to_string(cavities) + " inner surface" +
+                         (cavities > 1 ? "s" : "") + " (a cavity, facing inwards inside a " +
+                         "closed piece: a hollowed model's inner wall, " + fmt(cavity_area) +
+                         " mm^2) left out: a kerfed shell is one surface, the outer one");
+    }
+  }
   if (needs_quads) {
     if (std::optional<TriangleMesh> whole = unite_meeting_solids(tri, pieces, united)) {
       const double before = surface_area(tri);
       united_gone = before - surface_area(*whole);
       tri = std::move(*whole);
       pieces = pieces_of(tri);
-      PolyMesh joined;
-      for (const Vec3& v : tri.vertices) joined.add_vertex(PolyMesh::Point(v.x(), v.y(), v.z()));
-      for (const auto& t : tri.triangles)
-        joined.add_face(joined.vertex_handle(t[0]), joined.vertex_handle(t[1]),
-                        joined.vertex_handle(t[2]));
-      target = std::move(joined);
       warnings.push_back("target: " + std::to_string(united) +
-                         " solids whose surfaces cross or touch joined into one (their union, as "
+                         " solids that overlap or touch joined into one (their union, as "
                          "a modeller's mesh union makes it): " +
                          fmt(united_gone) + " of their " + fmt(before) +
                          " mm^2 of surface lay inside another solid or on two, and is gone");
     }
+  }
+  if (cavities > 0 || united > 0) {  // the target as used (model/target.obj) is the new surface
+    PolyMesh surface;
+    for (const Vec3& v : tri.vertices) surface.add_vertex(PolyMesh::Point(v.x(), v.y(), v.z()));
+    for (const auto& t : tri.triangles)
+      surface.add_face(surface.vertex_handle(t[0]), surface.vertex_handle(t[1]),
+                       surface.vertex_handle(t[2]));
+    target = std::move(surface);
   }
   // Solids glued face to face: refused, naming where (two cubes sharing a face had the quads
   // stage try four lattices and a smoothed copy for 86 s, then fail on folded quads).
@@ -1061,6 +1126,8 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
                     .needs_quads = needs_quads,
                     .united_solids = united,
                     .united_surface_gone = united_gone,
+                    .cavities_left_out = cavities,
+                    .cavity_area = cavity_area,
                     .warnings = std::move(warnings)};
   out.target_summary = summarize(out.target);
   out.target_diagonal = bounding_box(out.surface.mesh()).diagonal();

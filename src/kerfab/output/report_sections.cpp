@@ -57,6 +57,8 @@ json input_section(const RunInputs& inputs, const std::optional<LoadedInputs>& l
     j["quad_mean_distance_mm"] = in.quad_mean_distance;
     j["united_solids"] = in.united_solids;
     j["united_surface_gone_mm2"] = in.united_surface_gone;
+    j["cavities_left_out"] = in.cavities_left_out;
+    j["cavity_area_mm2"] = in.cavity_area;
   }
   return j;
 }
