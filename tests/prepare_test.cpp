@@ -352,13 +352,14 @@ TEST(Prepare, OnlyTheClosedPiecesFacingInwardAreTurned) {
   EXPECT_LT(hollow.surface.signed_distance({0, 0, 75}), -24.0);  // in the wall
 }
 
-// Two closed boxes (100 mm cubes) glued face to face are two pieces whose surfaces share the
-// face between them: refused at once, with the area they share and where, and what to do.
-// Before, the quads stage tried four lattices and a smoothed copy for 86 s and then failed
-// on folded quads, naming neither the cause nor the fix. Boxes 1 mm apart, or meeting along
-// an edge only, are not touching face to face and are prepared as before.
-// Where the target is itself the quad mesh (no union is meshed anew), solids glued face to
-// face are refused.
+// Two closed boxes of quads (100 mm cubes) glued face to face are two pieces whose surfaces
+// share the face between them. Given as the target alone, they are joined into their union,
+// whose surface the quads stage meshes anew (the boxes' own quads follow both surfaces). With
+// a quad mesh of the same boxes given too, which kerfab must use as it is, they are refused at
+// once, with the area they share and where, and what to do. (Before, the quads stage tried
+// four lattices and a smoothed copy for 86 s and then failed on folded quads, naming neither
+// the cause nor the fix.) Boxes 1 mm apart, or meeting along an edge only, are not touching
+// face to face and are prepared as before, their quads used.
 TEST(Prepare, SolidsGluedFaceToFaceAreRefusedNamingWhere) {
   auto two_boxes = [](const Vec3& shift) {
     PolyMesh m;
@@ -375,9 +376,16 @@ TEST(Prepare, SolidsGluedFaceToFaceAreRefusedNamingWhere) {
     }
     return m;
   };
+  {
+    const PreparedInput in = prepare_input(two_boxes({100, 0, 0}), std::nullopt, {});
+    EXPECT_TRUE(in.needs_quads);
+    EXPECT_EQ(in.united_solids, 2);
+    EXPECT_NEAR(in.united_surface_gone, 2e4, 1e-6);
+    EXPECT_EQ(in.target_summary.euler_characteristic, 2);
+  }
   try {
-    prepare_input(two_boxes({100, 0, 0}), std::nullopt, {});
-    ADD_FAILURE() << "two boxes glued face to face were prepared";
+    prepare_input(two_boxes({100, 0, 0}), two_boxes({100, 0, 0}), {});
+    ADD_FAILURE() << "two boxes glued face to face were prepared with their quads";
   } catch (const InvalidInput& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("lie on one another over 1e+04 mm^2"), std::string::npos) << what;
@@ -387,6 +395,7 @@ TEST(Prepare, SolidsGluedFaceToFaceAreRefusedNamingWhere) {
   for (const Vec3& shift : {Vec3(101, 0, 0), Vec3(100, 100, 0)}) {
     const PreparedInput in = prepare_input(two_boxes(shift), std::nullopt, {});
     EXPECT_EQ(in.target_summary.faces, 2 * 24) << shift.transpose();
+    EXPECT_FALSE(in.needs_quads) << shift.transpose();
   }
 }
 

@@ -1023,7 +1023,7 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
   // A target that is not all quads, without a quad mesh: the quads stage makes one
   // (make_quad_mesh) on its triangles. One of triangles and quads or n-gons is taken as the
   // surface it stands for, not as a cage to smooth, unless --subdivide asks for that.
-  const bool needs_quads = from_target && !is_all_quads(target_in) && options.subdivide == 0;
+  bool needs_quads = from_target && !is_all_quads(target_in) && options.subdivide == 0;
   // (Not where the zip alone made it so: a box of quads cut differently on each side.)
   if (needs_quads && !is_all_triangles(target_in) &&
       !(zipped_target && (is_all_quads(target_given) || is_all_triangles(target_given))))
@@ -1071,15 +1071,16 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
     }
   }
   // Solids that overlap or touch (a model built of overlapping primitives, of blocks glued face
-  // to face, or with a part hidden inside another) are one solid to the maker: where kerfab makes
-  // the quads, they mesh the surface of the union. (Each surface on its own had rows of quads run
-  // into the other solid, and the sheets of the two meet there.)
+  // to face, or with a part hidden inside another) are one solid to the maker: kerfab meshes the
+  // surface of their union. (Each surface on its own had rows of quads run into the other
+  // solid, and the sheets of the two meet there.) A hollowed model's inner wall (a cavity) is no
+  // surface a kerfed shell can have, the shell being one sheet thick: the outer surface alone is
+  // meshed (a hollow sphere with both walls was cut as two shells through one another: 23 parts
+  // inside out). Both where kerfab makes the quads, or where the target is its own quad mesh
+  // (whose quads then cannot be used as they are: it is meshed anew).
   int united = 0, cavities = 0;
   double united_gone = 0, cavity_area = 0;  // [mm^2]
-  // A hollowed model's inner wall (a cavity) is no surface a kerfed shell can have: the shell is
-  // one sheet thick. Where kerfab makes the quads, it meshes the outer surface alone (a hollow
-  // sphere with both walls was cut as two shells through one another: 23 parts inside out).
-  if (needs_quads) {
+  if (from_target && options.subdivide == 0) {
     if (std::optional<TriangleMesh> outer = without_cavities(tri, pieces, cavities, cavity_area)) {
       tri = std::move(*outer);
       pieces = pieces_of(tri);
@@ -1088,8 +1089,6 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
                          "closed piece: a hollowed model's inner wall, " + fmt(cavity_area) +
                          " mm^2) left out: a kerfed shell is one surface, the outer one");
     }
-  }
-  if (needs_quads) {
     if (std::optional<TriangleMesh> whole = unite_meeting_solids(tri, pieces, united)) {
       const double before = surface_area(tri);
       united_gone = before - surface_area(*whole);
@@ -1100,6 +1099,13 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
                          "a modeller's mesh union makes it): " +
                          fmt(united_gone) + " of their " + fmt(before) +
                          " mm^2 of surface lay inside another solid or on two, and is gone");
+    }
+    if ((cavities > 0 || united > 0) && !needs_quads) {
+      needs_quads = true;
+      quads = PolyMesh();
+      warnings.push_back(
+          "target: its quads are not used as they stand (they follow the surfaces just mended); "
+          "the quads stage meshes the mended surface");
     }
   }
   if (cavities > 0 || united > 0) {  // the target as used (model/target.obj) is the new surface

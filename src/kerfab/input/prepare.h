@@ -69,11 +69,12 @@ struct PreparedInput {
 /// (a dart, as QuadriFlow leaves at sharp edges): its two corners off that diagonal merge at
 /// their midpoint, where that leaves the mesh manifold (at most 64 tries; the rest are counted
 /// in a warning).
-/// Where the quads stage makes the quad mesh (needs_quads), the target's cavities are left out
-/// (cavities_left_out), and closed pieces of it that bound solids that overlap or touch (their
-/// surfaces cross or touch, or one lies inside another) are replaced by the surface of their
-/// union (united_solids), each with a warning giving the surface gone (solids meeting along an
-/// edge or at a point only, whose union has no manifold surface, are kept as they are).
+/// Without \p quad and subdivision, the target's cavities are left out (cavities_left_out), and
+/// closed pieces of it that bound solids that overlap or touch (their surfaces cross or touch,
+/// or one lies inside another) are replaced by the surface of their union (united_solids), each
+/// with a warning giving the surface gone (solids meeting along an edge or at a point only,
+/// whose union has no manifold surface, are kept as they are); a target of quads so mended is
+/// then meshed anew (needs_quads), with a warning.
 /// \throw InvalidInput empty mesh, NaN/inf coordinates, other zero-area faces, non-quad faces
 ///        without subdivision, a model outside the accepted size range without `size`, pieces
 ///        of the target lying on one another that were not united (solids touching face to
