@@ -7,6 +7,8 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <exception>
+
 namespace kerfab {
 namespace {
 
@@ -15,6 +17,9 @@ namespace {
 using Kernel = CGAL::Exact_predicates_exact_constructions_kernel;
 using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 namespace PMP = CGAL::Polygon_mesh_processing;
+
+/// Twice the area under which a triangle of the union counts as none [mm^2].
+constexpr double kNoArea = 1e-12;
 
 /// \p mesh as a CGAL surface; nothing where a triangle would make it non-manifold.
 std::optional<SurfaceMesh> surface_of(const TriangleMesh& mesh) {
@@ -32,15 +37,23 @@ std::optional<SurfaceMesh> surface_of(const TriangleMesh& mesh) {
 bool bounds_solid(const TriangleMesh& solid) {
   const std::optional<SurfaceMesh> sm = surface_of(solid);
   if (!sm || sm->is_empty() || !CGAL::is_closed(*sm)) return false;
-  return !PMP::does_self_intersect(*sm) && PMP::does_bound_a_volume(*sm) &&
-         PMP::is_outward_oriented(*sm);
+  try {
+    return !PMP::does_self_intersect(*sm) && PMP::does_bound_a_volume(*sm) &&
+           PMP::is_outward_oriented(*sm);
+  } catch (const std::exception&) {  // a precondition CGAL found unmet: no solid to unite
+    return false;
+  }
 }
 
 bool solids_meet(const TriangleMesh& a, const TriangleMesh& b) {
   const std::optional<SurfaceMesh> sa = surface_of(a), sb = surface_of(b);
   if (!sa || !sb || !CGAL::is_closed(*sa) || !CGAL::is_closed(*sb)) return false;
   const auto inside_too = PMP::parameters::do_overlap_test_of_bounded_sides(true);
-  return PMP::do_intersect(*sa, *sb, inside_too, inside_too);
+  try {
+    return PMP::do_intersect(*sa, *sb, inside_too, inside_too);
+  } catch (const std::exception&) {
+    return false;
+  }
 }
 
 std::optional<TriangleMesh> solid_union(const TriangleMesh& a, const TriangleMesh& b) {
@@ -68,6 +81,10 @@ std::optional<TriangleMesh> solid_union(const TriangleMesh& a, const TriangleMes
       t[k++] = index[v.idx()];
     }
     if (k != 3) return std::nullopt;
+    // A crossing point rounded to doubles may leave a sliver of no area, which no closest-point
+    // query takes: no union then (the solids are kept as they were).
+    const Vec3 &p0 = out.vertices[t[0]], &p1 = out.vertices[t[1]], &p2 = out.vertices[t[2]];
+    if (!((p1 - p0).cross(p2 - p0).norm() > kNoArea)) return std::nullopt;
     out.triangles.push_back(t);
   }
   return out;

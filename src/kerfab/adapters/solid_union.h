@@ -19,7 +19,7 @@ bool solids_meet(const TriangleMesh& a, const TriangleMesh& b);
 
 /// The surface of the union of the solids \p a and \p b (each bounds_solid()), or nothing
 /// where that union has no manifold surface (two solids meeting along an edge or at a point
-/// only) or CGAL cannot make it.
+/// only), CGAL cannot make it, or a triangle of it, rounded to doubles, has no area.
 std::optional<TriangleMesh> solid_union(const TriangleMesh& a, const TriangleMesh& b);
 
 }  // namespace kerfab
