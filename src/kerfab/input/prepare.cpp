@@ -669,14 +669,19 @@ std::vector<std::vector<int>> pieces_of(const TriangleMesh& tri) {
   return pieces;
 }
 
+/// What turn_closed_pieces_out() did.
+struct Turned {
+  int turned = 0;             ///< pieces turned
+  int closed = 0;             ///< closed pieces
+  std::vector<int> cavities;  ///< closed pieces left facing inwards, inside another (in pieces)
+};
+
 /// Turns the triangles of every closed piece of \p tri (triangles joined through shared
 /// vertices, each of their edges on two of them) that faces inwards (negative volume), unless
 /// the piece lies inside another closed piece (a cavity, which faces inwards by right).
-/// \p pieces: pieces_of(\p tri). Returns {pieces turned, closed pieces}; \p turned_vertex: per
-/// vertex, 1 in a piece turned.
-std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri,
-                                           const std::vector<std::vector<int>>& pieces,
-                                           std::vector<char>& turned_vertex) {
+/// \p pieces: pieces_of(\p tri). \p turned_vertex: per vertex, 1 in a piece turned.
+Turned turn_closed_pieces_out(TriangleMesh& tri, const std::vector<std::vector<int>>& pieces,
+                              std::vector<char>& turned_vertex) {
   turned_vertex.assign(tri.vertices.size(), 0);
   std::unordered_map<std::uint64_t, int> edges;
   edges.reserve(tri.triangles.size() * 2);
@@ -690,11 +695,11 @@ std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri,
         if (edges[undirected_edge_key(t[k], t[(k + 1) % 3])] != 2) open[r] = 1;
       }
   std::vector<int> inward;
-  int closed = 0;
+  Turned out;
   for (std::size_t r = 0; r < pieces.size(); ++r) {
     if (open[r]) continue;
     const std::vector<int>& list = pieces[r];
-    ++closed;
+    ++out.closed;
     double volume = 0;
     for (int i : list) {
       const auto& t = tri.triangles[i];
@@ -702,7 +707,6 @@ std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri,
     }
     if (volume < 0) inward.push_back(static_cast<int>(r));
   }
-  int turned = 0;
   const Vec3 dir = Vec3(0.5773, 0.5774, 0.5775).normalized();  // generic: no axis, no diagonal
   for (int r : inward) {
     const Vec3 from = tri.vertices[tri.triangles[pieces[r].front()][0]];
@@ -710,42 +714,43 @@ std::pair<int, int> turn_closed_pieces_out(TriangleMesh& tri,
     for (std::size_t other = 0; other < pieces.size(); ++other)
       if (static_cast<int>(other) != r && !open[other])
         for (int i : pieces[other]) crossings += ray_crosses(tri, tri.triangles[i], from, dir);
-    if (crossings % 2 == 1) continue;  // a cavity
+    if (crossings % 2 == 1) {  // a cavity
+      out.cavities.push_back(r);
+      continue;
+    }
     for (int i : pieces[r]) {
       std::swap(tri.triangles[i][1], tri.triangles[i][2]);
       for (int v : tri.triangles[i]) turned_vertex[v] = 1;
     }
-    ++turned;
+    ++out.turned;
   }
-  return {turned, closed};
+  return out;
 }
 
-/// Where \p pieces of \p tri (pieces_of: triangles joined through shared vertices) lie on one
-/// another: the area of the triangles whose middle lies within \p eps of another piece's
-/// surface (of each pair, the first piece's), and one such middle. Two solids glued face to face,
-/// each closed, come so: their surfaces share the face they touch along, and no quad mesh follows
-/// both.
-struct PieceContact {
-  double area = 0;  ///< [mm^2]
-  Vec3 at = Vec3::Zero();
-};
+/// The triangles \p triangles (ascending) of \p tri as a mesh of their own, their vertices
+/// numbered as first met.
+TriangleMesh sub_mesh(const TriangleMesh& tri, const std::vector<int>& triangles) {
+  TriangleMesh out;
+  std::unordered_map<int, int> index;
+  for (int i : triangles) {
+    std::array<int, 3> t{};
+    for (int k = 0; k < 3; ++k) {
+      const int v = tri.triangles[i][k];
+      const auto [it, added] = index.try_emplace(v, static_cast<int>(out.vertices.size()));
+      if (added) out.vertices.push_back(tri.vertices[v]);
+      t[k] = it->second;
+    }
+    out.triangles.push_back(t);
+  }
+  return out;
+}
+
 /// Each of \p pieces (pieces_of) of \p tri as a mesh on its own.
 std::vector<TriangleMesh> piece_meshes(const TriangleMesh& tri,
                                        const std::vector<std::vector<int>>& pieces) {
-  std::vector<TriangleMesh> piece(pieces.size());
-  for (std::size_t p = 0; p < pieces.size(); ++p) {
-    std::unordered_map<int, int> index;
-    for (int i : pieces[p]) {
-      std::array<int, 3> t{};
-      for (int k = 0; k < 3; ++k) {
-        const int v = tri.triangles[i][k];
-        const auto [it, added] = index.try_emplace(v, static_cast<int>(piece[p].vertices.size()));
-        if (added) piece[p].vertices.push_back(tri.vertices[v]);
-        t[k] = it->second;
-      }
-      piece[p].triangles.push_back(t);
-    }
-  }
+  std::vector<TriangleMesh> piece;
+  piece.reserve(pieces.size());
+  for (const std::vector<int>& triangles : pieces) piece.push_back(sub_mesh(tri, triangles));
   return piece;
 }
 
@@ -764,53 +769,23 @@ double surface_area(const TriangleMesh& mesh) {
   return area;
 }
 
-/// \p tri without its cavities: the closed pieces (\p pieces: pieces_of) that face inwards,
-/// which turn_closed_pieces_out() leaves so only inside another closed piece (a hollowed model's
-/// inner wall). Nothing where there are none; \p dropped: how many, \p area: their surface
-/// [mm^2].
+/// \p tri without the \p cavities among its \p pieces (pieces_of), as turn_closed_pieces_out()
+/// found them (a hollowed model's inner wall); nothing where there are none. \p area: their
+/// surface [mm^2].
 std::optional<TriangleMesh> without_cavities(const TriangleMesh& tri,
                                              const std::vector<std::vector<int>>& pieces,
-                                             int& dropped, double& area) {
-  dropped = 0;
+                                             const std::vector<int>& cavities, double& area) {
   area = 0;
-  if (pieces.size() < 2) return std::nullopt;
-  std::unordered_map<std::uint64_t, int> edges;
-  for (const auto& t : tri.triangles)
-    for (int k = 0; k < 3; ++k) ++edges[undirected_edge_key(t[k], t[(k + 1) % 3])];
+  if (cavities.empty()) return std::nullopt;
   std::vector<char> drop(tri.triangles.size(), 0);
-  for (const std::vector<int>& piece : pieces) {
-    double volume = 0, piece_area = 0;
-    bool closed = true;
-    for (int i : piece) {
-      const auto& t = tri.triangles[i];
-      const Vec3 &a = tri.vertices[t[0]], &b = tri.vertices[t[1]], &c = tri.vertices[t[2]];
-      volume += a.dot(b.cross(c)) / 6.0;
-      piece_area += 0.5 * (b - a).cross(c - a).norm();
-      for (int k = 0; k < 3; ++k)
-        closed = closed && edges[undirected_edge_key(t[k], t[(k + 1) % 3])] == 2;
-    }
-    if (!closed || !(volume < 0)) continue;
-    for (int i : piece) drop[i] = 1;
-    ++dropped;
-    area += piece_area;
+  for (int r : cavities) {
+    for (int i : pieces[r]) drop[i] = 1;
+    area += surface_area(sub_mesh(tri, pieces[r]));
   }
-  if (dropped == 0 || dropped == static_cast<int>(pieces.size())) return std::nullopt;
-  TriangleMesh out;
-  std::vector<int> index(tri.vertices.size(), -1);
-  for (std::size_t i = 0; i < tri.triangles.size(); ++i) {
-    if (drop[i]) continue;
-    std::array<int, 3> t{};
-    for (int k = 0; k < 3; ++k) {
-      int& v = index[tri.triangles[i][k]];
-      if (v < 0) {
-        v = static_cast<int>(out.vertices.size());
-        out.vertices.push_back(tri.vertices[tri.triangles[i][k]]);
-      }
-      t[k] = v;
-    }
-    out.triangles.push_back(t);
-  }
-  return out;
+  std::vector<int> kept;
+  for (int i = 0; i < static_cast<int>(tri.triangles.size()); ++i)
+    if (!drop[i]) kept.push_back(i);
+  return sub_mesh(tri, kept);
 }
 
 /// Most pieces among which unite_meeting_solids() looks for solids that meet (a scan in
@@ -878,6 +853,15 @@ std::optional<TriangleMesh> unite_meeting_solids(const TriangleMesh& tri,
   return out;
 }
 
+/// Where \p pieces of \p tri (pieces_of: triangles joined through shared vertices) lie on one
+/// another: the area of the triangles whose middle lies within \p eps of another piece's
+/// surface (of each pair, the first piece's), and one such middle. Two solids glued face to face,
+/// each closed, come so: their surfaces share the face they touch along, and no quad mesh follows
+/// both.
+struct PieceContact {
+  double area = 0;  ///< [mm^2]
+  Vec3 at = Vec3::Zero();
+};
 PieceContact touching_pieces(const TriangleMesh& tri, const std::vector<std::vector<int>>& pieces,
                              double eps) {
   PieceContact contact;
@@ -1045,8 +1029,8 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
   TriangleMesh tri = triangulate(target);
   std::vector<char> turned_vertex;
   std::vector<std::vector<int>> pieces = pieces_of(tri);  // turning keeps them
-  if (const auto [turned, closed] = turn_closed_pieces_out(tri, pieces, turned_vertex);
-      turned > 0) {
+  const Turned turning = turn_closed_pieces_out(tri, pieces, turned_vertex);
+  if (turning.turned > 0) {
     // The target as used (model/target.obj) faces the same way: the turned pieces' faces in
     // the other order, each first corner kept first.
     PolyMesh turned_target;
@@ -1059,12 +1043,12 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
       turned_target.add_face(corners);
     }
     target = std::move(turned_target);
-    if (turned == closed) {
+    if (turning.turned == turning.closed) {
       warnings.push_back(
           "target faces point inward (negative volume); flipped them for inside/outside tests");
     } else {
       std::ostringstream w;
-      w << "target: " << turned << " of its " << closed
+      w << "target: " << turning.turned << " of its " << turning.closed
         << " closed pieces face inward (negative volume) and lie inside no other; flipped them "
            "for inside/outside tests";
       warnings.push_back(w.str());
@@ -1081,7 +1065,9 @@ PreparedInput prepare_input(const PolyMesh& target_given, const std::optional<Po
   int united = 0, cavities = 0;
   double united_gone = 0, cavity_area = 0;  // [mm^2]
   if (from_target && options.subdivide == 0) {
-    if (std::optional<TriangleMesh> outer = without_cavities(tri, pieces, cavities, cavity_area)) {
+    if (std::optional<TriangleMesh> outer =
+            without_cavities(tri, pieces, turning.cavities, cavity_area)) {
+      cavities = static_cast<int>(turning.cavities.size());
       tri = std::move(*outer);
       pieces = pieces_of(tri);
       warnings.push_back("target: " + std::to_string(cavities) + " inner surface" +
