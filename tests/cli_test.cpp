@@ -167,6 +167,29 @@ fs::path cube_120mm(const fs::path& scratch) {
   return target;
 }
 
+// OBJ text of a box from \p lo to \p hi [mm] as 12 outward triangles (two a face, as an exporter
+// writes it), its vertices numbered from \p first + 1.
+std::string box_obj(const Vec3& lo, const Vec3& hi, int first = 0) {
+  std::ostringstream f;
+  for (int i = 0; i < 8; ++i)
+    f << "v " << (i & 1 ? hi : lo).x() << " " << (i & 2 ? hi : lo).y() << " "
+      << (i & 4 ? hi : lo).z() << "\n";
+  for (const auto& t : std::vector<std::array<int, 3>>{{1, 3, 4},
+                                                       {1, 4, 2},
+                                                       {5, 6, 8},
+                                                       {5, 8, 7},
+                                                       {1, 2, 6},
+                                                       {1, 6, 5},
+                                                       {3, 7, 8},
+                                                       {3, 8, 4},
+                                                       {1, 5, 7},
+                                                       {1, 7, 3},
+                                                       {2, 4, 8},
+                                                       {2, 8, 6}})
+    f << "f " << t[0] + first << " " << t[1] + first << " " << t[2] + first << "\n";
+  return f.str();
+}
+
 // Every vertex of \p part (read back from an SVG sheet) inside the 10 mm margins of its
 // sheet of \p w x \p h mm (to 0.1 mm).
 void expect_inside_margins(const test::SheetPart& part, double w, double h) {
@@ -407,28 +430,8 @@ TEST(Cli, ACubeWithNeedleTrianglesIsMendedAndCutAsSixPlates) {
 TEST(Cli, TwoCubesGluedFaceToFaceAreCutAsTheSixPlatesOfOneBox) {
   const fs::path scratch = test::fresh_dir();
   const fs::path target = scratch / "glued.obj";
-  {
-    std::ofstream f(target);
-    for (int cube = 0; cube < 2; ++cube) {
-      for (int i = 0; i < 8; ++i)
-        f << "v " << 100 * cube + (i & 1 ? 100 : 0) << " " << (i & 2 ? 100 : 0) << " "
-          << (i & 4 ? 100 : 0) << "\n";
-      const int o = 8 * cube;
-      for (const auto& t : std::vector<std::array<int, 3>>{{1, 3, 4},
-                                                           {1, 4, 2},
-                                                           {5, 6, 8},
-                                                           {5, 8, 7},
-                                                           {1, 2, 6},
-                                                           {1, 6, 5},
-                                                           {3, 7, 8},
-                                                           {3, 8, 4},
-                                                           {1, 5, 7},
-                                                           {1, 7, 3},
-                                                           {2, 4, 8},
-                                                           {2, 8, 6}})
-        f << "f " << t[0] + o << " " << t[1] + o << " " << t[2] + o << "\n";
-    }
-  }
+  test::write_text(target,
+                   box_obj({0, 0, 0}, {100, 100, 100}) + box_obj({100, 0, 0}, {200, 100, 100}, 8));
   const fs::path out = scratch / "out";
   const CliRun r =
       run_cli("run --target " + target.string() + " --size 200 --out " + out.string(), scratch);
@@ -451,15 +454,7 @@ TEST(Cli, ASlabThinnerThanItsSheetsIsNamedWithTheSizeThatClearsIt) {
   const fs::path scratch = test::fresh_dir();
   for (const double thick : {1.0, 40.0}) {
     const fs::path target = scratch / "slab.obj";
-    {
-      std::ofstream f(target);
-      for (int i = 0; i < 8; ++i)
-        f << "v " << (i & 1 ? 120 : 0) << " " << (i & 2 ? 60 : 0) << " " << (i & 4 ? thick : 0)
-          << "\n";
-      // Outward faces of the box (1-based vertex ids).
-      f << "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\n"
-        << "f 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
-    }
+    test::write_text(target, box_obj({0, 0, 0}, {120, 60, thick}));
     const fs::path out = scratch / ("out" + std::to_string(static_cast<int>(thick)));
     const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
     ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -399,6 +399,44 @@ TEST(Prepare, SolidsGluedFaceToFaceAreRefusedNamingWhere) {
   }
 }
 
+/// A closed box of triangles (each face 2 x 2 squares cut in two) from \p lo to \p hi [mm]; an
+/// inward one faces inwards (a cavity).
+struct TriangleBox {
+  Vec3 lo, hi;
+  bool inward = false;
+};
+
+/// The boxes, each its own piece, as one mesh.
+PolyMesh triangle_boxes(const std::vector<TriangleBox>& boxes) {
+  PolyMesh m;
+  for (const TriangleBox& b : boxes) {
+    const PolyMesh box = test::cube_grid_mesh(2, [&](const Vec3& p) {
+      return Vec3(b.lo + (0.5 * (p + Vec3::Ones())).cwiseProduct(b.hi - b.lo));
+    });
+    TriangleMesh tri = triangulate(box);
+    if (b.inward)
+      for (auto& t : tri.triangles) std::swap(t[1], t[2]);
+    const int offset = static_cast<int>(m.n_vertices());
+    for (const Vec3& v : tri.vertices) m.add_vertex(PolyMesh::Point(v.x(), v.y(), v.z()));
+    for (const auto& t : tri.triangles)
+      m.add_face(m.vertex_handle(offset + t[0]), m.vertex_handle(offset + t[1]),
+                 m.vertex_handle(offset + t[2]));
+  }
+  return m;
+}
+
+/// The area [mm^2] and enclosed volume [mm^3] of the surface \p in queries.
+std::pair<double, double> area_and_volume(const PreparedInput& in) {
+  const TriangleMesh& t = in.surface.mesh();
+  double area = 0, volume = 0;
+  for (const auto& c : t.triangles) {
+    const Vec3 &a = t.vertices[c[0]], &b = t.vertices[c[1]], &d = t.vertices[c[2]];
+    area += 0.5 * (b - a).cross(d - a).norm();
+    volume += a.dot(b.cross(d)) / 6;
+  }
+  return {area, volume};
+}
+
 // Solids of triangles that cross or touch are one solid to the maker: where kerfab makes the
 // quads, the target becomes the surface of their union (CGAL's corefinement), measured here
 // against the exact area and volume. Two 100 mm cubes glued face to face: a 200 x 100 x 100 box
@@ -407,31 +445,6 @@ TEST(Prepare, SolidsGluedFaceToFaceAreRefusedNamingWhere) {
 // A 20 mm cube hidden inside the 100 mm one is gone with its surface. Cubes meeting along an
 // edge only have no manifold union and stay two pieces.
 TEST(Prepare, SolidsThatMeetAreJoinedIntoTheirUnion) {
-  auto boxes = [](const std::vector<std::pair<Vec3, Vec3>>& corners) {
-    PolyMesh m;
-    for (const auto& [lo, hi] : corners) {
-      const PolyMesh box = test::cube_grid_mesh(2, [&](const Vec3& p) {
-        return Vec3(lo + (0.5 * (p + Vec3::Ones())).cwiseProduct(hi - lo));
-      });
-      const TriangleMesh tri = triangulate(box);
-      const int offset = static_cast<int>(m.n_vertices());
-      for (const Vec3& v : tri.vertices) m.add_vertex(PolyMesh::Point(v.x(), v.y(), v.z()));
-      for (const auto& t : tri.triangles)
-        m.add_face(m.vertex_handle(offset + t[0]), m.vertex_handle(offset + t[1]),
-                   m.vertex_handle(offset + t[2]));
-    }
-    return m;
-  };
-  auto measure = [](const PreparedInput& in) {
-    const TriangleMesh& t = in.surface.mesh();
-    double area = 0, volume = 0;
-    for (const auto& c : t.triangles) {
-      const Vec3 &a = t.vertices[c[0]], &b = t.vertices[c[1]], &d = t.vertices[c[2]];
-      area += 0.5 * (b - a).cross(d - a).norm();
-      volume += a.dot(b.cross(d)) / 6;
-    }
-    return std::pair{area, volume};
-  };
   auto joined = [](const PreparedInput& in) {
     for (const std::string& w : in.warnings)
       if (w.find("2 solids that overlap or touch joined into one") != std::string::npos)
@@ -440,9 +453,9 @@ TEST(Prepare, SolidsThatMeetAreJoinedIntoTheirUnion) {
   };
   auto expect = [&](const Vec3& lo, const Vec3& hi, double area, double volume, int euler,
                     bool united) {
-    const PreparedInput in =
-        prepare_input(boxes({{Vec3(0, 0, 0), Vec3(100, 100, 100)}, {lo, hi}}), std::nullopt, {});
-    const auto [a, v] = measure(in);
+    const PreparedInput in = prepare_input(
+        triangle_boxes({{Vec3(0, 0, 0), Vec3(100, 100, 100)}, {lo, hi}}), std::nullopt, {});
+    const auto [a, v] = area_and_volume(in);
     EXPECT_NEAR(a, area, 1e-6) << lo.transpose();
     EXPECT_NEAR(v, volume, 1e-4) << lo.transpose();
     EXPECT_EQ(in.target_summary.euler_characteristic, euler) << lo.transpose();
@@ -460,27 +473,11 @@ TEST(Prepare, SolidsThatMeetAreJoinedIntoTheirUnion) {
 // 60000 mm^2 of surface, 1e6 mm^3 of volume, one piece (Euler characteristic 2), the cavity's
 // 21600 mm^2 named.
 TEST(Prepare, AHollowModelsInnerWallIsLeftOut) {
-  PolyMesh m;
-  for (const double half : {50.0, 30.0}) {
-    const PolyMesh box =
-        test::cube_grid_mesh(2, [&](const Vec3& p) { return Vec3(half * p + Vec3::Constant(50)); });
-    TriangleMesh tri = triangulate(box);
-    if (half < 50)
-      for (auto& t : tri.triangles) std::swap(t[1], t[2]);  // the cavity faces inwards
-    const int offset = static_cast<int>(m.n_vertices());
-    for (const Vec3& v : tri.vertices) m.add_vertex(PolyMesh::Point(v.x(), v.y(), v.z()));
-    for (const auto& t : tri.triangles)
-      m.add_face(m.vertex_handle(offset + t[0]), m.vertex_handle(offset + t[1]),
-                 m.vertex_handle(offset + t[2]));
-  }
-  const PreparedInput in = prepare_input(m, std::nullopt, {});
-  double area = 0, volume = 0;
-  const TriangleMesh& t = in.surface.mesh();
-  for (const auto& c : t.triangles) {
-    const Vec3 &a = t.vertices[c[0]], &b = t.vertices[c[1]], &d = t.vertices[c[2]];
-    area += 0.5 * (b - a).cross(d - a).norm();
-    volume += a.dot(b.cross(d)) / 6;
-  }
+  const PreparedInput in =
+      prepare_input(triangle_boxes({{Vec3(0, 0, 0), Vec3(100, 100, 100)},
+                                    {Vec3(20, 20, 20), Vec3(80, 80, 80), true}}),
+                    std::nullopt, {});
+  const auto [area, volume] = area_and_volume(in);
   EXPECT_NEAR(area, 6e4, 1e-6);
   EXPECT_NEAR(volume, 1e6, 1e-4);
   EXPECT_EQ(in.target_summary.euler_characteristic, 2);
