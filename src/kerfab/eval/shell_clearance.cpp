@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 
 #include "kerfab/adapters/target_surface.h"
 #include "kerfab/core/parallel.h"
@@ -79,13 +80,26 @@ ShellClearance shell_clearance(const Shell& shell, const ClearanceOptions& optio
   std::map<std::pair<int, int>, std::vector<BorderPiece>> borders;
   for (const auto& along : shell.lines) {
     std::map<int, Vec3> side;  // patch -> sum of its faces' normals at this coarse edge
-    for (int k : along)
-      if (k >= 0 && k < static_cast<int>(v.size()))
-        for (int f : vertex_faces[k])
-          side.try_emplace(shell.face_part[f], Vec3::Zero()).first->second += normal[f];
+    // Pairs of patches with a face at one and the same vertex of it: only those meet here. (A
+    // wall as short as a sample joins the patches at its two ends without their meeting: a
+    // slab 1 mm thick swept from its faces, each one plate, had its faces' overlap counted only
+    // farther than 17 mm from every corner, h/2 tan(85 deg), as if they met there folded by
+    // 180 degrees.)
+    std::set<std::pair<int, int>> meet;
+    for (int k : along) {
+      if (k < 0 || k >= static_cast<int>(v.size())) continue;
+      std::set<int> here;
+      for (int f : vertex_faces[k]) {
+        side.try_emplace(shell.face_part[f], Vec3::Zero()).first->second += normal[f];
+        here.insert(shell.face_part[f]);
+      }
+      for (auto i = here.begin(); i != here.end(); ++i)
+        for (auto j = std::next(i); j != here.end(); ++j) meet.insert({*i, *j});
+    }
     if (side.size() < 2) continue;
     for (auto i = side.begin(); i != side.end(); ++i)
       for (auto j = std::next(i); j != side.end(); ++j) {
+        if (!meet.contains({i->first, j->first})) continue;
         const double cos_fold =
             std::clamp(i->second.normalized().dot(j->second.normalized()), -1.0, 1.0);
         const double fold = std::min(std::acos(cos_fold), options.max_fold);
