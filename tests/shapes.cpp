@@ -161,4 +161,68 @@ PolyMesh box_cut_differently(const std::array<int, 6>& n) {
   return m;
 }
 
+TriangleMesh drum(double r, double height, int n, bool bottom, bool top, double draft_deg) {
+  TriangleMesh m;
+  const double r_top = r - height * std::tan(draft_deg * kPi / 180);
+  for (const double z : {0.0, height})
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * kPi * i / n, rr = z == 0 ? r : r_top;
+      m.vertices.push_back({rr * std::cos(a), rr * std::sin(a), z});
+    }
+  for (int i = 0; i < n; ++i) {
+    const int a = i, b = (i + 1) % n;
+    m.triangles.push_back({a, b, b + n});
+    m.triangles.push_back({a, b + n, a + n});
+  }
+  if (bottom) {
+    m.vertices.push_back({0, 0, 0});
+    const int c = static_cast<int>(m.vertices.size()) - 1;
+    for (int i = 0; i < n; ++i) m.triangles.push_back({c, (i + 1) % n, i});
+  }
+  if (top) {
+    m.vertices.push_back({0, 0, height});
+    const int c = static_cast<int>(m.vertices.size()) - 1;
+    for (int i = 0; i < n; ++i) m.triangles.push_back({c, n + i, n + (i + 1) % n});
+  }
+  return m;
+}
+
+TriangleMesh c_bench(double r_in, double r_out, double height, int n) {
+  TriangleMesh m;
+  const double a0 = 0.3, a1 = 2 * kPi - 0.3;
+  // Per z: the outer arc's n + 1 points, then the inner arc's.
+  for (const double z : {0.0, height})
+    for (const double r : {r_out, r_in})
+      for (int i = 0; i <= n; ++i) {
+        const double a = a0 + (a1 - a0) * i / n;
+        m.vertices.push_back({r * std::cos(a), r * std::sin(a), z});
+      }
+  const int k = n + 1;
+  const auto at = [&](int level, int ring, int i) { return level * 2 * k + ring * k + i; };
+  for (int i = 0; i < n; ++i) {
+    // Caps: the band between the arcs, facing down at z = 0 and up at the top.
+    m.triangles.push_back({at(0, 0, i), at(0, 1, i), at(0, 1, i + 1)});
+    m.triangles.push_back({at(0, 0, i), at(0, 1, i + 1), at(0, 0, i + 1)});
+    m.triangles.push_back({at(1, 0, i), at(1, 0, i + 1), at(1, 1, i + 1)});
+    m.triangles.push_back({at(1, 0, i), at(1, 1, i + 1), at(1, 1, i)});
+    // The outer wall facing out, the inner one facing the axis.
+    m.triangles.push_back({at(0, 0, i), at(0, 0, i + 1), at(1, 0, i + 1)});
+    m.triangles.push_back({at(0, 0, i), at(1, 0, i + 1), at(1, 0, i)});
+    m.triangles.push_back({at(0, 1, i), at(1, 1, i + 1), at(0, 1, i + 1)});
+    m.triangles.push_back({at(0, 1, i), at(1, 1, i), at(1, 1, i + 1)});
+  }
+  // The two flat ends.
+  for (const auto& [i, flip] : {std::pair{0, false}, std::pair{n, true}}) {
+    const std::array<int, 4> q = {at(0, 0, i), at(0, 1, i), at(1, 1, i), at(1, 0, i)};
+    if (flip) {
+      m.triangles.push_back({q[0], q[1], q[2]});
+      m.triangles.push_back({q[0], q[2], q[3]});
+    } else {
+      m.triangles.push_back({q[0], q[2], q[1]});
+      m.triangles.push_back({q[0], q[3], q[2]});
+    }
+  }
+  return m;
+}
+
 }  // namespace kerfab::test

@@ -33,6 +33,16 @@ Shape sphere(double r, int n, int target_refine = 8);
 /// Torus around the z axis, major radius R, minor r; nu x nv quads.
 Shape torus(double R, double r, int nu, int nv, int target_refine = 6);
 
+/// A drum: the circle of radius r in n segments about the z axis swept from z = 0 to height,
+/// its top circle draft_deg narrower (a taper), closed by fans where asked (an extrusion,
+/// src/kerfab/quads/sweep.h, unless tapered or open at both ends). Outward normals.
+TriangleMesh drum(double r, double height, int n, bool bottom = true, bool top = true,
+                  double draft_deg = 0);
+
+/// A bench of C-shaped section: the ring between radii r_in and r_out from angle 0.3 to
+/// 2 pi - 0.3 (its gap facing +x), swept from z = 0 to height, n segments per arc.
+TriangleMesh c_bench(double r_in, double r_out, double height, int n);
+
 /// The triangles of \p mesh as a polygon mesh (what prepare_input takes as a target).
 PolyMesh poly_mesh(const TriangleMesh& mesh);
 

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 
 namespace kerfab {
 
@@ -159,6 +160,32 @@ std::array<int, 4> quad_vertices(const PolyMesh& mesh, OpenMesh::FaceHandle f) {
 
 double angle_between(const Vec3& a, const Vec3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+TriangleMesh sub_mesh(const TriangleMesh& mesh, const std::vector<int>& triangles) {
+  TriangleMesh out;
+  std::unordered_map<int, int> index;
+  for (int i : triangles) {
+    std::array<int, 3> t{};
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.triangles[i][k];
+      const auto [it, added] = index.try_emplace(v, static_cast<int>(out.vertices.size()));
+      if (added) out.vertices.push_back(mesh.vertices[v]);
+      t[k] = it->second;
+    }
+    out.triangles.push_back(t);
+  }
+  return out;
+}
+
+std::vector<std::array<int, 2>> border_edges(const TriangleMesh& mesh) {
+  std::map<std::pair<int, int>, int> uses;
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[k], t[(k + 1) % 3])];
+  std::vector<std::array<int, 2>> out;
+  for (const auto& [edge, n] : uses)
+    if (n == 1) out.push_back({edge.first, edge.second});
+  return out;
 }
 
 Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {

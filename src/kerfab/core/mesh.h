@@ -98,6 +98,14 @@ double angle_between(const Vec3& a, const Vec3& b);
 /// The point of the segment from \p a to \p b nearest to \p p (\p a where they coincide).
 Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b);
 
+/// The triangles \p triangles (indices) of \p mesh as a mesh of their own, their vertices
+/// numbered as first met.
+TriangleMesh sub_mesh(const TriangleMesh& mesh, const std::vector<int>& triangles);
+
+/// The edges (vertex index pairs, the smaller first, ascending) that one triangle of \p mesh
+/// alone has.
+std::vector<std::array<int, 2>> border_edges(const TriangleMesh& mesh);
+
 /// Unit normal of quad \p f (vertex ids into \p points) at its corner holding vertex \p v;
 /// zero when that corner is degenerate or \p v is not a corner of \p f.
 Vec3 corner_normal(const std::vector<Vec3>& points, const std::array<int, 4>& f, int v);

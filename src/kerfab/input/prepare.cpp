@@ -727,24 +727,6 @@ Turned turn_closed_pieces_out(TriangleMesh& tri, const std::vector<std::vector<i
   return out;
 }
 
-/// The triangles \p triangles (ascending) of \p tri as a mesh of their own, their vertices
-/// numbered as first met.
-TriangleMesh sub_mesh(const TriangleMesh& tri, const std::vector<int>& triangles) {
-  TriangleMesh out;
-  std::unordered_map<int, int> index;
-  for (int i : triangles) {
-    std::array<int, 3> t{};
-    for (int k = 0; k < 3; ++k) {
-      const int v = tri.triangles[i][k];
-      const auto [it, added] = index.try_emplace(v, static_cast<int>(out.vertices.size()));
-      if (added) out.vertices.push_back(tri.vertices[v]);
-      t[k] = it->second;
-    }
-    out.triangles.push_back(t);
-  }
-  return out;
-}
-
 /// Each of \p pieces (pieces_of) of \p tri as a mesh on its own.
 std::vector<TriangleMesh> piece_meshes(const TriangleMesh& tri,
                                        const std::vector<std::vector<int>>& pieces) {

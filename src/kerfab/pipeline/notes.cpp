@@ -99,7 +99,7 @@ StageNotes notes(const QuadMeshResult& q) {
       << " quads) or a larger --size avoids that";
     n.warnings.push_back(w.str());
   }
-  if (q.method.rfind("lattice", 0) != 0) {
+  if (q.method.rfind("triangles", 0) == 0) {  // the safe net: no lattice anywhere
     Line w;
     w << "quad mesh made without a lattice (" << q.method << "): " << q.irregular_vertices
       << " irregular vertices, so more strips; a quad mesh of your own (--quad) may do better";

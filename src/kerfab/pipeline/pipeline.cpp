@@ -198,6 +198,9 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
     PartsOptions p{o.bending, o.strips, flatten, usable, o.material, o.machine, joints, o.kerf};
     const Guidance& g = r.loaded->guidance;
     p.bending.guidance.insert(p.bending.guidance.end(), g.edges.begin(), g.edges.end());
+    if (r.quads)  // the quads stage's own (an extrusion's wall stiff between its rows)
+      p.bending.guidance.insert(p.bending.guidance.end(), r.quads->bending.begin(),
+                                r.quads->bending.end());
     p.strips.split_edges.insert(p.strips.split_edges.end(), g.split.begin(), g.split.end());
     p.strips.merge_edges.insert(p.strips.merge_edges.end(), g.merge.begin(), g.merge.end());
     p.strips.max_memory_mb = o.max_memory_mb;

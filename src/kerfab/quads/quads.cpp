@@ -15,6 +15,7 @@
 #include "kerfab/quads/dislocations.h"
 #include "kerfab/quads/fields.h"
 #include "kerfab/quads/lattice.h"
+#include "kerfab/quads/sweep.h"
 
 namespace kerfab {
 namespace {
@@ -715,6 +716,45 @@ std::string check(const PolyMesh& q, const TriangleMesh& mesh, const TargetSurfa
   return {};
 }
 
+/// Fills in what \p r's quads are like: their corners, valences and distance from the target,
+/// and how much of \p features' length lies along their edges.
+void describe(QuadMeshResult& r, const TargetSurface& target, const FeatureTriangleMesh& features,
+              double feature_angle, std::vector<double> raisable) {
+  const PolyMesh& q = r.quads;
+  r.min_corner_angle = kPi;
+  r.max_corner_angle = r.mean_corner_deviation = 0;
+  r.irregular_vertices = 0;
+  int corners = 0, skewed = 0;
+  for (auto f : q.faces())
+    for (double angle : corner_angles(q, f)) {
+      r.min_corner_angle = std::min(r.min_corner_angle, angle);
+      r.max_corner_angle = std::max(r.max_corner_angle, angle);
+      const double off_square = std::abs(angle - kPi / 2);
+      r.mean_corner_deviation += off_square;
+      skewed += off_square > kPi / 4 ? 1 : 0;
+      ++corners;
+    }
+  if (corners > 0) {
+    r.mean_corner_deviation /= corners;
+    r.skewed_corners = static_cast<double>(skewed) / corners;
+  }
+  std::map<int, int> valences;
+  for (auto v : q.vertices()) {
+    const int val = static_cast<int>(q.valence(v));
+    if (q.is_boundary(v)) {
+      r.irregular_vertices += val != 3 ? 1 : 0;
+      continue;
+    }
+    ++valences[val];
+    r.irregular_vertices += val != 4 ? 1 : 0;
+  }
+  r.valences.assign(valences.begin(), valences.end());
+  r.max_distance = vertex_distances(q, target).max;
+  r.feature_length_on_quads = feature_length_on_edges(q, features, r.size.size);
+  r.feature_angle = feature_angle;
+  r.folds_over_feature_angle = std::move(raisable);
+}
+
 /// The most quads the stage makes [-]. Its time grows with the quads (the remeshed surface has
 /// about 12 vertices per quad, each swept 200 times by the position field, and every attempt
 /// is cleaned up): the bunny at 250 mm asked for 5000 quads takes 44 s, for 20,000 400 s and
@@ -880,6 +920,139 @@ QuadMeshResult make_quad_mesh(const TargetSurface& target, const Material& mater
 
 namespace {
 
+/// Puts the border of \p cap (quads of the extrusion \p e's cap) onto the cap's outline: each
+/// corner of the outline where a feature line of the wall (\p features, edges of \p mesh that
+/// climb the wall) meets it takes the nearest border vertex, every other border vertex goes to
+/// the nearest point of the outline (the lattice's border vertices are means of the remeshed
+/// ones, and a split lattice's new ones are chords' middles: a disc's cap of 22 mm quads lay up
+/// to 4 % of its radius inside the rim). False where two corners want the same vertex.
+bool onto_outline(PolyMesh& cap, const quads::Extrusion& e, const TriangleMesh& mesh,
+                  const std::vector<std::array<int, 2>>& features) {
+  std::vector<std::array<Vec3, 2>> outline;  // the cap's border edges
+  for (const auto& [a, b] : border_edges(e.cap))
+    outline.push_back({e.cap.vertices[a], e.cap.vertices[b]});
+  const double height = e.cap_on_top ? e.top : e.bottom;
+  const double same = quads::kSameHeight * bounding_box(mesh).diagonal();
+  std::vector<Vec3> corners;  // where the wall's feature lines reach the cap's plane
+  for (const auto& [a, b] : features) {
+    const Vec3 pa = mesh.vertices[a], pb = mesh.vertices[b];
+    if (std::abs((pb - pa).dot(e.axis)) <= same) continue;  // along a rim, not up the wall
+    for (const Vec3& p : {pa, pb})
+      if (std::abs(p.dot(e.axis) - height) <= same &&
+          std::none_of(corners.begin(), corners.end(),
+                       [&](const Vec3& c) { return (c - p).norm() <= same; }))
+        corners.push_back(p);
+  }
+  std::vector<OpenMesh::VertexHandle> border;
+  for (auto v : cap.vertices())
+    if (cap.is_boundary(v)) border.push_back(v);
+  std::vector<char> taken(border.size(), 0);
+  for (const Vec3& c : corners) {
+    std::size_t best = border.size();
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < border.size(); ++i) {
+      const double d = (to_eigen(cap.point(border[i])) - c).norm();
+      if (d < best_d) best = i, best_d = d;
+    }
+    if (best == border.size() || taken[best]) return false;
+    taken[best] = 1;
+    cap.set_point(border[best], to_openmesh(c));
+  }
+  for (std::size_t i = 0; i < border.size(); ++i) {
+    if (taken[i]) continue;
+    const Vec3 p = to_eigen(cap.point(border[i]));
+    Vec3 best = p;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (const auto& [a, b] : outline) {
+      const Vec3 q = closest_on_segment(p, a, b);
+      if ((q - p).norm() < best_d) best = q, best_d = (q - p).norm();
+    }
+    cap.set_point(border[i], to_openmesh(best));
+  }
+  return true;
+}
+
+/// The target as an extrusion (quads/sweep.h), meshed so: its cap at \p sized's quad size by
+/// make_quad_mesh (a flat patch), facing out of the solid, the wall swept from the cap's border
+/// in rows about as high as the quads are wide, and the other cap a copy. nullopt where the
+/// target is no extrusion, its cap finds no quads, or the swept quads fail the check.
+std::optional<QuadMeshResult> swept_extrusion(
+    const TargetSurface& target, const Material& material, const QuadMeshOptions& o,
+    const QuadMeshResult& sized, const FeatureTriangleMesh& features,
+    const std::vector<double>& raisable, const std::function<void(const std::string&)>& progress) {
+  const TriangleMesh& mesh = target.mesh();
+  const std::optional<quads::Extrusion> e = quads::find_extrusion(mesh);
+  if (!e) return std::nullopt;
+  const double size = sized.size.size, height = e->top - e->bottom;
+  const int rows = std::max(1, static_cast<int>(std::lround(height / size)));
+  if (progress)
+    progress("an extrusion: a flat outline swept " + fmt(height) +
+             " mm along an axis; meshing its cap, then the wall in " + std::to_string(rows) +
+             " rows of quads");
+  QuadMeshOptions cap_options = o;
+  cap_options.quad_size = size;
+  cap_options.quads.reset();
+  QuadMeshResult cap;
+  try {
+    const TargetSurface cap_target(e->cap);
+    cap = make_quad_mesh(cap_target, material, cap_options, [&](const std::string& line) {
+      if (progress) progress("cap: " + line);
+    });
+  } catch (const SolverError& error) {
+    if (progress) progress(std::string("no quads on the cap (") + error.what() + ")");
+    return std::nullopt;
+  } catch (const InvalidInput& error) {
+    if (progress) progress(std::string("no quads on the cap (") + error.what() + ")");
+    return std::nullopt;
+  }
+  // The cap facing out of the solid, as its triangles do.
+  Vec3 facing = Vec3::Zero();
+  for (auto f : cap.quads.faces()) facing += sum_of(corner_normals(quad_points(cap.quads, f)));
+  if (facing.dot(e->cap_on_top ? e->axis : Vec3(-e->axis)) < 0) {
+    PolyMesh turned;
+    for (auto v : cap.quads.vertices()) turned.add_vertex(cap.quads.point(v));
+    for (auto f : cap.quads.faces()) {
+      std::vector<OpenMesh::VertexHandle> corners;
+      for (auto v : cap.quads.fv_range(f)) corners.push_back(v);
+      std::reverse(corners.begin(), corners.end());
+      turned.add_face(corners);
+    }
+    cap.quads = std::move(turned);
+  }
+  if (!onto_outline(cap.quads, *e, mesh, features.features)) {
+    if (progress) progress("the cap's quads miss a corner of its outline; not swept");
+    return std::nullopt;
+  }
+  QuadMeshResult r = sized;
+  std::vector<std::array<int, 2>> along_rims, along_axis;
+  r.quads = quads::sweep_extrusion(cap.quads, *e, rows, &along_rims, &along_axis);
+  for (const auto& [a, b] : along_rims) r.bending.push_back({a, b, true});
+  for (const auto& [a, b] : along_axis) r.bending.push_back({a, b, false});
+  r.problem = r.quads.n_faces() == 0 ? "the swept quads make no consistent surface"
+                                     : check(r.quads, mesh, target, size);
+  if (!r.problem.empty()) {
+    if (progress) progress("the swept quads not taken: " + r.problem);
+    return std::nullopt;
+  }
+  const bool both = e->top_cap && e->bottom_cap;
+  r.method = "extrusion: its cap meshed (" + cap.method + ")" +
+             (both ? ", copied to the other end," : ",") + " the wall swept in " +
+             std::to_string(rows) + (rows == 1 ? " row" : " rows");
+  r.remeshed_vertices = cap.remeshed_vertices;
+  r.lattice_quads = cap.lattice_quads;
+  r.lattice_triangles = cap.lattice_triangles;
+  r.triangle_rows = cap.triangle_rows;
+  r.dislocations = cap.dislocations;
+  r.dislocations_left = cap.dislocations_left;
+  // The sharp edges and the borders (an open end's rim), as the lattice counts them.
+  FeatureTriangleMesh lines = features;
+  for (const auto& edge : border_edges(mesh)) lines.features.push_back(edge);
+  r.feature_edges = static_cast<int>(lines.features.size());
+  r.feature_length = edges_length(mesh, lines.features);
+  describe(r, target, lines, o.feature_angle, raisable);
+  return r;
+}
+
 QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& material,
                                  const QuadMeshOptions& o,
                                  const std::function<void(const std::string&)>& progress,
@@ -927,6 +1100,10 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
                                border_corners(folds, kBorderCornerReach * size)};
   };
   FeatureTriangleMesh input = features_at(sized.size.size);
+  if (!safe_net)
+    if (std::optional<QuadMeshResult> swept =
+            swept_extrusion(target, material, o, sized, input, raisable, progress))
+      return std::move(*swept);
   // Sharp edges the quads must follow, against the quads' own edges (about 2 area / size long
   // in all): past a quarter of those the lattice is mostly constraint. Spot from its triangles
   // at 250 mm with --quad-feature-angle 20 marks 5.0 m of its edges (0.69 of area / size) and
@@ -1189,38 +1366,7 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
     }
   }
 
-  PolyMesh& q = r.quads;
-  r.min_corner_angle = kPi;
-  int corners = 0, skewed = 0;
-  for (auto f : q.faces())
-    for (double angle : corner_angles(q, f)) {
-      r.min_corner_angle = std::min(r.min_corner_angle, angle);
-      r.max_corner_angle = std::max(r.max_corner_angle, angle);
-      const double off_square = std::abs(angle - kPi / 2);
-      r.mean_corner_deviation += off_square;
-      skewed += off_square > kPi / 4 ? 1 : 0;
-      ++corners;
-    }
-  if (corners > 0) {
-    r.mean_corner_deviation /= corners;
-    r.skewed_corners = static_cast<double>(skewed) / corners;
-  }
-  std::map<int, int> valences;
-  for (auto v : q.vertices()) {
-    const int val = static_cast<int>(q.valence(v));
-    if (q.is_boundary(v)) {
-      r.irregular_vertices += val != 3 ? 1 : 0;
-      continue;
-    }
-    ++valences[val];
-    r.irregular_vertices += val != 4 ? 1 : 0;
-  }
-  r.valences.assign(valences.begin(), valences.end());
-  r.max_distance = vertex_distances(q, target).max;
-
-  r.feature_length_on_quads = feature_length_on_edges(q, remeshed, r.size.size);
-  r.feature_angle = o.feature_angle;
-  r.folds_over_feature_angle = std::move(raisable);
+  describe(r, target, remeshed, o.feature_angle, std::move(raisable));
   return r;
 }
 

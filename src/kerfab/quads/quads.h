@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "kerfab/adapters/target_surface.h"
+#include "kerfab/core/guidance.h"
 #include "kerfab/core/material.h"
 #include "kerfab/core/mesh.h"
 
@@ -83,6 +84,10 @@ struct QuadMeshResult {
   double mean_corner_deviation = 0;    ///< mean |corner angle - 90 deg| over all corners [rad]
   double skewed_corners = 0;           ///< share of the corners outside 45-135 deg [-]
   std::vector<std::string> repairs;    ///< what was done to the input, one line each
+  /// Edges of `quads` the bending program takes as given: an extrusion's wall bends only about
+  /// its axis, so its edges between rows bend and those along the axis stay straight
+  /// (quads/sweep.h).
+  std::vector<EdgeGuidance> bending;
 };
 
 /// Makes an all-quad mesh on \p surface (the prepared, scaled target) for the material given.
