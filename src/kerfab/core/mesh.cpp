@@ -178,12 +178,16 @@ TriangleMesh sub_mesh(const TriangleMesh& mesh, const std::vector<int>& triangle
   return out;
 }
 
-std::vector<std::array<int, 2>> border_edges(const TriangleMesh& mesh) {
+std::map<std::pair<int, int>, int> edge_uses(const TriangleMesh& mesh) {
   std::map<std::pair<int, int>, int> uses;
   for (const auto& t : mesh.triangles)
     for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[k], t[(k + 1) % 3])];
+  return uses;
+}
+
+std::vector<std::array<int, 2>> border_edges(const TriangleMesh& mesh) {
   std::vector<std::array<int, 2>> out;
-  for (const auto& [edge, n] : uses)
+  for (const auto& [edge, n] : edge_uses(mesh))
     if (n == 1) out.push_back({edge.first, edge.second});
   return out;
 }

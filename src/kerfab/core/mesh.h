@@ -5,6 +5,7 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <array>
 #include <cstdint>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -101,6 +102,9 @@ Vec3 closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b);
 /// The triangles \p triangles (indices) of \p mesh as a mesh of their own, their vertices
 /// numbered as first met.
 TriangleMesh sub_mesh(const TriangleMesh& mesh, const std::vector<int>& triangles);
+
+/// How many triangles of \p mesh have each edge (vertex index pair, the smaller first).
+std::map<std::pair<int, int>, int> edge_uses(const TriangleMesh& mesh);
 
 /// The edges (vertex index pairs, the smaller first, ascending) that one triangle of \p mesh
 /// alone has.

@@ -340,13 +340,9 @@ struct Topology {
 };
 
 Topology topology(const TriangleMesh& mesh) {
-  std::map<std::pair<int, int>, int> edges;
+  const std::map<std::pair<int, int>, int> edges = edge_uses(mesh);
   std::set<int> used;
-  for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      ++edges[std::minmax(t[k], t[(k + 1) % 3])];
-      used.insert(t[k]);
-    }
+  for (const auto& t : mesh.triangles) used.insert(t.begin(), t.end());
   Topology out;
   out.euler = static_cast<int>(used.size()) - static_cast<int>(edges.size()) +
               static_cast<int>(mesh.triangles.size());
@@ -973,9 +969,9 @@ bool onto_outline(PolyMesh& cap, const quads::Extrusion& e, const TriangleMesh& 
 }
 
 /// The target as an extrusion (quads/sweep.h), meshed so: its cap at \p sized's quad size by
-/// make_quad_mesh (a flat patch), facing out of the solid, the wall swept from the cap's border
-/// in rows about as high as the quads are wide, and the other cap a copy. nullopt where the
-/// target is no extrusion, its cap finds no quads, or the swept quads fail the check.
+/// make_quad_mesh (a flat patch), the wall swept from the cap's border in rows about as high
+/// as the quads are wide, and the other cap a copy. nullopt where the target is no extrusion,
+/// its cap finds no quads, or the swept quads fail the check.
 std::optional<QuadMeshResult> swept_extrusion(
     const TargetSurface& target, const Material& material, const QuadMeshOptions& o,
     const QuadMeshResult& sized, const FeatureTriangleMesh& features,
@@ -1004,20 +1000,6 @@ std::optional<QuadMeshResult> swept_extrusion(
   } catch (const InvalidInput& error) {
     if (progress) progress(std::string("no quads on the cap (") + error.what() + ")");
     return std::nullopt;
-  }
-  // The cap facing out of the solid, as its triangles do.
-  Vec3 facing = Vec3::Zero();
-  for (auto f : cap.quads.faces()) facing += sum_of(corner_normals(quad_points(cap.quads, f)));
-  if (facing.dot(e->cap_on_top ? e->axis : Vec3(-e->axis)) < 0) {
-    PolyMesh turned;
-    for (auto v : cap.quads.vertices()) turned.add_vertex(cap.quads.point(v));
-    for (auto f : cap.quads.faces()) {
-      std::vector<OpenMesh::VertexHandle> corners;
-      for (auto v : cap.quads.fv_range(f)) corners.push_back(v);
-      std::reverse(corners.begin(), corners.end());
-      turned.add_face(corners);
-    }
-    cap.quads = std::move(turned);
   }
   if (!onto_outline(cap.quads, *e, mesh, features.features)) {
     if (progress) progress("the cap's quads miss a corner of its outline; not swept");

@@ -13,14 +13,6 @@
 namespace kerfab::quads {
 namespace {
 
-/// How often each undirected edge is used by the triangles.
-std::map<std::pair<int, int>, int> edge_uses(const TriangleMesh& mesh) {
-  std::map<std::pair<int, int>, int> uses;
-  for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[k], t[(k + 1) % 3])];
-  return uses;
-}
-
 /// \p mesh as an extrusion along \p axis, where it is one (find_extrusion's conditions).
 /// \p uses: the mesh's edge_uses(), counted on first need (most shapes fail before).
 std::optional<Extrusion> extrusion_along(const TriangleMesh& mesh, const Vec3& axis,
@@ -82,6 +74,7 @@ std::optional<Extrusion> extrusion_along(const TriangleMesh& mesh, const Vec3& a
     return std::nullopt;
   e.cap_on_top = e.top_cap;
   e.cap = sub_mesh(mesh, e.cap_on_top ? up : down);
+  e.cap_area = e.cap_on_top ? up_area : down_area;
   return e;
 }
 
@@ -137,19 +130,9 @@ std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh) {
   if (candidates.size() > 4) candidates.resize(4);
   std::optional<std::map<std::pair<int, int>, int>> uses;
   std::optional<Extrusion> best;
-  double best_cap = 0;
   for (const auto& [area, key, dir] : candidates) {
     std::optional<Extrusion> e = extrusion_along(mesh, dir, normals, areas, same_height, uses);
-    if (!e) continue;
-    double cap_area = 0;
-    for (const auto& t : e->cap.triangles)
-      cap_area += 0.5 * (e->cap.vertices[t[1]] - e->cap.vertices[t[0]])
-                            .cross(e->cap.vertices[t[2]] - e->cap.vertices[t[0]])
-                            .norm();
-    if (!best || cap_area > best_cap) {
-      best = std::move(e);
-      best_cap = cap_area;
-    }
+    if (e && (!best || e->cap_area > best->cap_area)) best = std::move(e);
   }
   return best;
 }
@@ -163,6 +146,15 @@ PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e, int rows,
   const Vec3 d = (to - from) * e.axis;
   const bool other_cap = e.cap_on_top ? e.bottom_cap : e.top_cap;
   using VH = OpenMesh::VertexHandle;
+  // The faces below are made as if the cap faced out of the solid (its triangles' way, along
+  // the axis at the top, against it at the bottom); where it faces in, each is turned.
+  Vec3 facing = Vec3::Zero();  // Newell's sum over the cap's faces
+  for (auto f : cap.faces()) {
+    std::vector<Vec3> p;
+    for (auto v : cap.fv_range(f)) p.push_back(to_eigen(cap.point(v)));
+    for (std::size_t i = 0; i < p.size(); ++i) facing += p[i].cross(p[(i + 1) % p.size()]);
+  }
+  const bool inward = facing.dot(e.cap_on_top ? e.axis : Vec3(-e.axis)) < 0;
   const int n = static_cast<int>(cap.n_vertices());
   // Row j of the cap's vertices, moved by j / rows of the way: the border in every row, the
   // inner vertices in the first and (a cap there) the last.
@@ -174,31 +166,33 @@ PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e, int rows,
       if (cap.is_boundary(v) || (j == rows && other_cap))
         at[j][v.idx()] = out.add_vertex(to_openmesh(p + (static_cast<double>(j) / rows) * d));
   }
-  const auto add = [&](const std::vector<VH>& corners) { return out.add_face(corners).is_valid(); };
-  for (auto f : cap.faces()) {
-    std::vector<VH> corners;
-    for (auto v : cap.fv_range(f)) corners.push_back(at[0][v.idx()]);
-    if (!add(corners)) return PolyMesh();
-  }
+  const auto add = [&](std::vector<VH> corners, bool turned) {
+    if (turned != inward) std::reverse(corners.begin(), corners.end());
+    return out.add_face(corners).is_valid();
+  };
+  // The cap in row \p row, turned there (the other end's copy faces the other way).
+  const auto add_cap = [&](int row, bool turned) {
+    for (auto f : cap.faces()) {
+      std::vector<VH> corners;
+      for (auto v : cap.fv_range(f)) corners.push_back(at[row][v.idx()]);
+      if (!add(corners, turned)) return false;
+    }
+    return true;
+  };
+  if (!add_cap(0, false)) return PolyMesh();
   // A border halfedge u -> v of the cap (no face on it; the cap's face runs v -> u) starts a
   // column of the wall, each of its quads running u -> v along its upper rim.
   for (auto h : cap.halfedges()) {
     if (!cap.is_boundary(h)) continue;
     const int u = cap.from_vertex_handle(h).idx(), v = cap.to_vertex_handle(h).idx();
     for (int j = 0; j < rows; ++j)
-      if (!add({at[j][u], at[j][v], at[j + 1][v], at[j + 1][u]})) return PolyMesh();
+      if (!add({at[j][u], at[j][v], at[j + 1][v], at[j + 1][u]}, false)) return PolyMesh();
     if (along_rims)
       for (int j = 1; j < rows; ++j) along_rims->push_back({at[j][u].idx(), at[j][v].idx()});
     if (along_axis)
       for (int j = 0; j < rows; ++j) along_axis->push_back({at[j][u].idx(), at[j + 1][u].idx()});
   }
-  if (other_cap)
-    for (auto f : cap.faces()) {
-      std::vector<VH> corners;
-      for (auto v : cap.fv_range(f)) corners.push_back(at[rows][v.idx()]);
-      std::reverse(corners.begin(), corners.end());
-      if (!add(corners)) return PolyMesh();
-    }
+  if (other_cap && !add_cap(rows, true)) return PolyMesh();
   return out;
 }
 

@@ -23,6 +23,7 @@ struct Extrusion {
   /// triangles there, renumbered, facing out of the solid.
   TriangleMesh cap;
   bool cap_on_top = true;
+  double cap_area = 0;   ///< [mm^2]
   double wall_area = 0;  ///< [mm^2]
 };
 
@@ -40,11 +41,11 @@ inline constexpr double kAxisTolerance = 0.05 * 3.14159265358979323846 / 180.0;
 /// same area. Of several axes (a box), the one with the largest cap. nullopt otherwise.
 std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh);
 
-/// The quads of the extrusion \p e from \p cap (an all-quad mesh of e.cap, facing as it does,
-/// its border on the cap's outline): the cap, the wall swept from its borders to the other end
-/// in \p rows rows, and (where e has it) the other cap, a mirrored copy. Empty where the
-/// quads do not make one consistent surface. \p along_rims and \p along_axis, if given, get
-/// the wall's edges between its rows and between its columns (vertex index pairs of the
+/// The quads of the extrusion \p e from \p cap (an all-quad mesh of e.cap, facing either way,
+/// its border on the cap's outline), facing out of the solid: the cap, the wall swept from its
+/// borders to the other end in \p rows rows, and (where e has it) the other cap, a mirrored copy.
+/// Empty where the quads do not make one consistent surface. \p along_rims and \p along_axis, if
+/// given, get the wall's edges between its rows and between its columns (vertex index pairs of the
 /// result): the wall bends only about the axis, so the first are its strips' rails (edges that
 /// bend) and the second their rulings (straight).
 PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e, int rows,
