@@ -1106,13 +1106,16 @@ TEST(Cli, TheFirstExampleFromATriangleMeshCutsClean) {
 // offset and joined the tab to its part again). Now the morphological opening finds it and the
 // thin-neck pass makes the joints there plain: the sheets, read back by the auditor, are clean
 // (no laser path within half the smallest feature of itself), no part is left with a neck, and
-// every border keeps a joint.
+// every border keeps a joint. The quads are those the size rule chose before its tube bound
+// (21.48 mm; since 2026-12-05 it makes them 15.5 mm, 4 round fertility's thinnest arms, and the
+// tab is not there to test).
 TEST(Cli, NoTabHangsOnANeckTheMitredOpeningMissed) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
   const fs::path out = test::fresh_dir() / "out";
-  const auto report = run_quietly("--target " + (test::shared_meshes() / "fertility.off").string() +
-                                      " --size 350 --material plywood3",
-                                  out);
+  const auto report =
+      run_quietly("--target " + (test::shared_meshes() / "fertility.off").string() +
+                      " --size 350 --material plywood3 --quad-size 21.47582039443288",
+                  out);
   ASSERT_FALSE(report.is_null());
   EXPECT_TRUE(report["joints"]["thin_neck_parts"].empty());
   EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
@@ -2169,7 +2172,9 @@ TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
 // The size named holds: one of the parts too small fell apart at its slots, and the size its
 // inscribed circle gave (336) left it falling apart again where it is narrower; the size at
 // which its outline, cut back all round by its joints' depth, is one piece is named instead,
-// and run there with the quads passed back no part is left unresolved.
+// and run there with the quads passed back no part is left too small (a facet may flatten
+// distorted there, as the warning says no size cures: since fertility's quads go 4 round its
+// arms, 2026-12-05, one does at the size named, 758 mm).
 TEST(Cli, DistortedPartsAreNotPromisedASize) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
   const fs::path scratch = test::fresh_dir();
@@ -2220,8 +2225,12 @@ TEST(Cli, DistortedPartsAreNotPromisedASize) {
               scratch);
   ASSERT_EQ(there.exit_code, 0) << there.err;
   const auto held = read_report(scratch / "g");
-  EXPECT_TRUE(held["resolve"]["unresolved_parts"].empty()) << held["resolve"]["unresolved_parts"];
-  EXPECT_EQ(held["resolve"]["small_parts_after"].get<int>(), 0);
+  EXPECT_EQ(held["resolve"]["small_parts_after"].get<int>(),
+            held["resolve"]["distorted_parts_after"].get<int>());
+  for (const auto& c : held["resolve"]["changes"]) {
+    if (c["action"] != "unresolved") continue;
+    EXPECT_NE(c["reason"].get<std::string>().find(" flattens "), std::string::npos) << c;
+  }
 }
 
 // Kerf options that leave no room for the cuts a bend needs are named. A ring of radius 44 mm,

@@ -11,6 +11,7 @@
 
 #include "kerfab/adapters/remesh.h"
 #include "kerfab/core/errors.h"
+#include "kerfab/core/parallel.h"
 #include "kerfab/quads/cleanup.h"
 #include "kerfab/quads/dislocations.h"
 #include "kerfab/quads/fields.h"
@@ -372,10 +373,43 @@ Topology topology(const TriangleMesh& mesh) {
 /// (stanford-bunny, 35k vertices, and every mesh smaller: all of them).
 constexpr int kCurvatureSamples = 100000;
 
-QuadSizeRule choose_size(const TriangleMesh& target, double diagonal, const Material& material,
+/// Tubes: the lattice lays about pi t / s quads round a tube t thick; where that rounds to 3 or
+/// fewer (under this) the ring is a prism folded 120 deg at every edge or worse ...
+constexpr double kFewestRoundTubes = 3.5;
+/// ... and the quads are made small enough to go this many times round it [-] ...
+constexpr double kQuadsRoundTubes = 4;
+/// ... round the thinnest tubes that make up this much of the surface (a tail or a finger tip
+/// alone does not size the whole model) [-].
+constexpr double kThinTubeShare = 0.05;
+
+/// The thickness of \p surface at each of its vertices that lies on a tube, +inf at the others:
+/// how far the line into the solid along the vertex's normal goes to the surface's other side
+/// [mm]. On a tube, the larger curvature is about 2 / thickness (here 1.3 to 3 / thickness:
+/// not a plate's flat side, nor a hole's wall in it, nor a solid much thicker than it curves)
+/// and the smaller under half of it (not a ball). Every \p stride -th vertex only.
+std::vector<double> tube_thickness(const quads::Surface& surface, const TargetSurface& target,
+                                   const quads::Curvatures& k, double diagonal, int stride) {
+  const TriangleMesh& mesh = *surface.mesh;
+  const int n = (static_cast<int>(mesh.vertices.size()) + stride - 1) / stride;
+  std::vector<double> out(n, std::numeric_limits<double>::infinity());
+  // Hits nearer than this are the vertex's own surface [mm].
+  const double own = 1e-3 * diagonal;
+  for_each_index(n, hardware_threads(), [&](int j) {
+    const int i = j * stride;
+    if (!(surface.normals[i].squaredNorm() > 0.5)) return;
+    double t = std::numeric_limits<double>::infinity();
+    for (const RayHit& h : target.hits_along_line(mesh.vertices[i], -surface.normals[i], diagonal))
+      if (h.t > own) t = std::min(t, h.t);
+    const double round = k.larger[i] * t;
+    if (round >= 1.3 && round <= 3 && k.smaller[i] < 0.5 * k.larger[i]) out[j] = t;
+  });
+  return out;
+}
+
+QuadSizeRule choose_size(const TargetSurface& target, double diagonal, const Material& material,
                          const QuadMeshOptions& o) {
   QuadSizeRule rule;
-  const quads::Surface surface = quads::make_surface(target);
+  const quads::Surface surface = quads::make_surface(target.mesh());
   for (double a : surface.areas) rule.area += a;
   // The curvatures' quantiles over every stride-th vertex of a large mesh, weighted by their
   // areas: a 1M-triangle sphere spent 11.7 s here on all 500k vertices.
@@ -390,6 +424,9 @@ QuadSizeRule choose_size(const TriangleMesh& target, double diagonal, const Mate
   }
   rule.bend_curvature = weighted_quantile(larger, areas, 0.8);
   rule.ruling_curvature = weighted_quantile(smaller, areas, 0.8);
+  rule.tube_thickness = weighted_quantile(tube_thickness(surface, target, k, diagonal, stride),
+                                          areas, kThinTubeShare);
+  rule.tube_size = kPi * rule.tube_thickness / kQuadsRoundTubes;
   // Kerf: beams d wide, twisted by kappa d over a strip l wide, hold while
   // g d sqrt(h^2 + d^2) <= 2 l / kappa (docs/kerf-cuts.md); with d = 1.5 x the minimum cut
   // spacing (room to place them) the strip must be at least this wide.
@@ -419,6 +456,11 @@ QuadSizeRule choose_size(const TriangleMesh& target, double diagonal, const Mate
     rule.size = std::clamp(rule.fidelity_size, s_min, s_max);
     rule.reason =
         rule.size == rule.fidelity_size ? "fidelity (rulings within tolerance)" : "quad count";
+  }
+  // Whatever the strips would take, the quads must go round the shape's thin tubes.
+  if (!o.quad_size && !o.quads && kPi * rule.tube_thickness / rule.size < kFewestRoundTubes) {
+    rule.size = std::max(rule.tube_size, s_min);
+    rule.reason = rule.size == rule.tube_size ? "tubes (4 quads round the thinnest)" : "quad count";
   }
   return rule;
 }
@@ -1049,7 +1091,7 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
   const TriangleMesh& mesh = target.mesh();
   const double diagonal = bounding_box(mesh).diagonal();
   QuadMeshResult sized;
-  sized.size = choose_size(mesh, diagonal, material, o);
+  sized.size = choose_size(target, diagonal, material, o);
   const double count = sized.size.area / (sized.size.size * sized.size.size);
   if (count > kMaxQuads)
     throw InvalidInput("a quad size of " + fmt(sized.size.size) + " mm would make about " +

@@ -37,9 +37,16 @@ struct QuadMeshOptions {
 /// How the quad size was chosen (docs/quad-meshing.md, "Size").
 struct QuadSizeRule {
   double area = 0;            ///< target surface area [mm^2]
-  double bend_curvature = 0;  ///< 90th percentile (by area) of the larger principal
+  double bend_curvature = 0;  ///< 80th percentile (by area) of the larger principal
                               ///< curvature magnitude [1/mm]
-  double ruling_curvature = 0;  ///< 90th percentile of the smaller one [1/mm]
+  double ruling_curvature = 0;  ///< 80th percentile of the smaller one [1/mm]
+  /// Thickness under which the thinnest tubes make up 5 % of the surface: where the line into
+  /// the solid along the normal meets the other side at about twice the radius the surface
+  /// curves round with [mm] (infinite where there are none: open surfaces, plates) ...
+  double tube_thickness = 0;
+  /// ... and the largest quads that go 4 round them [mm]: the size where the size otherwise
+  /// chosen would go round them fewer than 3.5 times
+  double tube_size = 0;
   double kerf_size = 0;       ///< smallest strip width whose bend keeps beams twice the
                               ///< minimum cut spacing wide [mm] (0: nothing bends or paper)
   double fidelity_size = 0;   ///< largest strip width whose straight rulings stay within the
