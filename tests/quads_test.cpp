@@ -915,11 +915,23 @@ TEST(Quads, AnExtrusionsWallIsSweptInRingsOfRegularQuads) {
     EXPECT_GT(rule, bend);  // every row's columns, one row fewer of the edges between them
   };
   {
-    const QuadMeshResult r = mesh_of(test::drum(100, 120, 128));
+    std::vector<std::string> lines;
+    const TargetSurface drum(test::drum(100, 120, 128));
+    const QuadMeshResult r =
+        make_quad_mesh(drum, Material{}, {}, [&](const std::string& l) { lines.push_back(l); });
     SCOPED_TRACE("drum");
     wall_is_swept(r, 120, 100, 100 * (1 - std::cos(kPi / 128)));
     EXPECT_EQ(euler(r.quads), 2);
     EXPECT_EQ(boundary_loop_count(r.quads), 0);
+    // The cap is meshed at the model's size, and its progress says so (not "--quad-size",
+    // which the user did not pass).
+    int cap_lines = 0;
+    for (const std::string& l : lines)
+      if (l.rfind("cap: quad size", 0) == 0) {
+        ++cap_lines;
+        EXPECT_NE(l.find("(the model's: " + r.size.reason + ")"), std::string::npos) << l;
+      }
+    EXPECT_EQ(cap_lines, 1);
   }
   {
     // Open at the top: one border loop, on the top rim.

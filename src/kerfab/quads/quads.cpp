@@ -444,7 +444,7 @@ QuadSizeRule choose_size(const TargetSurface& target, double diagonal, const Mat
                s_max = std::sqrt(rule.area / o.min_quads);
   if (o.quad_size) {
     rule.size = *o.quad_size;
-    rule.reason = "--quad-size";
+    rule.reason = o.quad_size_from;
   } else if (o.quads) {
     rule.size = std::sqrt(rule.area / *o.quads);
     rule.reason = "--quads";
@@ -1029,6 +1029,7 @@ std::optional<QuadMeshResult> swept_extrusion(
              " rows of quads");
   QuadMeshOptions cap_options = o;
   cap_options.quad_size = size;
+  cap_options.quad_size_from = "the model's: " + sized.size.reason;
   cap_options.quads.reset();
   QuadMeshResult cap;
   try {

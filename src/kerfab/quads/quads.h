@@ -20,6 +20,9 @@ namespace kerfab {
 struct QuadMeshOptions {
   std::optional<int> quads;           ///< set: about this many quads [-], 20..20000
   std::optional<double> quad_size;    ///< set: quad edge length [mm], > 0 (wins over quads)
+  /// Where quad_size comes from, as the size rule's reason and progress name it (an
+  /// extrusion's cap is meshed at the size the rule chose for the whole model).
+  std::string quad_size_from = "--quad-size";
   double feature_angle = 1.05;        ///< edges folding more are sharp features [rad], (0, pi)
                                       ///< (and shallower ones between wide planes)
   /// Where the lattice at the quad size leaves a triangle with no partner (one walled in by
