@@ -131,8 +131,9 @@ Flattening flatten_patches(const Strips& strips, const FlattenOptions& options);
 /// border meets it at), in least squares (Eq. 2 on the outline, from the facet's best-fit
 /// plane). Its inner vertices follow as the mean of their neighbours (Tutte). max_angle_error
 /// is then over the outline's corners, the only angles cut; inverted_quads still counts every
-/// quad. Empty for a patch that is no facet, or whose outline is not one loop through distinct
-/// vertices.
+/// quad. Empty for a patch that is no facet, whose outline is not one loop through distinct
+/// vertices, or that comes out more than twice its quads' area (small errors at many corners
+/// adding up along a long side).
 std::optional<PatchFlattening> flatten_facet_by_outline(const Strips& strips, int patch,
                                                         const FlattenOptions& options);
 
