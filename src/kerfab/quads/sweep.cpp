@@ -85,13 +85,9 @@ std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh) {
   if (nt < 4) return std::nullopt;
   std::vector<Vec3> normals(nt);
   std::vector<double> areas(nt);
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  for (const Vec3& v : mesh.vertices) {
-    lo = lo.cwiseMin(v);
-    hi = hi.cwiseMax(v);
-  }
-  if (!(lo.allFinite() && hi.allFinite())) return std::nullopt;
-  const double same_height = kSameHeight * (hi - lo).norm();
+  const BoundingBox box = bounding_box(mesh);
+  if (!(box.min.allFinite() && box.max.allFinite())) return std::nullopt;
+  const double same_height = kSameHeight * box.diagonal();
   // Candidate axes: the directions the most area faces (either way), a cap's among them.
   struct KeyHash {
     std::size_t operator()(const std::array<long long, 3>& k) const {
