@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <set>
 #include <sstream>
 #include <tuple>
@@ -925,8 +926,29 @@ void expect_all_placed_and_clean(const nlohmann::json& report, const fs::path& o
   EXPECT_EQ(report["joints"]["repaired_parts"].get<int>(), 0) << name;
   EXPECT_TRUE(report["layout"]["unplaced"].empty()) << name;
   const auto audit = test::audit_sheets(out / "cut");
-  EXPECT_EQ(audit.parts, report["resolve"]["parts_after"].get<int>()) << name;
+  EXPECT_EQ(audit.parts, static_cast<int>(report["layout"]["parts"].size()))
+      << name;  // after splits to fit
   EXPECT_TRUE(audit.clean()) << name << ": " << (audit.findings.empty() ? "" : audit.findings[0]);
+}
+
+/// \p mesh written to \p scratch / \p name.obj and run from its triangles at 250 mm in 3 mm
+/// MDF: its quads swept (their method starting with \p method), Hausdorff under \p
+/// most_hausdorff of the diagonal, no critical region left, every border with a joint, every
+/// part placed and its sheets, read back by the auditor, clean. The report (null where the run
+/// failed).
+nlohmann::json run_swept(const fs::path& scratch, const std::string& name, const TriangleMesh& mesh,
+                         const std::string& method, double most_hausdorff) {
+  const fs::path target = scratch / (name + ".obj"), out = scratch / name;
+  write_mesh(test::poly_mesh(mesh), target);
+  const auto report = run_quietly("--target " + target.string() + " --size 250", out);
+  if (report.is_null()) return report;
+  EXPECT_EQ(report["quads"]["method"].get<std::string>().rfind(method, 0), 0u)
+      << report["quads"]["method"];
+  EXPECT_LT(report["quality"]["hausdorff_rel"].get<double>(), most_hausdorff);
+  EXPECT_EQ(report["resolve"]["critical_after"].get<int>(), 0);
+  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+  expect_all_placed_and_clean(report, out, name);
+  return report;
 }
 
 // What kerfing is most often for: a drum, a bench of C-shaped section, a pot open at the top,
@@ -955,22 +977,43 @@ TEST(Cli, ADrumABenchAndAPotAreCutAsCapsAndRingsOfStrips) {
                         Case{"pot", test::drum(80, 120, 96, true, false), 18, 0.005, 187.5},
                         Case{"column", test::drum(30, 250, 64), 24, 0.011, 250}}) {
     SCOPED_TRACE(c.name);
-    const fs::path target = scratch / (c.name + ".obj"), out = scratch / c.name;
-    write_mesh(test::poly_mesh(c.mesh), target);
-    const auto report = run_quietly("--target " + target.string() + " --size 250", out);
+    const auto report = run_swept(scratch, c.name, c.mesh, "extrusion", c.most_hausdorff);
     ASSERT_FALSE(report.is_null());
-    EXPECT_EQ(report["quads"]["method"].get<std::string>().rfind("extrusion", 0), 0u)
-        << report["quads"]["method"];
     EXPECT_LE(report["resolve"]["parts_after"].get<int>(), c.most_parts);
-    EXPECT_LT(report["quality"]["hausdorff_rel"].get<double>(), c.most_hausdorff);
-    EXPECT_EQ(report["resolve"]["critical_after"].get<int>(), 0);
-    EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
     for (const auto& change : report["resolve"]["changes"]) {
       if (c.top == 0 || change["action"] != "plate") continue;
       const double z = change["centre_mm"][2].get<double>();  // a cap's, or one on the wall
       EXPECT_TRUE(std::abs(z) < 0.01 || std::abs(z - c.top) < 0.01) << change;
     }
-    expect_all_placed_and_clean(report, out, c.name);
+  }
+}
+
+// A planter (a frustum closed at both ends), a vase (open at the top, its profile a sine's arc
+// in 20 facets) and a lampshade (open at both ends) from their triangles at 250 mm in 3 mm MDF:
+// each a loft, swept, so cut as its caps and rings round its wall. From the lattice they were
+// 103 parts (Hausdorff 1.95 % of the diagonal, the planter's bottom cut in strips), 62 on the
+// sheets (1.40 %) and 32 on the sheet (0.53 %); swept, 13 (0.30 %), 19 (0.42 %) and 22 on the
+// sheet (0.09 %: 17 rings and arcs, long ones split to fit one sheet). Their sheets, read back
+// by the auditor, are clean.
+TEST(Cli, APlanterAVaseAndALampshadeAreCutAsCapsAndRings) {
+  const fs::path scratch = test::fresh_dir();
+  std::vector<std::array<double, 2>> vase;
+  for (int k = 0; k <= 20; ++k)
+    vase.push_back({60 + 25 * std::sin(std::numbers::pi * k / 20), 10.0 * k});
+  struct Case {
+    std::string name;
+    TriangleMesh mesh;
+    int most_parts;
+    double most_hausdorff;
+  };
+  for (const Case& c :
+       {Case{"planter", test::lathe({{100, 0}, {60, 120}}, 96, true, true), 15, 0.007},
+        Case{"vase", test::lathe(vase, 64, true, false), 21, 0.005},
+        Case{"lampshade", test::lathe({{100, 0}, {60, 150}}, 96, false, false), 24, 0.002}}) {
+    SCOPED_TRACE(c.name);
+    const auto report = run_swept(scratch, c.name, c.mesh, "loft", c.most_hausdorff);
+    ASSERT_FALSE(report.is_null());
+    EXPECT_LE(static_cast<int>(report["layout"]["parts"].size()), c.most_parts);  // on the sheets
   }
 }
 

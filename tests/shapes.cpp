@@ -162,27 +162,33 @@ PolyMesh box_cut_differently(const std::array<int, 6>& n) {
 }
 
 TriangleMesh drum(double r, double height, int n, bool bottom, bool top, double draft_deg) {
+  return lathe({{r, 0.0}, {r - height * std::tan(draft_deg * kPi / 180), height}}, n, bottom, top);
+}
+
+TriangleMesh lathe(const std::vector<std::array<double, 2>>& profile, int n, bool bottom,
+                   bool top) {
   TriangleMesh m;
-  const double r_top = r - height * std::tan(draft_deg * kPi / 180);
-  for (const double z : {0.0, height})
+  for (const auto& [r, z] : profile)
     for (int i = 0; i < n; ++i) {
-      const double a = 2 * kPi * i / n, rr = z == 0 ? r : r_top;
-      m.vertices.push_back({rr * std::cos(a), rr * std::sin(a), z});
+      const double a = 2 * kPi * i / n;
+      m.vertices.push_back({r * std::cos(a), r * std::sin(a), z});
     }
-  for (int i = 0; i < n; ++i) {
-    const int a = i, b = (i + 1) % n;
-    m.triangles.push_back({a, b, b + n});
-    m.triangles.push_back({a, b + n, a + n});
-  }
+  const int last = static_cast<int>(profile.size()) - 1;
+  for (int k = 0; k < last; ++k)
+    for (int i = 0; i < n; ++i) {
+      const int a = k * n + i, b = k * n + (i + 1) % n;
+      m.triangles.push_back({a, b, b + n});
+      m.triangles.push_back({a, b + n, a + n});
+    }
   if (bottom) {
-    m.vertices.push_back({0, 0, 0});
+    m.vertices.push_back({0, 0, profile.front()[1]});
     const int c = static_cast<int>(m.vertices.size()) - 1;
     for (int i = 0; i < n; ++i) m.triangles.push_back({c, (i + 1) % n, i});
   }
   if (top) {
-    m.vertices.push_back({0, 0, height});
-    const int c = static_cast<int>(m.vertices.size()) - 1;
-    for (int i = 0; i < n; ++i) m.triangles.push_back({c, n + i, n + (i + 1) % n});
+    m.vertices.push_back({0, 0, profile.back()[1]});
+    const int c = static_cast<int>(m.vertices.size()) - 1, o = last * n;
+    for (int i = 0; i < n; ++i) m.triangles.push_back({c, o + i, o + (i + 1) % n});
   }
   return m;
 }

@@ -39,6 +39,13 @@ Shape torus(double R, double r, int nu, int nv, int target_refine = 6);
 TriangleMesh drum(double r, double height, int n, bool bottom = true, bool top = true,
                   double draft_deg = 0);
 
+/// A surface of revolution about the z axis: a ring of radius profile[k][0] at height
+/// profile[k][1] for each k, every ring in n segments at the same angles, neighbouring rings
+/// joined by two triangles per segment, and fans over the first ring and the last where asked
+/// (a loft, src/kerfab/quads/sweep.h). Outward normals for heights rising along the profile.
+TriangleMesh lathe(const std::vector<std::array<double, 2>>& profile, int n, bool bottom = true,
+                   bool top = true);
+
 /// A bench of C-shaped section: the ring between radii r_in and r_out from angle 0.3 to
 /// 2 pi - 0.3 (its gap facing +x), swept from z = 0 to height, n segments per arc.
 TriangleMesh c_bench(double r_in, double r_out, double height, int n);

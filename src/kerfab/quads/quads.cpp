@@ -1022,13 +1022,26 @@ std::optional<QuadMeshResult> swept_extrusion(
   const std::optional<quads::Extrusion> e = quads::find_extrusion(mesh);
   if (!e) return std::nullopt;
   const double size = sized.size.size, height = e->top - e->bottom;
-  const int rows = std::max(1, static_cast<int>(std::lround(height / size)));
-  if (progress)
-    progress("an extrusion: a flat outline swept " + fmt(height) +
-             " mm along an axis; meshing its cap, then the wall in " + std::to_string(rows) +
-             " rows of quads");
+  const std::vector<quads::RowBorder> borders = quads::row_borders(*e, size);
+  const int rows = static_cast<int>(borders.size()) - 1;
+  const bool loft = !e->profile.empty();
+  // A loft's outline widest where its scale is largest: the cap's quads that much smaller, so
+  // that the wall's columns are nowhere wider than the quad size.
+  double widest = 1;
+  for (const auto& [h, s] : e->profile) widest = std::max(widest, s);
+  if (progress) {
+    double least = 1;
+    for (const auto& [h, s] : e->profile) least = std::min(least, s);
+    progress(loft ? "a loft: a flat outline swept " + fmt(height) + " mm along an axis, scaled " +
+                        fmt(least) + " to " + fmt(widest) + " times; meshing " +
+                        (e->cap_made ? "its rim" : "its cap") + ", then the wall in " +
+                        std::to_string(rows) + " rows of quads"
+                  : "an extrusion: a flat outline swept " + fmt(height) +
+                        " mm along an axis; meshing its cap, then the wall in " +
+                        std::to_string(rows) + " rows of quads");
+  }
   QuadMeshOptions cap_options = o;
-  cap_options.quad_size = size;
+  cap_options.quad_size = size / widest;
   cap_options.quad_size_from = "the model's: " + sized.size.reason;
   cap_options.quads.reset();
   QuadMeshResult cap;
@@ -1050,7 +1063,7 @@ std::optional<QuadMeshResult> swept_extrusion(
   }
   QuadMeshResult r = sized;
   std::vector<std::array<int, 2>> along_rims, along_axis;
-  r.quads = quads::sweep_extrusion(cap.quads, *e, rows, &along_rims, &along_axis);
+  r.quads = quads::sweep_extrusion(cap.quads, *e, borders, &along_rims, &along_axis);
   for (const auto& [a, b] : along_rims) r.bending.push_back({a, b, true});
   for (const auto& [a, b] : along_axis) r.bending.push_back({a, b, false});
   r.problem = r.quads.n_faces() == 0 ? "the swept quads make no consistent surface"
@@ -1060,9 +1073,13 @@ std::optional<QuadMeshResult> swept_extrusion(
     return std::nullopt;
   }
   const bool both = e->top_cap && e->bottom_cap;
-  r.method = "extrusion: its cap meshed (" + cap.method + ")" +
-             (both ? ", copied to the other end," : ",") + " the wall swept in " +
-             std::to_string(rows) + (rows == 1 ? " row" : " rows");
+  const std::string kind = loft ? "loft" : "extrusion";
+  r.method =
+      kind +
+      (e->cap_made ? ": its rim's border from quads on its outline (" + cap.method + ")"
+                   : ": its cap meshed (" + cap.method + ")") +
+      (both ? (loft ? ", a scaled copy at the other end," : ", copied to the other end,") : ",") +
+      " the wall swept in " + std::to_string(rows) + (rows == 1 ? " row" : " rows");
   r.remeshed_vertices = cap.remeshed_vertices;
   r.lattice_quads = cap.lattice_quads;
   r.lattice_triangles = cap.lattice_triangles;

@@ -6,9 +6,12 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <tuple>
 #include <unordered_map>
 #include <vector>
+
+#include "kerfab/core/geometry2d.h"
 
 namespace kerfab::quads {
 namespace {
@@ -78,7 +81,310 @@ std::optional<Extrusion> extrusion_along(const TriangleMesh& mesh, const Vec3& a
   return e;
 }
 
+/// Two unit vectors across \p axis, each across the other.
+std::array<Vec3, 2> across(const Vec3& axis) {
+  const Vec3 helper = std::abs(axis.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  const Vec3 u = axis.cross(helper).normalized();
+  return {u, axis.cross(u)};
+}
+
+/// The vertices of \p mesh's \p edges (pairs) in loops, each in order; empty where a vertex has
+/// other than two of them.
+std::vector<std::vector<int>> loops_of(const std::vector<std::array<int, 2>>& edges) {
+  std::map<int, std::vector<int>> next;
+  for (const auto& [a, b] : edges) {
+    next[a].push_back(b);
+    next[b].push_back(a);
+  }
+  std::vector<std::vector<int>> loops;
+  std::map<int, bool> seen;
+  for (const auto& [start, around] : next) {
+    if (around.size() != 2) return {};
+    if (seen[start]) continue;
+    std::vector<int> loop{start};
+    seen[start] = true;
+    for (int previous = start, at = around[0]; at != start;) {
+      if (seen[at]) return {};
+      seen[at] = true;
+      loop.push_back(at);
+      const std::vector<int>& n = next.at(at);
+      const int to = n[0] == previous ? n[1] : n[0];
+      previous = at, at = to;
+    }
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+/// A star-shaped outline about the origin (vertices in the plane across a loft's axis, in
+/// order of their angle): where a ray from the origin meets it.
+class StarOutline {
+ public:
+  /// False where \p points (about the origin) do not go once round it, angle rising.
+  bool set(std::vector<Vec2> points) {
+    const auto turn = [](const Vec2& a, const Vec2& b) {
+      return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+    };
+    const int n = static_cast<int>(points.size());
+    if (n < 3) return false;
+    double total = 0;
+    for (int i = 0; i < n; ++i) total += turn(points[i], points[(i + 1) % n]);
+    if (total < 0) std::reverse(points.begin(), points.end());
+    points_ = std::move(points);
+    way_.assign(n + 1, 0.0);
+    for (int i = 0; i < n; ++i) {
+      const double t = turn(points_[i], points_[(i + 1) % n]);
+      if (!(t > 1e-9)) return false;  // back or along a ray: not star-shaped about the origin
+      way_[i + 1] = way_[i] + t;
+    }
+    return std::abs(way_[n] - 2 * std::numbers::pi) < 1e-6;
+  }
+  /// The edge the ray through \p q meets, plus how far along it (0 to 1), and the distance
+  /// from the origin to where it meets it.
+  std::pair<double, double> at(const Vec2& q) const {
+    const int n = static_cast<int>(points_.size());
+    const Vec2& p0 = points_[0];
+    double a = std::atan2(p0.x() * q.y() - p0.y() * q.x(), p0.dot(q));
+    if (a < 0) a += 2 * std::numbers::pi;
+    const int i = std::clamp(
+        static_cast<int>(std::upper_bound(way_.begin(), way_.end(), a) - way_.begin()) - 1, 0,
+        n - 1);
+    const Vec2 pi = points_[i], edge = points_[(i + 1) % n] - pi, dir = q.normalized();
+    const auto cross = [](const Vec2& x, const Vec2& y) { return x.x() * y.y() - x.y() * y.x(); };
+    const double denominator = cross(dir, edge);
+    const double lambda = std::abs(denominator) > 1e-300 ? -cross(dir, pi) / denominator : 0.0;
+    return {i + std::clamp(lambda, 0.0, 1.0), dir.dot(pi + lambda * edge)};
+  }
+  int size() const { return static_cast<int>(points_.size()); }
+
+ private:
+  std::vector<Vec2> points_;
+  std::vector<double> way_;  // angle from points_[0] to each vertex, rising, 2 pi at the end
+};
+
+/// \p mesh as a loft along \p axis, where it is one (find_extrusion's second kind).
+std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
+                                    const std::vector<Vec3>& normals,
+                                    const std::vector<double>& areas, double same_height,
+                                    const std::map<std::pair<int, int>, int>& uses) {
+  const int nv = static_cast<int>(mesh.vertices.size());
+  std::vector<int> order(nv);
+  for (int i = 0; i < nv; ++i) order[i] = i;
+  std::vector<double> height(nv);
+  for (int i = 0; i < nv; ++i) height[i] = mesh.vertices[i].dot(axis);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return height[a] < height[b]; });
+  std::vector<int> level(nv);
+  std::vector<double> heights;
+  for (int i : order) {
+    if (heights.empty() || height[i] - heights.back() > same_height) heights.push_back(height[i]);
+    level[i] = static_cast<int>(heights.size()) - 1;
+  }
+  const int levels = static_cast<int>(heights.size()), top = levels - 1;
+  if (levels < 2 || levels > nv / 3) return std::nullopt;
+  // Caps at the ends; every other triangle between two neighbouring heights.
+  const double cos_tol = std::cos(kAxisTolerance);
+  std::vector<int> up, down, wall;
+  Extrusion e;
+  e.axis = axis;
+  double up_area = 0, down_area = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tr = mesh.triangles[t];
+    const int lo = std::min({level[tr[0]], level[tr[1]], level[tr[2]]});
+    const int hi = std::max({level[tr[0]], level[tr[1]], level[tr[2]]});
+    const double d = normals[t].dot(axis);
+    if (lo == hi && lo == top && d > cos_tol) {
+      up.push_back(static_cast<int>(t)), up_area += areas[t];
+    } else if (lo == hi && lo == 0 && d < -cos_tol) {
+      down.push_back(static_cast<int>(t)), down_area += areas[t];
+    } else if (hi == lo + 1) {
+      wall.push_back(static_cast<int>(t)), e.wall_area += areas[t];
+    } else {
+      return std::nullopt;
+    }
+  }
+  if (wall.empty()) return std::nullopt;
+  e.bottom = heights.front();
+  e.top = heights.back();
+  e.top_cap = !up.empty();
+  e.bottom_cap = !down.empty();
+  for (const auto& [edge, n] : uses) {
+    if (n == 2) continue;
+    if (n != 1) return std::nullopt;
+    for (int v : {edge.first, edge.second})
+      if (!((level[v] == top && !e.top_cap) || (level[v] == 0 && !e.bottom_cap)))
+        return std::nullopt;
+  }
+  // The rim at each end: the wall's edges there, one loop.
+  std::array<std::vector<std::array<int, 2>>, 2> rim_edges;
+  for (int t : wall)
+    for (int k = 0; k < 3; ++k) {
+      const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      if (level[a] != level[b] || (level[a] != 0 && level[a] != top)) continue;
+      rim_edges[level[a] == top ? 1 : 0].push_back({std::min(a, b), std::max(a, b)});
+    }
+  const auto [u, v] = across(axis);
+  const auto flat = [&](int i) { return Vec2(mesh.vertices[i].dot(u), mesh.vertices[i].dot(v)); };
+  std::array<std::vector<int>, 2> rims;
+  std::array<double, 2> rim_area{0, 0};
+  for (int end = 0; end < 2; ++end) {
+    auto& edges = rim_edges[end];
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    const std::vector<std::vector<int>> loops = loops_of(edges);
+    if (loops.size() != 1) return std::nullopt;
+    rims[end] = loops[0];
+    const int n = static_cast<int>(rims[end].size());
+    for (int i = 0; i < n; ++i) {
+      const Vec2 a = flat(rims[end][i]), b = flat(rims[end][(i + 1) % n]);
+      rim_area[end] += 0.5 * (a.x() * b.y() - a.y() * b.x());
+    }
+    rim_area[end] = std::abs(rim_area[end]);
+  }
+  // The end whose outline the others scale: one with a cap, the larger.
+  const int ref =
+      e.top_cap != e.bottom_cap ? (e.top_cap ? 1 : 0) : (rim_area[1] >= rim_area[0] ? 1 : 0);
+  const std::vector<int>& rim = rims[ref];
+  const int n = static_cast<int>(rim.size());
+  Vec2 centroid = Vec2::Zero();
+  double area = 0;
+  for (int i = 0; i < n; ++i) {
+    const Vec2 a = flat(rim[i]), b = flat(rim[(i + 1) % n]);
+    const double c = a.x() * b.y() - a.y() * b.x();
+    area += 0.5 * c;
+    centroid += c * (a + b) / 6.0;
+  }
+  if (!(std::abs(area) > 0)) return std::nullopt;
+  centroid /= area;
+  std::vector<Vec2> outline;
+  for (int i : rim) outline.push_back(flat(i) - centroid);
+  StarOutline star;
+  if (!star.set(outline)) return std::nullopt;
+  // Each height's scale, and every vertex of the wall on the outline so scaled (a cap's inner
+  // vertices may lie anywhere on it, its middle too).
+  const double tolerance = 10 * same_height;
+  std::vector<char> on_wall(nv, 0);
+  for (int t : wall)
+    for (int i : mesh.triangles[t]) on_wall[i] = 1;
+  std::vector<std::vector<double>> ratios(levels);
+  std::vector<double> along(nv);  // where on the outline (edge + fraction)
+  std::vector<std::pair<double, double>> ray(nv);
+  for (int i = 0; i < nv; ++i) {
+    if (!on_wall[i]) continue;
+    const Vec2 q = flat(i) - centroid;
+    if (!(q.norm() > tolerance)) return std::nullopt;  // on the axis
+    ray[i] = star.at(q);
+    along[i] = ray[i].first;
+    if (!(ray[i].second > tolerance)) return std::nullopt;
+    ratios[level[i]].push_back(q.norm() / ray[i].second);
+  }
+  std::vector<double> scale(levels);
+  for (int k = 0; k < levels; ++k) {
+    auto& r = ratios[k];
+    if (r.empty()) return std::nullopt;  // a height with no wall
+    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+    scale[k] = r[r.size() / 2];
+    if (!(scale[k] >= kLeastLoftScale && scale[k] <= 1 / kLeastLoftScale)) return std::nullopt;
+  }
+  const double reference = scale[ref == 1 ? top : 0];
+  for (int i = 0; i < nv; ++i)
+    if (on_wall[i] &&
+        std::abs((flat(i) - centroid).norm() - scale[level[i]] * ray[i].second) > tolerance)
+      return std::nullopt;
+  // Every wall triangle along one edge of the outline.
+  const auto off = [&](double x, int edge) {  // x - edge, round the outline to [-n/2, n/2)
+    double d = std::fmod(x - edge + 1.5 * n, static_cast<double>(n));
+    if (d < 0) d += n;
+    return d - 0.5 * n;
+  };
+  constexpr double kOnEdge = 1e-4;
+  for (int t : wall) {
+    const auto& tr = mesh.triangles[t];
+    const int first = static_cast<int>(std::floor(along[tr[0]]));
+    bool one_edge = false;
+    for (int edge : {first - 1, first, first + 1}) {
+      const int k = ((edge % n) + n) % n;
+      one_edge = std::all_of(tr.begin(), tr.end(), [&](int vi) {
+        const double d = off(along[vi], k);
+        return d >= -kOnEdge && d <= 1 + kOnEdge;
+      });
+      if (one_edge) break;
+    }
+    if (!one_edge) return std::nullopt;
+  }
+  for (double& s : scale) s /= reference;
+  bool scaled = false;
+  for (double s : scale) scaled = scaled || std::abs(s - 1) > 1e-9;
+  // Two caps: the same outline, scaled.
+  const double other = scale[ref == 1 ? 0 : top];
+  if (e.top_cap && e.bottom_cap) {
+    const double ref_area = ref == 1 ? up_area : down_area,
+                 other_area = ref == 1 ? down_area : up_area;
+    if (std::abs(other_area - other * other * ref_area) > 1e-3 * ref_area) return std::nullopt;
+  }
+  if (!scaled && (e.top_cap || e.bottom_cap)) return std::nullopt;  // an extrusion's business
+  for (int k = 0; k < levels; ++k) e.profile.push_back({heights[k], scale[k]});
+  e.centre = centroid.x() * u + centroid.y() * v;
+  e.radius = 0;
+  for (int i : rim) e.radius += (flat(i) - centroid).norm() / n;
+  e.cap_on_top = ref == 1;
+  if (ref == 1 ? e.top_cap : e.bottom_cap) {
+    e.cap = sub_mesh(mesh, ref == 1 ? up : down);
+    e.cap_area = ref == 1 ? up_area : down_area;
+  } else {
+    // Open at both ends: the rim fanned round the axis, for its border.
+    e.cap_made = true;
+    for (int i : rim) e.cap.vertices.push_back(mesh.vertices[i]);
+    e.cap.vertices.push_back(e.centre + heights[ref == 1 ? top : 0] * axis);
+    for (int i = 0; i < n; ++i) e.cap.triangles.push_back({n, i, (i + 1) % n});
+    e.cap_area = std::abs(area);
+  }
+  return e;
+}
+
 }  // namespace
+
+std::vector<RowBorder> row_borders(const Extrusion& e, double size) {
+  std::vector<RowBorder> out;
+  if (e.profile.empty()) {
+    const int rows = std::max(1, static_cast<int>(std::lround((e.top - e.bottom) / size)));
+    for (int j = 0; j <= rows; ++j) out.push_back({static_cast<double>(j) / rows, 1.0});
+    return out;
+  }
+  // The profile from the cap's end, each corner as (height, scale times the radius).
+  std::vector<Vec2> p;
+  for (const auto& [h, s] : e.profile) p.push_back(Vec2(h, s * e.radius));
+  if (e.cap_on_top) std::reverse(p.begin(), p.end());
+  const double from = p.front().x(), to = p.back().x();
+  const auto border_at = [&](const Vec2& q) {
+    return RowBorder{(q.x() - from) / (to - from), q.y() / e.radius};
+  };
+  out.push_back(border_at(p.front()));
+  const int m = static_cast<int>(p.size());
+  for (int start = 0; start + 1 < m;) {
+    int end = start + 1;  // the run from start to end: no corner inside
+    while (end + 1 < m) {
+      const Vec2 a = p[end] - p[end - 1], b = p[end + 1] - p[end];
+      if (std::atan2(std::abs(a.x() * b.y() - a.y() * b.x()), a.dot(b)) > kProfileCorner) break;
+      ++end;
+    }
+    double length = 0;
+    for (int k = start; k < end; ++k) length += (p[k + 1] - p[k]).norm();
+    const int rows = std::max(1, static_cast<int>(std::lround(length / size)));
+    int k = start;
+    double before = 0;  // length of the run up to corner k
+    for (int i = 1; i < rows; ++i) {
+      const double at = length * i / rows;
+      while (k + 1 < end && before + (p[k + 1] - p[k]).norm() < at)
+        before += (p[k + 1] - p[k]).norm(), ++k;
+      const double segment = (p[k + 1] - p[k]).norm();
+      const double w = segment > 0 ? std::clamp((at - before) / segment, 0.0, 1.0) : 0.0;
+      out.push_back(border_at(p[k] + w * (p[k + 1] - p[k])));
+    }
+    out.push_back(border_at(p[end]));
+    start = end;
+  }
+  return out;
+}
 
 std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh) {
   const int nt = static_cast<int>(mesh.triangles.size());
@@ -130,16 +436,43 @@ std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh) {
     std::optional<Extrusion> e = extrusion_along(mesh, dir, normals, areas, same_height, uses);
     if (e && (!best || e->cap_area > best->cap_area)) best = std::move(e);
   }
+  if (best) return best;
+  // A loft: along a cap's normal, or (open at both ends) a rim's.
+  if (!uses) uses = edge_uses(mesh);
+  std::vector<Vec3> axes;
+  for (const auto& [area, key, dir] : candidates) axes.push_back(dir);
+  std::vector<std::vector<int>> loops = loops_of(border_edges(mesh));
+  std::sort(loops.begin(), loops.end(),
+            [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  if (loops.size() > 4) loops.resize(4);  // a scan's many holes: the longest rims only
+  for (const std::vector<int>& loop : loops) {
+    Vec3 normal = Vec3::Zero();  // Newell's
+    for (std::size_t i = 0; i < loop.size(); ++i)
+      normal += mesh.vertices[loop[i]].cross(mesh.vertices[loop[(i + 1) % loop.size()]]);
+    if (normal.norm() > 0) axes.push_back(normal.normalized());
+  }
+  for (const Vec3& axis : axes) {
+    std::optional<Extrusion> e = loft_along(mesh, axis, normals, areas, same_height, *uses);
+    if (e && (!best || e->cap_area > best->cap_area)) best = std::move(e);
+  }
   return best;
 }
 
-PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e, int rows,
+PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e,
+                         const std::vector<RowBorder>& borders,
                          std::vector<std::array<int, 2>>* along_rims,
                          std::vector<std::array<int, 2>>* along_axis) {
   PolyMesh out;
+  const int rows = static_cast<int>(borders.size()) - 1;
   if (rows < 1 || cap.n_faces() == 0) return out;
   const double from = e.cap_on_top ? e.top : e.bottom, to = e.cap_on_top ? e.bottom : e.top;
   const Vec3 d = (to - from) * e.axis;
+  // Row j's copy of a point p of the cap: moved borders[j].way of d, and (a loft) its offset
+  // from the axis scaled (by exactly 1 along an extrusion: p moved alone).
+  const auto in_row = [&](const Vec3& p, int j) {
+    const Vec3 off = p - e.centre, across = off - off.dot(e.axis) * e.axis;
+    return Vec3(p + borders[j].way * d + (borders[j].scale - 1.0) * across);
+  };
   const bool other_cap = e.cap_on_top ? e.bottom_cap : e.top_cap;
   using VH = OpenMesh::VertexHandle;
   // The faces below are made as if the cap faced out of the solid (its triangles' way, along
@@ -157,10 +490,10 @@ PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e, int rows,
   std::vector<std::vector<VH>> at(rows + 1, std::vector<VH>(n));
   for (auto v : cap.vertices()) {
     const Vec3 p = to_eigen(cap.point(v));
-    at[0][v.idx()] = out.add_vertex(to_openmesh(p));
+    if (cap.is_boundary(v) || !e.cap_made) at[0][v.idx()] = out.add_vertex(to_openmesh(p));
     for (int j = 1; j <= rows; ++j)
       if (cap.is_boundary(v) || (j == rows && other_cap))
-        at[j][v.idx()] = out.add_vertex(to_openmesh(p + (static_cast<double>(j) / rows) * d));
+        at[j][v.idx()] = out.add_vertex(to_openmesh(in_row(p, j)));
   }
   const auto add = [&](std::vector<VH> corners, bool turned) {
     if (turned != inward) std::reverse(corners.begin(), corners.end());
@@ -175,7 +508,7 @@ PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e, int rows,
     }
     return true;
   };
-  if (!add_cap(0, false)) return PolyMesh();
+  if (!e.cap_made && !add_cap(0, false)) return PolyMesh();
   // A border halfedge u -> v of the cap (no face on it; the cap's face runs v -> u) starts a
   // column of the wall, each of its quads running u -> v along its upper rim.
   for (auto h : cap.halfedges()) {

@@ -25,7 +25,36 @@ struct Extrusion {
   bool cap_on_top = true;
   double cap_area = 0;   ///< [mm^2]
   double wall_area = 0;  ///< [mm^2]
+  /// A loft (find_extrusion's second kind: a lampshade, a frustum, a vase): the outline at
+  /// each height along the axis is the cap's outline scaled about `centre` by the `scale` of
+  /// the profile there. Its corners (height along the axis [mm], scale [-]) from the bottom
+  /// rim to the top one, scale 1 at the cap's end; empty for an extrusion (scale 1 all along).
+  std::vector<std::array<double, 2>> profile;
+  Vec3 centre = Vec3::Zero();  ///< a point on the axis the outlines are scaled about [mm]
+  double radius = 0;           ///< a loft's: the cap's outline's mean distance from the axis [mm]
+  /// Open at both ends (a lampshade, a pipe): `cap` is the fan of the rim at cap_on_top's end
+  /// round `centre`, meshed for its border alone and not part of the result.
+  bool cap_made = false;
 };
+
+/// A loft's profile turns by more than this at a corner (a frustum on a drum): its rows meet
+/// there, each run between two corners in rows of its own [rad].
+inline constexpr double kProfileCorner = 20.0 * 3.14159265358979323846 / 180.0;
+
+/// A loft's outlines are scaled by at least this and at most 1 / this of the cap's (a cone
+/// that comes to a point is no loft: its columns would meet there) [-].
+inline constexpr double kLeastLoftScale = 0.3;
+
+/// One border between rows of a swept wall: how far along the axis from the cap's end to the
+/// other (0 to 1 of the way) and the scale of the outline there.
+struct RowBorder {
+  double way = 0, scale = 1;
+};
+
+/// The borders between rows of \p e's wall, from the cap's end (way 0) to the other (way 1),
+/// rows about \p size high [mm] along the profile: round(height / size) rows of an extrusion,
+/// and of a loft each run of its profile between corners (kProfileCorner) in rows of its own.
+std::vector<RowBorder> row_borders(const Extrusion& e, double size);
 
 /// Heights along the axis within this share of the target's bounding-box diagonal are one
 /// height (a mesh written with 6 or 7 significant digits) [-].
@@ -38,17 +67,25 @@ inline constexpr double kAxisTolerance = 0.05 * 3.14159265358979323846 / 180.0;
 /// \p mesh as an extrusion, where it is one: every triangle faces along the axis (a cap, at the
 /// lowest or highest height) or across it (the wall), the mesh's borders (if any) are rims
 /// where a cap is missing, at least one cap is there, the wall has area, and two caps have the
-/// same area. Of several axes (a box), the one with the largest cap. nullopt otherwise.
+/// same area. Of several axes (a box), the one with the largest cap. Else as a loft, where it
+/// is one: its vertices at a few heights along an axis (a cap's or a rim's normal), at each
+/// height on the outline of one end (star-shaped about its centroid) scaled about the same
+/// axis (within kLeastLoftScale), every wall triangle between two neighbouring heights and
+/// along one edge of that outline (so it lies in the trapezoid between the two scaled copies
+/// of the edge), borders only at ends without a cap. nullopt otherwise.
 std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh);
 
 /// The quads of the extrusion \p e from \p cap (an all-quad mesh of e.cap, facing either way,
-/// its border on the cap's outline), facing out of the solid: the cap, the wall swept from its
-/// borders to the other end in \p rows rows, and (where e has it) the other cap, a mirrored copy.
+/// its border on the cap's outline), facing out of the solid: the cap (unless e.cap_made), the
+/// wall swept from its borders to the other end between the rows \p rows (row_borders(), the
+/// border vertices scaled about the axis along a loft), and (where e has it) the other cap, a
+/// mirrored (scaled) copy.
 /// Empty where the quads do not make one consistent surface. \p along_rims and \p along_axis, if
 /// given, get the wall's edges between its rows and between its columns (vertex index pairs of the
 /// result): the wall bends only about the axis, so the first are its strips' rails (edges that
 /// bend) and the second their rulings (straight).
-PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e, int rows,
+PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e,
+                         const std::vector<RowBorder>& rows,
                          std::vector<std::array<int, 2>>* along_rims = nullptr,
                          std::vector<std::array<int, 2>>* along_axis = nullptr);
 
