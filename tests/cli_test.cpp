@@ -989,13 +989,14 @@ TEST(Cli, ADrumABenchAndAPotAreCutAsCapsAndRingsOfStrips) {
 }
 
 // A planter (a frustum closed at both ends), a vase (open at the top, its profile a sine's arc
-// in 20 facets) and a lampshade (open at both ends) from their triangles at 250 mm in 3 mm MDF:
-// each a loft, swept, so cut as its caps and rings round its wall. From the lattice they were
-// 103 parts (Hausdorff 1.95 % of the diagonal, the planter's bottom cut in strips), 62 on the
-// sheets (1.40 %) and 32 on the sheet (0.53 %); swept, 13 (0.30 %), 19 (0.42 %) and 22 on the
-// sheet (0.09 %: 17 rings and arcs, long ones split to fit one sheet). Their sheets, read back
-// by the auditor, are clean.
-TEST(Cli, APlanterAVaseAndALampshadeAreCutAsCapsAndRings) {
+// in 20 facets), a lampshade (open at both ends) and a stepped drum (a thinner drum on a wider
+// one) from their triangles at 250 mm in 3 mm MDF: each a loft, swept, so cut as its caps, its
+// step and rings round its wall. From the lattice they were 103 parts (Hausdorff 1.95 % of the
+// diagonal, the planter's bottom cut in strips), 62 on the sheets (1.40 %), 32 on the sheet
+// (0.53 %) and 80 (2.43 %); swept, 13 (0.30 %), 19 (0.42 %), 22 on the sheet (0.09 %: 17 rings
+// and arcs, long ones split to fit one sheet) and 13 (0.42 %). Their sheets, read back by the
+// auditor, are clean.
+TEST(Cli, APlanterAVaseALampshadeAndAStepAreCutAsCapsAndRings) {
   const fs::path scratch = test::fresh_dir();
   std::vector<std::array<double, 2>> vase;
   for (int k = 0; k <= 20; ++k)
@@ -1009,7 +1010,9 @@ TEST(Cli, APlanterAVaseAndALampshadeAreCutAsCapsAndRings) {
   for (const Case& c :
        {Case{"planter", test::lathe({{100, 0}, {60, 120}}, 96, true, true), 15, 0.007},
         Case{"vase", test::lathe(vase, 64, true, false), 21, 0.005},
-        Case{"lampshade", test::lathe({{100, 0}, {60, 150}}, 96, false, false), 24, 0.002}}) {
+        Case{"lampshade", test::lathe({{100, 0}, {60, 150}}, 96, false, false), 24, 0.002},
+        Case{"stepped", test::lathe({{100, 0}, {100, 60}, {60, 60}, {60, 120}}, 96, true, true), 15,
+             0.006}}) {
     SCOPED_TRACE(c.name);
     const auto report = run_swept(scratch, c.name, c.mesh, "loft", c.most_hausdorff);
     ASSERT_FALSE(report.is_null());

@@ -893,11 +893,22 @@ TEST(Quads, ExtrusionsAreFoundAlongTheirAxis) {
     EXPECT_NEAR(e->profile[1][1], 1, 1e-9);
   }
   EXPECT_FALSE(quads::find_extrusion(test::sphere(80, 6).target));
-  // A cone that comes to a point, and a drum with a second, thinner one on top (two rims at
-  // one height: a step) are neither.
+  // A drum with a second, thinner one on top: a loft whose profile has a flat step (two rings
+  // at one height, joined by the flat ring between them).
+  {
+    const auto e = quads::find_extrusion(
+        test::lathe({{100, 0}, {100, 60}, {50, 60}, {50, 120}}, 64, true, true));
+    ASSERT_TRUE(e);
+    ASSERT_EQ(e->profile.size(), 4u);
+    const std::vector<std::array<double, 2>> profile = {{0, 1}, {60, 1}, {60, 0.5}, {120, 0.5}};
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_NEAR(e->profile[k][0] - e->bottom, profile[k][0], 1e-9) << k;
+      EXPECT_NEAR(e->profile[k][1], profile[k][1], 1e-9) << k;
+    }
+  }
+  // A cone that comes to a point, a sphere, and a torus (its rings in a loop) are not.
   EXPECT_FALSE(quads::find_extrusion(test::lathe({{100, 0}, {1e-3, 120}}, 64, true, false)));
-  EXPECT_FALSE(quads::find_extrusion(
-      test::lathe({{100, 0}, {100, 60}, {50, 60}, {50, 120}}, 64, true, true)));
+  EXPECT_FALSE(quads::find_extrusion(test::torus(100, 30, 48, 16).target));
 }
 
 // A loft (a vase, a planter, a lampshade: one outline scaled along an axis) is swept like an

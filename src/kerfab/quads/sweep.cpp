@@ -168,6 +168,7 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
                                     const std::vector<double>& areas, double same_height,
                                     const std::map<std::pair<int, int>, int>& uses) {
   const int nv = static_cast<int>(mesh.vertices.size());
+  const int nt = static_cast<int>(mesh.triangles.size());
   std::vector<int> order(nv);
   for (int i = 0; i < nv; ++i) order[i] = i;
   std::vector<double> height(nv);
@@ -179,117 +180,194 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
     if (heights.empty() || height[i] - heights.back() > same_height) heights.push_back(height[i]);
     level[i] = static_cast<int>(heights.size()) - 1;
   }
-  const int levels = static_cast<int>(heights.size()), top = levels - 1;
-  if (levels < 2 || levels > nv / 3) return std::nullopt;
-  // Caps at the ends; every other triangle between two neighbouring heights.
+  if (heights.size() < 2 || static_cast<int>(heights.size()) > nv / 3) return std::nullopt;
+  // Flat triangles (caps, and the flat steps between two rings at one height) face along the
+  // axis; every other triangle lies between two neighbouring heights (the wall).
   const double cos_tol = std::cos(kAxisTolerance);
-  std::vector<int> up, down, wall;
-  Extrusion e;
-  e.axis = axis;
-  double up_area = 0, down_area = 0;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+  std::vector<int> flat, wall;
+  double wall_area = 0;
+  for (int t = 0; t < nt; ++t) {
     const auto& tr = mesh.triangles[t];
     const int lo = std::min({level[tr[0]], level[tr[1]], level[tr[2]]});
     const int hi = std::max({level[tr[0]], level[tr[1]], level[tr[2]]});
-    const double d = normals[t].dot(axis);
-    if (lo == hi && lo == top && d > cos_tol) {
-      up.push_back(static_cast<int>(t)), up_area += areas[t];
-    } else if (lo == hi && lo == 0 && d < -cos_tol) {
-      down.push_back(static_cast<int>(t)), down_area += areas[t];
+    if (lo == hi && std::abs(normals[t].dot(axis)) > cos_tol) {
+      flat.push_back(t);
     } else if (hi == lo + 1) {
-      wall.push_back(static_cast<int>(t)), e.wall_area += areas[t];
+      wall.push_back(t), wall_area += areas[t];
     } else {
       return std::nullopt;
     }
   }
   if (wall.empty()) return std::nullopt;
-  e.bottom = heights.front();
-  e.top = heights.back();
-  e.top_cap = !up.empty();
-  e.bottom_cap = !down.empty();
-  for (const auto& [edge, n] : uses) {
-    if (n == 2) continue;
-    if (n != 1) return std::nullopt;
-    for (int v : {edge.first, edge.second})
-      if (!((level[v] == top && !e.top_cap) || (level[v] == 0 && !e.bottom_cap)))
-        return std::nullopt;
-  }
-  // The rim at each end: the wall's edges there, one loop.
-  std::array<std::vector<std::array<int, 2>>, 2> rim_edges;
+  // The rings: loops of the wall's edges along one height (a wall triangle has one).
+  std::vector<std::array<int, 2>> along;
   for (int t : wall)
     for (int k = 0; k < 3; ++k) {
       const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      if (level[a] != level[b] || (level[a] != 0 && level[a] != top)) continue;
-      rim_edges[level[a] == top ? 1 : 0].push_back({std::min(a, b), std::max(a, b)});
+      if (level[a] == level[b]) along.push_back({std::min(a, b), std::max(a, b)});
     }
+  std::sort(along.begin(), along.end());
+  along.erase(std::unique(along.begin(), along.end()), along.end());
+  const std::vector<std::vector<int>> rings = loops_of(along);
+  if (rings.size() < 2) return std::nullopt;
+  const int nr = static_cast<int>(rings.size());
+  std::vector<int> ring_of(nv, -1);
+  for (int r = 0; r < nr; ++r)
+    for (int i : rings[r]) ring_of[i] = r;
   const auto [u, v] = across(axis);
-  const auto flat = [&](int i) { return Vec2(mesh.vertices[i].dot(u), mesh.vertices[i].dot(v)); };
-  std::array<std::vector<int>, 2> rims;
-  std::array<double, 2> rim_area{0, 0};
-  for (int end = 0; end < 2; ++end) {
-    auto& edges = rim_edges[end];
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    const std::vector<std::vector<int>> loops = loops_of(edges);
-    if (loops.size() != 1) return std::nullopt;
-    rims[end] = loops[0];
-    const int n = static_cast<int>(rims[end].size());
-    for (int i = 0; i < n; ++i) {
-      const Vec2 a = flat(rims[end][i]), b = flat(rims[end][(i + 1) % n]);
-      rim_area[end] += 0.5 * (a.x() * b.y() - a.y() * b.x());
+  const auto flat2 = [&](int i) { return Vec2(mesh.vertices[i].dot(u), mesh.vertices[i].dot(v)); };
+  const auto loop_area = [&](const std::vector<int>& loop, Vec2* centroid) {
+    double area = 0;
+    Vec2 c = Vec2::Zero();
+    const std::size_t n = loop.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec2 a = flat2(loop[i]), b = flat2(loop[(i + 1) % n]);
+      const double x = a.x() * b.y() - a.y() * b.x();
+      area += 0.5 * x;
+      c += x * (a + b) / 6.0;
     }
-    rim_area[end] = std::abs(rim_area[end]);
+    if (centroid && std::abs(area) > 0) *centroid = c / area;
+    return std::abs(area);
+  };
+  // The outline every ring scales: the largest ring, about its centroid.
+  int largest = 0;
+  std::vector<double> ring_area(nr);
+  for (int r = 0; r < nr; ++r) {
+    ring_area[r] = loop_area(rings[r], nullptr);
+    if (ring_area[r] > ring_area[largest]) largest = r;
   }
-  // The end whose outline the others scale: one with a cap, the larger.
-  const int ref =
-      e.top_cap != e.bottom_cap ? (e.top_cap ? 1 : 0) : (rim_area[1] >= rim_area[0] ? 1 : 0);
-  const std::vector<int>& rim = rims[ref];
-  const int n = static_cast<int>(rim.size());
   Vec2 centroid = Vec2::Zero();
-  double area = 0;
-  for (int i = 0; i < n; ++i) {
-    const Vec2 a = flat(rim[i]), b = flat(rim[(i + 1) % n]);
-    const double c = a.x() * b.y() - a.y() * b.x();
-    area += 0.5 * c;
-    centroid += c * (a + b) / 6.0;
-  }
-  if (!(std::abs(area) > 0)) return std::nullopt;
-  centroid /= area;
+  if (!(loop_area(rings[largest], &centroid) > 0)) return std::nullopt;
   std::vector<Vec2> outline;
-  for (int i : rim) outline.push_back(flat(i) - centroid);
+  for (int i : rings[largest]) outline.push_back(flat2(i) - centroid);
   StarOutline star;
   if (!star.set(outline)) return std::nullopt;
-  // Each height's scale, and every vertex of the wall on the outline so scaled (a cap's inner
-  // vertices may lie anywhere on it, its middle too).
+  const int n = star.size();
+  // Each ring's scale, and every vertex of it on the outline so scaled.
   const double tolerance = 10 * same_height;
-  std::vector<char> on_wall(nv, 0);
-  for (int t : wall)
-    for (int i : mesh.triangles[t]) on_wall[i] = 1;
-  std::vector<std::vector<double>> ratios(levels);
-  std::vector<double> along(nv);  // where on the outline (edge + fraction)
-  std::vector<std::pair<double, double>> ray(nv);
-  for (int i = 0; i < nv; ++i) {
-    if (!on_wall[i]) continue;
-    const Vec2 q = flat(i) - centroid;
-    if (!(q.norm() > tolerance)) return std::nullopt;  // on the axis
-    ray[i] = star.at(q);
-    along[i] = ray[i].first;
-    if (!(ray[i].second > tolerance)) return std::nullopt;
-    ratios[level[i]].push_back(q.norm() / ray[i].second);
+  std::vector<double> along_outline(nv), scale(nr);
+  for (int r = 0; r < nr; ++r) {
+    std::vector<double> ratios;
+    std::vector<double> reach;
+    for (int i : rings[r]) {
+      const Vec2 q = flat2(i) - centroid;
+      if (!(q.norm() > tolerance)) return std::nullopt;  // on the axis
+      const auto [at, distance] = star.at(q);
+      if (!(distance > tolerance)) return std::nullopt;
+      along_outline[i] = at;
+      ratios.push_back(q.norm() / distance);
+      reach.push_back(distance);
+    }
+    std::vector<double> sorted = ratios;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    scale[r] = sorted[sorted.size() / 2];
+    for (std::size_t k = 0; k < ratios.size(); ++k)
+      if (std::abs(ratios[k] - scale[r]) * reach[k] > tolerance) return std::nullopt;
   }
-  std::vector<double> scale(levels);
-  for (int k = 0; k < levels; ++k) {
-    auto& r = ratios[k];
-    if (r.empty()) return std::nullopt;  // a height with no wall
-    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
-    scale[k] = r[r.size() / 2];
-    if (!(scale[k] >= kLeastLoftScale && scale[k] <= 1 / kLeastLoftScale)) return std::nullopt;
-  }
-  const double reference = scale[ref == 1 ? top : 0];
-  for (int i = 0; i < nv; ++i)
-    if (on_wall[i] &&
-        std::abs((flat(i) - centroid).norm() - scale[level[i]] * ray[i].second) > tolerance)
+  // The rings joined by the wall (neighbouring heights) and by flat steps (one height); a flat
+  // region touching one ring alone is a cap.
+  std::map<std::pair<int, int>, bool> joins;
+  for (int t : wall) {
+    std::array<int, 3> r{};
+    for (int k = 0; k < 3; ++k) r[k] = ring_of[mesh.triangles[t][k]];
+    if (std::find(r.begin(), r.end(), -1) != r.end()) return std::nullopt;
+    const int a = std::min({r[0], r[1], r[2]}), b = std::max({r[0], r[1], r[2]});
+    if (a == b || !(r[0] == a || r[0] == b) || !(r[1] == a || r[1] == b) ||
+        !(r[2] == a || r[2] == b))
       return std::nullopt;
+    joins[{a, b}] = true;
+  }
+  // Flat regions: their triangles joined across edges.
+  std::vector<int> region(nt, -1);
+  std::vector<std::vector<int>> regions;
+  {
+    std::map<std::pair<int, int>, std::vector<int>> by_edge;
+    for (int t : flat)
+      for (int k = 0; k < 3; ++k) {
+        const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+        by_edge[{std::min(a, b), std::max(a, b)}].push_back(t);
+      }
+    for (int t0 : flat) {
+      if (region[t0] >= 0) continue;
+      const int id = static_cast<int>(regions.size());
+      regions.push_back({});
+      std::vector<int> stack{t0};
+      region[t0] = id;
+      while (!stack.empty()) {
+        const int t = stack.back();
+        stack.pop_back();
+        regions[id].push_back(t);
+        for (int k = 0; k < 3; ++k) {
+          const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+          for (int o : by_edge[{std::min(a, b), std::max(a, b)}])
+            if (region[o] < 0) region[o] = id, stack.push_back(o);
+        }
+      }
+      std::sort(regions[id].begin(), regions[id].end());  // the target's order
+    }
+  }
+  std::map<int, std::vector<int>> caps;  // ring: its cap's triangles
+  std::map<int, double> cap_area;
+  for (const std::vector<int>& triangles : regions) {
+    std::vector<int> touched;
+    for (int t : triangles)
+      for (int i : mesh.triangles[t])
+        if (ring_of[i] >= 0 &&
+            std::find(touched.begin(), touched.end(), ring_of[i]) == touched.end())
+          touched.push_back(ring_of[i]);
+    if (touched.size() == 2) {
+      joins[{std::min(touched[0], touched[1]), std::max(touched[0], touched[1])}] = true;
+    } else if (touched.size() == 1 && !caps.contains(touched[0])) {
+      caps[touched[0]] = triangles;
+      for (int t : triangles) cap_area[touched[0]] += areas[t];
+    } else {
+      return std::nullopt;
+    }
+  }
+  // One path of rings from one end to the other.
+  std::vector<std::vector<int>> next(nr);
+  for (const auto& [pair, yes] : joins) {
+    next[pair.first].push_back(pair.second);
+    next[pair.second].push_back(pair.first);
+  }
+  std::vector<int> path;
+  for (int r = 0; r < nr && path.empty(); ++r)
+    if (next[r].size() == 1) path.push_back(r);
+  if (path.empty()) return std::nullopt;  // a loop of rings (a torus)
+  while (true) {
+    const int at = path.back();
+    if (next[at].size() > 2) return std::nullopt;
+    int to = -1;
+    for (int o : next[at])
+      if (path.size() < 2 || o != path[path.size() - 2]) to = o;
+    if (to < 0) break;
+    path.push_back(to);
+  }
+  if (static_cast<int>(path.size()) != nr) return std::nullopt;
+  for (const auto& [r, triangles] : caps)
+    if (r != path.front() && r != path.back()) return std::nullopt;
+  // From the lower end to the higher.
+  const auto ring_height = [&](int r) { return heights[level[rings[r][0]]]; };
+  if (!(std::abs(ring_height(path.back()) - ring_height(path.front())) > 100 * same_height))
+    return std::nullopt;
+  if (ring_height(path.back()) < ring_height(path.front())) std::reverse(path.begin(), path.end());
+  Extrusion e;
+  e.axis = axis;
+  e.wall_area = wall_area;
+  e.bottom = ring_height(path.front());
+  e.top = ring_height(path.back());
+  e.bottom_cap = caps.contains(path.front());
+  e.top_cap = caps.contains(path.back());
+  // Borders only on the rings at the ends without a cap.
+  for (const auto& [edge, count] : uses) {
+    if (count == 2) continue;
+    if (count != 1) return std::nullopt;
+    for (int i : {edge.first, edge.second}) {
+      const int r = ring_of[i];
+      if (!((r == path.front() && !e.bottom_cap) || (r == path.back() && !e.top_cap)))
+        return std::nullopt;
+    }
+  }
   // Every wall triangle along one edge of the outline.
   const auto off = [&](double x, int edge) {  // x - edge, round the outline to [-n/2, n/2)
     double d = std::fmod(x - edge + 1.5 * n, static_cast<double>(n));
@@ -299,44 +377,53 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
   constexpr double kOnEdge = 1e-4;
   for (int t : wall) {
     const auto& tr = mesh.triangles[t];
-    const int first = static_cast<int>(std::floor(along[tr[0]]));
+    const int first = static_cast<int>(std::floor(along_outline[tr[0]]));
     bool one_edge = false;
     for (int edge : {first - 1, first, first + 1}) {
       const int k = ((edge % n) + n) % n;
       one_edge = std::all_of(tr.begin(), tr.end(), [&](int vi) {
-        const double d = off(along[vi], k);
+        const double d = off(along_outline[vi], k);
         return d >= -kOnEdge && d <= 1 + kOnEdge;
       });
       if (one_edge) break;
     }
     if (!one_edge) return std::nullopt;
   }
-  for (double& s : scale) s /= reference;
+  // The end whose outline the others scale: one with a cap, the larger.
+  const int ref =
+      e.top_cap != e.bottom_cap
+          ? (e.top_cap ? path.back() : path.front())
+          : (ring_area[path.back()] >= ring_area[path.front()] ? path.back() : path.front());
   bool scaled = false;
-  for (double s : scale) scaled = scaled || std::abs(s - 1) > 1e-9;
-  // Two caps: the same outline, scaled.
-  const double other = scale[ref == 1 ? 0 : top];
-  if (e.top_cap && e.bottom_cap) {
-    const double ref_area = ref == 1 ? up_area : down_area,
-                 other_area = ref == 1 ? down_area : up_area;
-    if (std::abs(other_area - other * other * ref_area) > 1e-3 * ref_area) return std::nullopt;
+  for (int r = 0; r < nr; ++r) {
+    const double s = scale[r] / scale[ref];
+    if (!(s >= kLeastLoftScale && s <= 1 / kLeastLoftScale)) return std::nullopt;
+    scaled = scaled || std::abs(s - 1) > 1e-9;
   }
   if (!scaled && (e.top_cap || e.bottom_cap)) return std::nullopt;  // an extrusion's business
-  for (int k = 0; k < levels; ++k) e.profile.push_back({heights[k], scale[k]});
+  if (e.top_cap && e.bottom_cap) {                                  // the same outline, scaled
+    const int other = ref == path.back() ? path.front() : path.back();
+    const double s = scale[other] / scale[ref];
+    if (std::abs(cap_area[other] - s * s * cap_area[ref]) > 1e-3 * cap_area[ref])
+      return std::nullopt;
+  }
+  for (int r : path) e.profile.push_back({ring_height(r), scale[r] / scale[ref]});
   e.centre = centroid.x() * u + centroid.y() * v;
   e.radius = 0;
-  for (int i : rim) e.radius += (flat(i) - centroid).norm() / n;
-  e.cap_on_top = ref == 1;
-  if (ref == 1 ? e.top_cap : e.bottom_cap) {
-    e.cap = sub_mesh(mesh, ref == 1 ? up : down);
-    e.cap_area = ref == 1 ? up_area : down_area;
+  for (int i : rings[ref]) e.radius += (flat2(i) - centroid).norm() / rings[ref].size();
+  e.cap_on_top = ref == path.back();
+  if (caps.contains(ref)) {
+    e.cap = sub_mesh(mesh, caps.at(ref));
+    e.cap_area = cap_area.at(ref);
   } else {
     // Open at both ends: the rim fanned round the axis, for its border.
     e.cap_made = true;
+    const std::vector<int>& rim = rings[ref];
+    const int m = static_cast<int>(rim.size());
     for (int i : rim) e.cap.vertices.push_back(mesh.vertices[i]);
-    e.cap.vertices.push_back(e.centre + heights[ref == 1 ? top : 0] * axis);
-    for (int i = 0; i < n; ++i) e.cap.triangles.push_back({n, i, (i + 1) % n});
-    e.cap_area = std::abs(area);
+    e.cap.vertices.push_back(e.centre + ring_height(ref) * axis);
+    for (int i = 0; i < m; ++i) e.cap.triangles.push_back({m, i, (i + 1) % m});
+    e.cap_area = ring_area[ref];
   }
   return e;
 }
