@@ -931,16 +931,18 @@ void expect_all_placed_and_clean(const nlohmann::json& report, const fs::path& o
   EXPECT_TRUE(audit.clean()) << name << ": " << (audit.findings.empty() ? "" : audit.findings[0]);
 }
 
-/// \p mesh written to \p scratch / \p name.obj and run from its triangles at 250 mm in 3 mm
-/// MDF: its quads swept (their method starting with \p method), Hausdorff under \p
-/// most_hausdorff of the diagonal, no critical region left, every border with a joint, every
-/// part placed and its sheets, read back by the auditor, clean. The report (null where the run
-/// failed).
+/// \p mesh written to \p scratch / \p name.obj (or the file \p given, at its own size) and run
+/// from its triangles at 250 mm in 3 mm MDF: its quads swept (their method starting with \p
+/// method), Hausdorff under \p most_hausdorff of the diagonal, no critical region left, every
+/// border with a joint, every part placed and its sheets, read back by the auditor, clean. The
+/// report (null where the run failed).
 nlohmann::json run_swept(const fs::path& scratch, const std::string& name, const TriangleMesh& mesh,
-                         const std::string& method, double most_hausdorff) {
-  const fs::path target = scratch / (name + ".obj"), out = scratch / name;
-  write_mesh(test::poly_mesh(mesh), target);
-  const auto report = run_quietly("--target " + target.string() + " --size 250", out);
+                         const std::string& method, double most_hausdorff,
+                         const fs::path& given = {}) {
+  const fs::path target = given.empty() ? scratch / (name + ".obj") : given, out = scratch / name;
+  if (given.empty()) write_mesh(test::poly_mesh(mesh), target);
+  const auto report =
+      run_quietly("--target " + target.string() + (given.empty() ? " --size 250" : ""), out);
   if (report.is_null()) return report;
   EXPECT_EQ(report["quads"]["method"].get<std::string>().rfind(method, 0), 0u)
       << report["quads"]["method"];
@@ -1018,6 +1020,12 @@ TEST(Cli, APlanterAVaseALampshadeAndAStepAreCutAsCapsAndRings) {
     ASSERT_FALSE(report.is_null());
     EXPECT_LE(static_cast<int>(report["layout"]["parts"].size()), c.most_parts);  // on the sheets
   }
+  // The bundled planter (README, "Round models") at its own size: 12 parts on one sheet.
+  const auto report = run_swept(scratch, "bundled", {}, "loft", 0.004,
+                                fs::path(KERFAB_EXAMPLE_DIR) / "planter" / "planter.obj");
+  ASSERT_FALSE(report.is_null());
+  EXPECT_LE(static_cast<int>(report["layout"]["parts"].size()), 12);
+  EXPECT_EQ(report["layout"]["sheets"].get<int>(), 1);
 }
 
 // The bunny in paper at 200 mm, from its triangle mesh: no part flattens distorted. A strip
