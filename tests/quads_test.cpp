@@ -964,6 +964,47 @@ TEST(Quads, ALoftsWallIsSweptInRowsAlongItsProfile) {
   }
 }
 
+// A target whose triangles face into the solid (or, open, the other way round) is swept the
+// same, its quads facing as its triangles do: a pot open at the top whose bottom faces up
+// was no extrusion (its caps looked for facing out), and a lampshade or vase so turned had all
+// its swept quads taken as folded (lampshade 21 parts from the lattice instead of 17, vase 33
+// instead of 19, at 250 mm).
+TEST(Quads, TargetsWhoseTrianglesFaceInAreSweptToo) {
+  const auto turned = [](TriangleMesh m) {
+    for (auto& t : m.triangles) std::swap(t[1], t[2]);
+    return m;
+  };
+  std::vector<std::array<double, 2>> vase;
+  for (int k = 0; k <= 20; ++k) vase.push_back({60 + 25 * std::sin(kPi * k / 20), 10.0 * k});
+  struct Case {
+    std::string name, method;
+    TriangleMesh mesh;
+  };
+  for (const Case& c :
+       {Case{"pot", "extrusion", turned(test::drum(80, 120, 96, true, false))},
+        Case{"lampshade", "loft", turned(test::lathe({{100, 0}, {60, 150}}, 96, false, false))},
+        Case{"vase", "loft", turned(test::lathe(vase, 48, true, false))}}) {
+    SCOPED_TRACE(c.name);
+    const QuadMeshResult r = mesh_of(c.mesh, {.quad_size = 20});
+    ASSERT_EQ(r.method.rfind(c.method, 0), 0u) << r.method;
+    // The bottom faces up (into the pot), as the target's does; the lampshade's wall in (its
+    // quads' normals toward the axis).
+    for (auto f : r.quads.faces()) {
+      std::vector<Vec3> p;
+      for (auto v : r.quads.fv_range(f)) p.push_back(to_eigen(r.quads.point(v)));
+      Vec3 n = Vec3::Zero(), middle = Vec3::Zero();
+      for (std::size_t i = 0; i < p.size(); ++i)
+        n += p[i].cross(p[(i + 1) % p.size()]), middle += p[i] / 4;
+      const bool bottom =
+          std::all_of(p.begin(), p.end(), [](const Vec3& q) { return std::abs(q.z()) < 1e-9; });
+      if (bottom)
+        EXPECT_GT(n.z(), 0);
+      else
+        EXPECT_LT(n.dot(Vec3(middle.x(), middle.y(), 0)), 0);
+    }
+  }
+}
+
 // An extrusion's wall is swept from its cap's border in rows: every quad of the wall a
 // rectangle with sides along the axis and along the rims, no irregular vertex on it, its
 // rims on quad edges, and the bending program told which of its edges bend (those between

@@ -16,6 +16,15 @@
 namespace kerfab::quads {
 namespace {
 
+/// The sum of \p mesh's triangles' (doubled, area-weighted) normals: the way it faces.
+Vec3 newell(const TriangleMesh& mesh) {
+  Vec3 sum = Vec3::Zero();
+  for (const auto& t : mesh.triangles)
+    sum += (mesh.vertices[t[1]] - mesh.vertices[t[0]])
+               .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+  return sum;
+}
+
 /// \p mesh as an extrusion along \p axis, where it is one (find_extrusion's conditions).
 /// \p uses: the mesh's edge_uses(), counted on first need (most shapes fail before).
 std::optional<Extrusion> extrusion_along(const TriangleMesh& mesh, const Vec3& axis,
@@ -54,7 +63,12 @@ std::optional<Extrusion> extrusion_along(const TriangleMesh& mesh, const Vec3& a
         if (std::abs(mesh.vertices[v].dot(axis) - height) > same_height) return false;
     return true;
   };
-  if (!at_height(up, highest) || !at_height(down, lowest)) return std::nullopt;
+  if (!at_height(up, highest) || !at_height(down, lowest)) {
+    // Triangles that face into the solid: its top cap faces down.
+    std::swap(up, down);
+    std::swap(up_area, down_area);
+    if (!at_height(up, highest) || !at_height(down, lowest)) return std::nullopt;
+  }
   e.bottom = lowest;
   e.top = highest;
   e.top_cap = !up.empty();
@@ -78,6 +92,7 @@ std::optional<Extrusion> extrusion_along(const TriangleMesh& mesh, const Vec3& a
   e.cap_on_top = e.top_cap;
   e.cap = sub_mesh(mesh, e.cap_on_top ? up : down);
   e.cap_area = e.cap_on_top ? up_area : down_area;
+  e.cap_facing = newell(e.cap);
   return e;
 }
 
@@ -415,6 +430,7 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
   if (caps.contains(ref)) {
     e.cap = sub_mesh(mesh, caps.at(ref));
     e.cap_area = cap_area.at(ref);
+    e.cap_facing = newell(e.cap);
   } else {
     // Open at both ends: the rim fanned round the axis, for its border.
     e.cap_made = true;
@@ -423,6 +439,14 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
     for (int i : rim) e.cap.vertices.push_back(mesh.vertices[i]);
     e.cap.vertices.push_back(e.centre + ring_height(ref) * axis);
     for (int i = 0; i < m; ++i) e.cap.triangles.push_back({m, i, (i + 1) % m});
+    // Facing as a cap glued to the wall would: across the rim's first edge the wall's
+    // triangle runs it the other way.
+    bool forward = false;
+    for (int t : wall)
+      for (int k = 0; k < 3; ++k)
+        if (mesh.triangles[t][k] == rim[0] && mesh.triangles[t][(k + 1) % 3] == rim[1])
+          forward = true;
+    e.cap_facing = forward ? Vec3(-newell(e.cap)) : newell(e.cap);
     e.cap_area = ring_area[ref];
   }
   return e;
@@ -562,15 +586,16 @@ PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e,
   };
   const bool other_cap = e.cap_on_top ? e.bottom_cap : e.top_cap;
   using VH = OpenMesh::VertexHandle;
-  // The faces below are made as if the cap faced out of the solid (its triangles' way, along
-  // the axis at the top, against it at the bottom); where it faces in, each is turned.
-  Vec3 facing = Vec3::Zero();  // Newell's sum over the cap's faces
+  // The faces below are made as if the cap's quads faced the way its triangles in the target
+  // do (out of the solid, or in where the target's triangles face in); where they face the
+  // other way, each is turned.
+  Vec3 facing = Vec3::Zero();  // Newell's sum over the quads' faces
   for (auto f : cap.faces()) {
     std::vector<Vec3> p;
     for (auto v : cap.fv_range(f)) p.push_back(to_eigen(cap.point(v)));
     for (std::size_t i = 0; i < p.size(); ++i) facing += p[i].cross(p[(i + 1) % p.size()]);
   }
-  const bool inward = facing.dot(e.cap_on_top ? e.axis : Vec3(-e.axis)) < 0;
+  const bool inward = facing.dot(e.cap_facing) < 0;
   const int n = static_cast<int>(cap.n_vertices());
   // Row j of the cap's vertices, moved by j / rows of the way: the border in every row, the
   // inner vertices in the first and (a cap there) the last.

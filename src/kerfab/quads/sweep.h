@@ -35,6 +35,9 @@ struct Extrusion {
   /// Open at both ends (a lampshade, a pipe): `cap` is the fan of the rim at cap_on_top's end
   /// round `centre`, meshed for its border alone and not part of the result.
   bool cap_made = false;
+  /// The way the cap faces in the target (its triangles' Newell sum: out of the solid, or in
+  /// where the target's triangles face in); a made cap's, the way one glued to the wall would.
+  Vec3 cap_facing = Vec3::Zero();
 };
 
 /// A loft's profile turns by more than this at a corner (a frustum on a drum): its rows meet
