@@ -1075,6 +1075,17 @@ class Resolver {
     std::vector<char> seen(n, 0);
     Added trial = accepted_;
     std::vector<std::set<int>> plates;
+    // Whether a quad's middle lies on the model (within kPlateFlatness): asked once per quad,
+    // though every seed beside it looks at it again.
+    std::vector<signed char> model_under(n, -1);
+    const auto on_model = [&](int q) {
+      if (model_under[q] < 0) {
+        Vec3 middle = Vec3::Zero();
+        for (int v : corners_of(q)) middle += 0.25 * corner(v);
+        model_under[q] = in_.surface.closest(middle).distance <= kPlateFlatness ? 1 : 0;
+      }
+      return model_under[q] == 1;
+    };
     for (int seed = 0; seed < n; ++seed) {
       if (seen[seed] || accepted_.facet_quads.count(seed)) continue;
       seen[seed] = 1;
@@ -1087,12 +1098,9 @@ class Resolver {
       // were cut as plates 250 mm long, their rings around them cut in two (26 -> 54 parts).
       auto on_plane = [&](int q) {
         if (quad_normal(q).dot(normal) < std::cos(kPlateTilt)) return false;
-        Vec3 middle = Vec3::Zero();
-        for (int v : corners_of(q)) {
+        for (int v : corners_of(q))
           if (std::abs((corner(v) - origin).dot(normal)) > kPlateFlatness) return false;
-          middle += 0.25 * corner(v);
-        }
-        return in_.surface.closest(middle).distance <= kPlateFlatness;
+        return on_model(q);
       };
       if (!on_plane(seed)) continue;
       std::set<int> group = {seed};
