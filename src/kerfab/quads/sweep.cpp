@@ -16,12 +16,20 @@
 namespace kerfab::quads {
 namespace {
 
-/// The sum of \p mesh's triangles' (doubled, area-weighted) normals: the way it faces.
-Vec3 newell(const TriangleMesh& mesh) {
+/// Newell's sum over the polygon \p corners (in order): twice its area vector, the way it
+/// faces.
+Vec3 area_vector(const std::vector<Vec3>& corners) {
+  Vec3 sum = Vec3::Zero();
+  for (std::size_t i = 0; i < corners.size(); ++i)
+    sum += corners[i].cross(corners[(i + 1) % corners.size()]);
+  return sum;
+}
+
+/// The sum of \p mesh's triangles' area vectors: the way it faces.
+Vec3 facing_of(const TriangleMesh& mesh) {
   Vec3 sum = Vec3::Zero();
   for (const auto& t : mesh.triangles)
-    sum += (mesh.vertices[t[1]] - mesh.vertices[t[0]])
-               .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+    sum += area_vector({mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]});
   return sum;
 }
 
@@ -92,15 +100,8 @@ std::optional<Extrusion> extrusion_along(const TriangleMesh& mesh, const Vec3& a
   e.cap_on_top = e.top_cap;
   e.cap = sub_mesh(mesh, e.cap_on_top ? up : down);
   e.cap_area = e.cap_on_top ? up_area : down_area;
-  e.cap_facing = newell(e.cap);
+  e.cap_facing = facing_of(e.cap);
   return e;
-}
-
-/// Two unit vectors across \p axis, each across the other.
-std::array<Vec3, 2> across(const Vec3& axis) {
-  const Vec3 helper = std::abs(axis.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  const Vec3 u = axis.cross(helper).normalized();
-  return {u, axis.cross(u)};
 }
 
 /// The vertices of \p mesh's \p edges (pairs) in loops, each in order; empty where a vertex has
@@ -138,7 +139,7 @@ class StarOutline {
   /// False where \p points (about the origin) do not go once round it, angle rising.
   bool set(std::vector<Vec2> points) {
     const auto turn = [](const Vec2& a, const Vec2& b) {
-      return std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+      return std::atan2(cross2(a, b), a.dot(b));
     };
     const int n = static_cast<int>(points.size());
     if (n < 3) return false;
@@ -159,15 +160,14 @@ class StarOutline {
   std::pair<double, double> at(const Vec2& q) const {
     const int n = static_cast<int>(points_.size());
     const Vec2& p0 = points_[0];
-    double a = std::atan2(p0.x() * q.y() - p0.y() * q.x(), p0.dot(q));
+    double a = std::atan2(cross2(p0, q), p0.dot(q));
     if (a < 0) a += 2 * std::numbers::pi;
     const int i = std::clamp(
         static_cast<int>(std::upper_bound(way_.begin(), way_.end(), a) - way_.begin()) - 1, 0,
         n - 1);
     const Vec2 pi = points_[i], edge = points_[(i + 1) % n] - pi, dir = q.normalized();
-    const auto cross = [](const Vec2& x, const Vec2& y) { return x.x() * y.y() - x.y() * y.x(); };
-    const double denominator = cross(dir, edge);
-    const double lambda = std::abs(denominator) > 1e-300 ? -cross(dir, pi) / denominator : 0.0;
+    const double denominator = cross2(dir, edge);
+    const double lambda = std::abs(denominator) > 1e-300 ? -cross2(dir, pi) / denominator : 0.0;
     return {i + std::clamp(lambda, 0.0, 1.0), dir.dot(pi + lambda * edge)};
   }
   int size() const { return static_cast<int>(points_.size()); }
@@ -229,32 +229,27 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
   std::vector<int> ring_of(nv, -1);
   for (int r = 0; r < nr; ++r)
     for (int i : rings[r]) ring_of[i] = r;
-  const auto [u, v] = across(axis);
+  const Vec3 u = axis.unitOrthogonal(), v = axis.cross(u);
   const auto flat2 = [&](int i) { return Vec2(mesh.vertices[i].dot(u), mesh.vertices[i].dot(v)); };
-  const auto loop_area = [&](const std::vector<int>& loop, Vec2* centroid) {
-    double area = 0;
-    Vec2 c = Vec2::Zero();
-    const std::size_t n = loop.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Vec2 a = flat2(loop[i]), b = flat2(loop[(i + 1) % n]);
-      const double x = a.x() * b.y() - a.y() * b.x();
-      area += 0.5 * x;
-      c += x * (a + b) / 6.0;
-    }
-    if (centroid && std::abs(area) > 0) *centroid = c / area;
-    return std::abs(area);
-  };
   // The outline every ring scales: the largest ring, about its centroid.
-  int largest = 0;
+  std::vector<Polygon2> flat_rings(nr);
   std::vector<double> ring_area(nr);
+  int largest = 0;
   for (int r = 0; r < nr; ++r) {
-    ring_area[r] = loop_area(rings[r], nullptr);
+    for (int i : rings[r]) flat_rings[r].push_back(flat2(i));
+    ring_area[r] = std::abs(polygon_area(flat_rings[r]));
     if (ring_area[r] > ring_area[largest]) largest = r;
   }
-  Vec2 centroid = Vec2::Zero();
-  if (!(loop_area(rings[largest], &centroid) > 0)) return std::nullopt;
+  if (!(ring_area[largest] > 0)) return std::nullopt;
+  Vec2 centroid = Vec2::Zero();  // of the area it encloses
+  const Polygon2& widest = flat_rings[largest];
+  for (std::size_t i = 0; i < widest.size(); ++i) {
+    const Vec2 &a = widest[i], &b = widest[(i + 1) % widest.size()];
+    centroid += cross2(a, b) * (a + b) / 6.0;
+  }
+  centroid /= polygon_area(widest);
   std::vector<Vec2> outline;
-  for (int i : rings[largest]) outline.push_back(flat2(i) - centroid);
+  for (const Vec2& p : widest) outline.push_back(p - centroid);
   StarOutline star;
   if (!star.set(outline)) return std::nullopt;
   const int n = star.size();
@@ -430,7 +425,7 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
   if (caps.contains(ref)) {
     e.cap = sub_mesh(mesh, caps.at(ref));
     e.cap_area = cap_area.at(ref);
-    e.cap_facing = newell(e.cap);
+    e.cap_facing = facing_of(e.cap);
   } else {
     // Open at both ends: the rim fanned round the axis, for its border.
     e.cap_made = true;
@@ -446,7 +441,8 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
       for (int k = 0; k < 3; ++k)
         if (mesh.triangles[t][k] == rim[0] && mesh.triangles[t][(k + 1) % 3] == rim[1])
           forward = true;
-    e.cap_facing = forward ? Vec3(-newell(e.cap)) : newell(e.cap);
+    const Vec3 fan = facing_of(e.cap);
+    e.cap_facing = forward ? Vec3(-fan) : fan;
     e.cap_area = ring_area[ref];
   }
   return e;
@@ -475,7 +471,7 @@ std::vector<RowBorder> row_borders(const Extrusion& e, double size) {
     int end = start + 1;  // the run from start to end: no corner inside
     while (end + 1 < m) {
       const Vec2 a = p[end] - p[end - 1], b = p[end + 1] - p[end];
-      if (std::atan2(std::abs(a.x() * b.y() - a.y() * b.x()), a.dot(b)) > kProfileCorner) break;
+      if (std::atan2(std::abs(cross2(a, b)), a.dot(b)) > kProfileCorner) break;
       ++end;
     }
     double length = 0;
@@ -557,9 +553,9 @@ std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh) {
             [](const auto& a, const auto& b) { return a.size() > b.size(); });
   if (loops.size() > 4) loops.resize(4);  // a scan's many holes: the longest rims only
   for (const std::vector<int>& loop : loops) {
-    Vec3 normal = Vec3::Zero();  // Newell's
-    for (std::size_t i = 0; i < loop.size(); ++i)
-      normal += mesh.vertices[loop[i]].cross(mesh.vertices[loop[(i + 1) % loop.size()]]);
+    std::vector<Vec3> corners;
+    for (int i : loop) corners.push_back(mesh.vertices[i]);
+    const Vec3 normal = area_vector(corners);
     if (normal.norm() > 0) axes.push_back(normal.normalized());
   }
   for (const Vec3& axis : axes) {
@@ -589,11 +585,11 @@ PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e,
   // The faces below are made as if the cap's quads faced the way its triangles in the target
   // do (out of the solid, or in where the target's triangles face in); where they face the
   // other way, each is turned.
-  Vec3 facing = Vec3::Zero();  // Newell's sum over the quads' faces
+  Vec3 facing = Vec3::Zero();  // the sum of the quads' area vectors
   for (auto f : cap.faces()) {
     std::vector<Vec3> p;
     for (auto v : cap.fv_range(f)) p.push_back(to_eigen(cap.point(v)));
-    for (std::size_t i = 0; i < p.size(); ++i) facing += p[i].cross(p[(i + 1) % p.size()]);
+    facing += area_vector(p);
   }
   const bool inward = facing.dot(e.cap_facing) < 0;
   const int n = static_cast<int>(cap.n_vertices());

@@ -71,11 +71,14 @@ inline constexpr double kAxisTolerance = 0.05 * 3.14159265358979323846 / 180.0;
 /// lowest or highest height) or across it (the wall), the mesh's borders (if any) are rims
 /// where a cap is missing, at least one cap is there, the wall has area, and two caps have the
 /// same area. Of several axes (a box), the one with the largest cap. Else as a loft, where it
-/// is one: its vertices at a few heights along an axis (a cap's or a rim's normal), at each
-/// height on the outline of one end (star-shaped about its centroid) scaled about the same
-/// axis (within kLeastLoftScale), every wall triangle between two neighbouring heights and
-/// along one edge of that outline (so it lies in the trapezoid between the two scaled copies
-/// of the edge), borders only at ends without a cap. nullopt otherwise.
+/// is one: its vertices at a few heights along an axis (a cap's or a rim's normal); the wall's
+/// triangles each between two neighbouring heights, their edges along one height making
+/// closed rings; every ring the largest one (star-shaped about its centroid) scaled about the
+/// axis through that centroid (within kLeastLoftScale of the reference end's), every wall
+/// triangle along one edge of that outline (so in the trapezoid between two scaled copies of
+/// the edge); flat regions facing along the axis either steps (touching two rings) or caps
+/// (touching one); the rings, joined by the wall and the steps, one path with the caps at its
+/// ends; borders only on an end ring without a cap. nullopt otherwise.
 std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh);
 
 /// The quads of the extrusion \p e from \p cap (an all-quad mesh of e.cap, facing either way,
