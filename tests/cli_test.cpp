@@ -13,7 +13,6 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <numbers>
 #include <set>
 #include <sstream>
 #include <tuple>
@@ -1000,9 +999,7 @@ TEST(Cli, ADrumABenchAndAPotAreCutAsCapsAndRingsOfStrips) {
 // auditor, are clean.
 TEST(Cli, APlanterAVaseALampshadeAndAStepAreCutAsCapsAndRings) {
   const fs::path scratch = test::fresh_dir();
-  std::vector<std::array<double, 2>> vase;
-  for (int k = 0; k <= 20; ++k)
-    vase.push_back({60 + 25 * std::sin(std::numbers::pi * k / 20), 10.0 * k});
+  const std::vector<std::array<double, 2>> vase = test::vase_profile();
   struct Case {
     std::string name;
     TriangleMesh mesh;

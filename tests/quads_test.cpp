@@ -920,8 +920,7 @@ TEST(Quads, ExtrusionsAreFoundAlongTheirAxis) {
 // parts (Hausdorff 1.52 % of the diagonal, its cap cut in strips), swept as 13 (0.56 %).
 TEST(Quads, ALoftsWallIsSweptInRowsAlongItsProfile) {
   // A vase: radius 60 + 25 sin(pi z / 200) over 200 mm in 21 rings of 48 segments, a bottom.
-  std::vector<std::array<double, 2>> vase;
-  for (int k = 0; k <= 20; ++k) vase.push_back({60 + 25 * std::sin(kPi * k / 20), 10.0 * k});
+  const std::vector<std::array<double, 2>> vase = test::vase_profile();
   // A lampshade open at both ends, radius 100 to 60 over 150 mm, in 2 rings of 96.
   const std::vector<std::array<double, 2>> shade = {{100, 0}, {60, 150}};
   struct Case {
@@ -974,8 +973,7 @@ TEST(Quads, TargetsWhoseTrianglesFaceInAreSweptToo) {
     for (auto& t : m.triangles) std::swap(t[1], t[2]);
     return m;
   };
-  std::vector<std::array<double, 2>> vase;
-  for (int k = 0; k <= 20; ++k) vase.push_back({60 + 25 * std::sin(kPi * k / 20), 10.0 * k});
+  const std::vector<std::array<double, 2>> vase = test::vase_profile();
   struct Case {
     std::string name, method;
     TriangleMesh mesh;

@@ -193,6 +193,12 @@ TriangleMesh lathe(const std::vector<std::array<double, 2>>& profile, int n, boo
   return m;
 }
 
+std::vector<std::array<double, 2>> vase_profile() {
+  std::vector<std::array<double, 2>> profile;
+  for (int k = 0; k <= 20; ++k) profile.push_back({60 + 25 * std::sin(kPi * k / 20), 10.0 * k});
+  return profile;
+}
+
 TriangleMesh c_bench(double r_in, double r_out, double height, int n) {
   TriangleMesh m;
   const double a0 = 0.3, a1 = 2 * kPi - 0.3;

@@ -46,6 +46,10 @@ TriangleMesh drum(double r, double height, int n, bool bottom = true, bool top =
 TriangleMesh lathe(const std::vector<std::array<double, 2>>& profile, int n, bool bottom = true,
                    bool top = true);
 
+/// A vase's profile for lathe(): radius 60 + 25 sin(pi z / 200) mm over z = 0 to 200 mm, in
+/// 20 facets of 10 mm height.
+std::vector<std::array<double, 2>> vase_profile();
+
 /// A bench of C-shaped section: the ring between radii r_in and r_out from angle 0.3 to
 /// 2 pi - 0.3 (its gap facing +x), swept from z = 0 to height, n segments per arc.
 TriangleMesh c_bench(double r_in, double r_out, double height, int n);
