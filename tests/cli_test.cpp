@@ -2265,12 +2265,13 @@ TEST(Cli, SizesToRunAtReadAsWholeMillimetres) {
 // four, and run there with its quads passed back the twisted facet was still 36 deg off. The
 // size is now named for the parts too small alone, the distorted ones are counted apart
 // (resolve.distorted_parts_after) with no size factor, and the warning says no size cures them.
-// The size named holds: one of the parts too small fell apart at its slots, and the size its
-// inscribed circle gave (336) left it falling apart again where it is narrower; the size at
-// which its outline, cut back all round by its joints' depth, is one piece is named instead,
-// and run there with the quads passed back no part is left too small (a facet may flatten
-// distorted there, as the warning says no size cures: since fertility's quads go 4 round its
-// arms, 2026-12-05, one does at the size named, 758 mm).
+// Since 2026-12-05 (fertility's quads 4 round its arms) the one part left too small was a part
+// 10.5 mm across where the statue is thin, cut back 1.8 mm by the mitre beside a facet folded
+// onto the other side: it fell apart at its slots, its largest piece alone was cut, and its
+// border where it broke had no joint, the one such border on the shared meshes at 250 mm (the
+// size named, 758 mm, held it). Its surface lies within 4.1 mm of the parts kept, less than two
+// sheets: it is left out as a part folded back onto a neighbour is, and no border is left
+// without a joint, nothing falls apart, and the sheets are clean.
 TEST(Cli, DistortedPartsAreNotPromisedASize) {
   KERFAB_SKIP_WITHOUT_SHARED_MESHES();
   const fs::path scratch = test::fresh_dir();
@@ -2280,53 +2281,39 @@ TEST(Cli, DistortedPartsAreNotPromisedASize) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = read_report(scratch / "f");
   const auto& res = report["resolve"];
-  int distorted = 0, small = 0;
-  double largest = 0;
+  int distorted = 0, small = 0, apart = 0;
   for (const auto& c : res["changes"]) {
-    if (c["action"] != "unresolved") continue;
     const std::string why = c["reason"].get<std::string>();
+    if (c["action"] == "omit" && why.find("fell apart at its slots") != std::string::npos) {
+      ++apart;
+      EXPECT_GT(c["local_distance_mm"].get<double>(), 0.0) << why;
+      EXPECT_LE(c["local_distance_mm"].get<double>(), 2 * 3.0) << why;  // two 3 mm sheets
+    }
+    if (c["action"] != "unresolved") continue;
     if (why.find(" flattens ") != std::string::npos) {
       ++distorted;
       EXPECT_EQ(c["size_factor"].get<double>(), 0.0) << why;
-    } else if (why.find("too small to handle") != std::string::npos) {
+    } else {
       ++small;
-      largest = std::max(largest, c["size_factor"].get<double>());
     }
   }
   ASSERT_GE(distorted, 1);
   EXPECT_EQ(res["distorted_parts_after"].get<int>(), distorted);
   EXPECT_EQ(res["small_parts_after"].get<int>(), distorted + small);
-  EXPECT_GE(res["small_parts_min_size_mm"].get<double>(), 250 * largest - 1e-6);
   EXPECT_NE(r.err.find(std::to_string(distorted) + " parts flatten distorted"), std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("which no --size cures"), std::string::npos) << r.err;
-  // The part that fell apart (part 307, a 13.1 mm^2 crumb lost) had three borders left without
-  // a joint: on the one with 5.9 mm of free room a stub tooth's slot took 0.19 mm^2 more with
-  // the crumb, over the 0.05 mm^2 that counted as losing the same. Up to 0.5 mm^2 more is taken
-  // now (the slot clear of the crumb): 5 -> 4 borders without a joint, the crumb alone lost.
-  EXPECT_LE(report["joints"]["borders_without_joint"].get<int>(), 4);
-  EXPECT_LT(report["joints"]["lost_area_mm2"].get<double>(), 13.1 + 0.5);
-  ASSERT_GE(small, 1);
-  EXPECT_NE(r.err.find(std::to_string(small) + " parts stay too small or narrow to handle"),
+  EXPECT_EQ(small, 0);
+  EXPECT_EQ(res["small_parts_min_size_mm"].get<double>(), 0.0);  // no size is promised
+  EXPECT_EQ(r.err.find("would hold at --size"), std::string::npos) << r.err;
+  EXPECT_EQ(apart, 1);
+  EXPECT_NE(r.err.find("that fell apart at their slots where the shape is thinner than two "
+                       "sheets"),
             std::string::npos)
       << r.err;
-  const double size = res["small_parts_min_size_mm"].get<double>();
-  ASSERT_GT(size, 250.0);
-  const int at = static_cast<int>(std::ceil(size));
-  EXPECT_NE(r.err.find("would hold at --size " + std::to_string(at)), std::string::npos) << r.err;
-  const CliRun there =
-      run_cli("run --target " + (test::shared_meshes() / "fertility.off").string() + " --quad " +
-                  (scratch / "f" / "model" / "quads.obj").string() + " --size " +
-                  std::to_string(at) + " --out " + (scratch / "g").string(),
-              scratch);
-  ASSERT_EQ(there.exit_code, 0) << there.err;
-  const auto held = read_report(scratch / "g");
-  EXPECT_EQ(held["resolve"]["small_parts_after"].get<int>(),
-            held["resolve"]["distorted_parts_after"].get<int>());
-  for (const auto& c : held["resolve"]["changes"]) {
-    if (c["action"] != "unresolved") continue;
-    EXPECT_NE(c["reason"].get<std::string>().find(" flattens "), std::string::npos) << c;
-  }
+  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+  EXPECT_EQ(report["joints"]["lost_area_mm2"].get<double>(), 0.0);
+  expect_all_placed_and_clean(report, scratch / "f");
 }
 
 // Kerf options that leave no room for the cuts a bend needs are named. A ring of radius 44 mm,

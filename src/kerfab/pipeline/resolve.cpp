@@ -744,12 +744,17 @@ class Resolver {
   /// part that is not there and their borders with it have no joint (the bunny's ear tips at
   /// 250 mm: 12 such borders, and mitres 17 mm deep beside nothing). So is a part of any size
   /// inside out (inside_out_parts(): quads folded over their neighbours, which no size cures)
-  /// where the parts kept stand within two sheets of it. Their neighbours' borders with them
+  /// where the parts kept stand within two sheets of it, and one that fell apart at its slots
+  /// where they stand within two sheets of it: kept, only its largest piece is cut and its
+  /// border where it broke has no joint (fertility at 250 mm: a part 10.5 mm across where the
+  /// statue is thin, cut back 1.8 mm by the mitre beside a facet folded onto the other side, its
+  /// surface within 4.1 mm of the parts kept; the one border without a joint on the shared
+  /// models at 250 mm). Their neighbours' borders with them
   /// become free edges. Kept only where the build has fewer defects (critical regions
   /// and parts too small, parts inside out counted among them), or as many and fewer borders
   /// without a joint, after it: returns whether it was. \p small: small_now(), updated.
   bool omit_thin_parts(std::vector<int>& small) {
-    enum class Why { kGone, kFolded, kSliver, kInsideOut };
+    enum class Why { kGone, kFolded, kSliver, kApart, kInsideOut };
     struct Omitted {
       int part;
       Why why;
@@ -770,6 +775,8 @@ class Resolver {
         omitted.push_back({p, Why::kSliver, cut, across, gone});
       else if (gone)
         omitted.push_back({p, Why::kGone, cut, across, gone});
+      else if (build_.joints.parts[p].repaired)
+        omitted.push_back({p, Why::kApart, cut, across, gone});
     }
     // Parts inside out, small or not: no size cures them, and where they lie over the parts
     // beside them (checked below), those hold the surface.
@@ -815,7 +822,8 @@ class Resolver {
                                                u * v * x[q[2]] + (1 - u) * v * x[q[3]])
                                       .distance);
       }
-      const double reach = (o.why == Why::kInsideOut ? 2 : 1) * o_.material.thickness;
+      const double reach =
+          (o.why == Why::kInsideOut || o.why == Why::kApart ? 2 : 1) * o_.material.thickness;
       if (o.distance > reach && !o.gone) continue;
       for (int q : patch.all_quads()) trial.guidance.omit.push_back(q);
       left.push_back(std::move(o));
@@ -878,6 +886,12 @@ class Resolver {
           break;
         case Why::kSliver:
           why << "a sliver " << o.across << " mm across, narrower than --min-part-width";
+          break;
+        case Why::kApart:
+          why << "it fell apart at its slots, too small to handle (" << o.across
+              << " mm across, cut back up to " << o.cut.depth << " mm beside " << part(o.cut.other)
+              << "), where the shape is so thin that the parts kept stand within " << o.distance
+              << " mm of its surface";
           break;
         case Why::kInsideOut:
           why << "inside out: its faces are turned against the target's (its quads fold over "
