@@ -745,14 +745,14 @@ class Resolver {
   /// 250 mm: 12 such borders, and mitres 17 mm deep beside nothing). So is a part of any size
   /// inside out (inside_out_parts(): quads folded over their neighbours, which no size cures)
   /// where the parts kept stand within two sheets of it, and one that fell apart at its slots
-  /// where they stand within two sheets of it: kept, only its largest piece is cut and its
-  /// border where it broke has no joint (fertility at 250 mm: a part 10.5 mm across where the
-  /// statue is thin, cut back 1.8 mm by the mitre beside a facet folded onto the other side, its
-  /// surface within 4.1 mm of the parts kept; the one border without a joint on the shared
-  /// models at 250 mm). Their neighbours' borders with them
-  /// become free edges. Kept only where the build has fewer defects (critical regions
-  /// and parts too small, parts inside out counted among them), or as many and fewer borders
-  /// without a joint, after it: returns whether it was. \p small: small_now(), updated.
+  /// (a sliver or folded back too) where they stand within two sheets of it: kept, only its
+  /// largest piece is cut and its border where it broke has no joint (fertility at 250 mm: a
+  /// part 10.5 mm across where the statue is thin, cut back 1.8 mm by the mitre beside a facet
+  /// folded onto the other side, its surface within 4.1 mm of the parts kept; the one border
+  /// without a joint on the shared models at 250 mm). Their neighbours' borders with them
+  /// become free edges. Kept only where the build has fewer defects (critical regions and parts
+  /// too small, parts inside out counted among them), or as many and fewer borders without a
+  /// joint, after it: returns whether it was. \p small: small_now(), updated.
   bool omit_thin_parts(std::vector<int>& small) {
     enum class Why { kGone, kFolded, kSliver, kApart, kInsideOut };
     struct Omitted {
@@ -762,6 +762,7 @@ class Resolver {
       double across;        // twice the radius of the largest circle in it, as flattened [mm]
       bool gone;            // nothing_left()
       double distance = 0;  // of its surface from the parts kept [mm]
+      bool apart = false;   // fell apart at its slots
     };
     std::vector<Omitted> omitted;
     for (int p : small) {
@@ -822,8 +823,10 @@ class Resolver {
                                                u * v * x[q[2]] + (1 - u) * v * x[q[3]])
                                       .distance);
       }
-      const double reach =
-          (o.why == Why::kInsideOut || o.why == Why::kApart ? 2 : 1) * o_.material.thickness;
+      // Two sheets for a part inside out, or one that fell apart whatever else it is (folded
+      // back or a sliver too): kept, its largest piece alone is cut.
+      o.apart = build_.joints.parts[o.part].repaired;
+      const double reach = (o.why == Why::kInsideOut || o.apart ? 2 : 1) * o_.material.thickness;
       if (o.distance > reach && !o.gone) continue;
       for (int q : patch.all_quads()) trial.guidance.omit.push_back(q);
       left.push_back(std::move(o));
@@ -899,6 +902,11 @@ class Resolver {
               << o.distance << " mm of them)";
           break;
       }
+      // What else made it go: left out wherever it is, or within two sheets.
+      if (o.gone && o.why != Why::kGone)
+        why << "; nothing of it was left once its joints were cut";
+      else if (o.apart && o.why != Why::kApart)
+        why << "; it fell apart at its slots";
       why << "; its neighbours' borders with it are free edges";
       c.reason = why.str();
     }
