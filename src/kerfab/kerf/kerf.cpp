@@ -215,6 +215,7 @@ class PatchKerfBuilder {
   std::optional<std::vector<Polygon2>> default_region_;  // the same at the default margin
   double allowed_ = 0;                                   // tau_yield / safety [MPa]
   std::vector<double> skipped_;  // positions where a planned cut did not fit the part
+  std::vector<double> skipped_fit_;  // per skipped cut: the size factor it fits from (0: unknown)
 
   /// Fold across each internal ruling: the largest sector-normal angle at any of its rail
   /// vertices, in every row [rad].
@@ -399,14 +400,15 @@ class PatchKerfBuilder {
       const double reach = (b - a).norm() + 20.0;
       const Vec2 a0 = 0.5 * (a + b) - 0.5 * reach * d, b0 = 0.5 * (a + b) + 0.5 * reach * d;
       // A planned cut that does not fit the part: where, and whether the options took its room.
-      const auto skip = [&] {
+      const auto skip = [&](double fit) {
         skipped_.push_back(pos);
+        skipped_fit_.push_back(fit);
         ++out.skipped;
         out.skipped_by_options += fits_by_default(a0, b0, reach) ? 1 : 0;
       };
       const auto stretch = middle_stretch(a0, b0, region_);
       if (!stretch) {  // the part is too narrow here for a cut
-        skip();
+        skip(0.0);
         continue;
       }
       const auto [lo, hi] = *stretch;
@@ -416,7 +418,10 @@ class PatchKerfBuilder {
       else
         cb -= o_.bridge * d;
       if ((cb - ca).dot(d) < o_.min_cut_length) {  // too short to cut
-        skip();
+        // What the strip's width across (b - a) loses to the joints, margins and bridge stays
+        // as the model grows: the cut is the shortest one from the factor that adds the rest.
+        const double across = (b - a).norm();
+        skip(across > 0 ? (o_.min_cut_length + across - (cb - ca).dot(d)) / across : 0.0);
         continue;
       }
       ++index;
@@ -468,8 +473,15 @@ class PatchKerfBuilder {
       c.cuts += i + 1 < stops.size() - 1 ? 1 : 0;
       // A bend that needs beams under the minimum spacing explains it first; else a planned
       // cut that did not fit the part; else the spacing of converging cut lines (a fan).
-      bool skipped = false;
-      for (double at : skipped_) skipped = skipped || (at > c.start && at < b);
+      bool skipped = false, unknown = false;
+      double fit = 0;
+      for (std::size_t k = 0; k < skipped_.size(); ++k)
+        if (skipped_[k] > c.start && skipped_[k] < b) {
+          skipped = true;
+          unknown = unknown || !(skipped_fit_[k] > 0);
+          fit = std::max(fit, skipped_fit_[k]);
+        }
+      c.fit_factor = unknown ? 0.0 : fit;
       c.cause = c.spacing < o_.min_cut_spacing - 1e-6 ? CriticalCause::kTooDense
                 : skipped                             ? CriticalCause::kTooNarrow
                                                       : CriticalCause::kFan;

@@ -77,6 +77,10 @@ struct CriticalRegion {
   int cuts = 0;               ///< cuts placed in the stretch
   double stress_ratio = 0;    ///< largest beam stress there over the allowed stress [-], > 1
   CriticalCause cause = CriticalCause::kTooDense;
+  /// kTooNarrow: the factor on the model's size from which the cuts skipped there fit, to first
+  /// order (the strip's width grows with the model; its joints' depths, the margins, the
+  /// bridge and the shortest cut do not) [-]; 0: unknown (a cut's middle outside the part)
+  double fit_factor = 0;
   std::vector<int> quads;      ///< quad-mesh faces under the stretch (every row)
   Vec3 centre = Vec3::Zero();  ///< middle of the stretch on the 3D strip [mm]
 };

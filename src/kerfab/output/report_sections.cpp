@@ -370,6 +370,7 @@ json kerf_section(const KerfResult& k, const KerfOptions& options) {
                         {"spacing_mm", c.spacing},
                         {"stress_ratio", c.stress_ratio},
                         {"cause", to_string(c.cause)},
+                        {"fit_factor", c.fit_factor},
                         {"quads", c.quads},
                         {"centre_mm", to_json(c.centre)}});
   return {{"cuts", k.cuts},
@@ -414,6 +415,8 @@ json resolve_section(const ResolveResult& r, const ResolveOptions& options) {
           {"time_limited", r.time_limited},
           {"critical_before", r.critical_before},
           {"critical_after", r.critical_after},
+          {"narrow_after", r.narrow_after},
+          {"narrow_min_size_mm", r.narrow_size_mm},
           {"small_parts_after", r.small_parts_after},
           {"distorted_parts_after", r.distorted_parts_after},
           {"unsized_parts_after", r.unsized_parts_after},

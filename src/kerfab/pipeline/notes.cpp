@@ -423,10 +423,27 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
       w << changed << " regions were changed to be buildable (resolve.changes)";
       sep = "; ";
     }
-    if (r.critical_after > 0) {
+    const char* const stopped = "; the loop stopped at its time limit before it reached them";
+    if (r.critical_after > 0 && r.narrow_after == 0) {
       w << (changed > 0 ? " and " : "") << r.critical_after << " remain critical: their cuts keep "
         << kerf.min_cut_spacing << " mm but the bend overstresses the beams there (kerf.critical"
-        << (r.time_limited ? "; the loop stopped at its time limit before it reached them)" : ")");
+        << (r.time_limited ? stopped : "") << ")";
+      sep = "; ";
+    } else if (r.critical_after > 0) {
+      // Where a cut does not fit between the joints, the strip's width is what is short.
+      w << (changed > 0 ? " and " : "") << r.critical_after << " remain critical (kerf.critical"
+        << (r.time_limited ? stopped : "") << "): ";
+      const int dense = r.critical_after - r.narrow_after;
+      if (dense > 0)
+        w << dense << " where the cuts keep " << kerf.min_cut_spacing
+          << " mm but the bend overstresses the beams, ";
+      w << r.narrow_after << " where a cut the bend needs does not fit between the part's "
+        << "joints (the strip is too narrow there for the margins, the bridge and the shortest "
+        << "cut)";
+      if (r.narrow_size_mm > kLargestSize)
+        w << ", which no --size up to " << kLargestSize / 1000 << " m would fit";
+      else if (r.narrow_size_mm > r.current_size_mm + 0.5)
+        w << ", which --size " << whole_mm(r.narrow_size_mm) << " would fit", named = true;
       sep = "; ";
     }
     // Parts that flatten distorted are named apart: their quads' angles are the same at every

@@ -54,6 +54,7 @@ struct Region {
   Vec3 centre = Vec3::Zero();
   double spacing = 0, stress_ratio = 0;
   CriticalCause cause = CriticalCause::kTooDense;
+  double fit_factor = 0;    // CriticalRegion::fit_factor
   bool small_part = false;  // a whole part too small or too narrow to handle, not a bend
   // Of a small part that fell apart into pieces a maker could handle each on its own: the
   // columns at whose first ruling it is split so that each becomes a part (columns_apart).
@@ -122,6 +123,7 @@ Region region_of(const Strips& s, const Flattening& f, const CriticalRegion& c) 
   r.spacing = c.spacing;
   r.stress_ratio = c.stress_ratio;
   r.cause = c.cause;
+  r.fit_factor = c.fit_factor;
   const Patch& p = s.patches[c.patch];
   const StripFrame frame(f.patches[c.patch].points, static_cast<int>(p.faces.size()));
   const int i0 = frame.face_at(c.start), i1 = frame.face_at(c.end);
@@ -269,6 +271,8 @@ double size_factor(const Region& r, const Material& m, const KerfOptions& k) {
     const double d = k.min_cut_spacing;
     s = std::max(s, std::sqrt(g * d * std::sqrt(m.thickness * m.thickness + d * d) / geometry));
   }
+  // A cut that does not fit the strip between its joints fits where the strip is wide enough.
+  if (r.cause == CriticalCause::kTooNarrow && !r.small_part) s = std::max(s, r.fit_factor);
   return s;
 }
 
@@ -555,10 +559,28 @@ class Resolver {
     for (const CriticalRegion& c : build_.kerf.critical) {
       const Region r = region_of(build_.flat.strips, build_.flat.flattening, c);
       record(r, "unresolved");
-      out_.changes.back().reason =
-          out_.time_limited ? "left when the loop reached its time limit (--resolve-time-limit)"
-                            : "the bend overstresses the beams even at the minimum spacing";
+      RegionChange& change = out_.changes.back();
+      std::ostringstream why;
+      if (out_.time_limited)
+        why << "left when the loop reached its time limit (--resolve-time-limit)";
+      else if (c.cause == CriticalCause::kTooNarrow)
+        why << "a cut the bend needs does not fit the part there: between its joints the strip "
+               "is too narrow for the margins, the bridge and the shortest cut";
+      else if (c.cause == CriticalCause::kFan)
+        why << "the cut lines converge across the strip: their narrow ends would come closer "
+               "than the minimum spacing";
+      else
+        why << "the bend overstresses the beams even at the minimum spacing";
+      if (c.cause == CriticalCause::kTooNarrow) {
+        ++out_.narrow_after;
+        if (c.fit_factor > 0 && out_.narrow_size_mm >= 0)
+          out_.narrow_size_mm = std::max(out_.narrow_size_mm, c.fit_factor * out_.current_size_mm);
+        else
+          out_.narrow_size_mm = -1;  // one unknown: none named
+      }
+      change.reason = why.str();
     }
+    if (out_.narrow_size_mm < 0) out_.narrow_size_mm = 0;
     const double max_angle = o_.flatten.max_angle_error;
     for (int p : small) {
       record(part_region(build_.flat.strips, p), "unresolved");

@@ -93,6 +93,11 @@ struct ResolveResult {
   double seconds = 0;         ///< the loop's wall time [s]
   int critical_before = 0;    ///< critical regions of the first build
   int critical_after = 0;     ///< left at the end (listed in kerf.critical)
+  /// Of those, regions where a cut the bend needs does not fit the part (CriticalCause::
+  /// kTooNarrow), and the size from which their cuts fit, as far as known (the largest of
+  /// their fit factors) [mm]; 0: unknown.
+  int narrow_after = 0;
+  double narrow_size_mm = 0;
   int small_parts_after = 0;  ///< parts still too small or narrow to handle at the end
   /// Of those, the parts that flatten distorted (an inverted quad, an outline crossing itself, a
   /// corner off by the flattening's limit): their quads' angles do not change with the model's
