@@ -913,9 +913,10 @@ class Resolver {
           why << "a sliver " << o.across << " mm across, narrower than --min-part-width";
           break;
         case Why::kApart:
-          why << "it fell apart at its slots, too small to handle (" << o.across
-              << " mm across, cut back up to " << o.cut.depth << " mm beside " << part(o.cut.other)
-              << "), where the shape is so thin that the parts kept stand within " << o.distance
+          why << "it fell apart at its slots, too small to handle (" << o.across << " mm across";
+          if (o.cut.other >= 0)
+            why << ", cut back up to " << o.cut.depth << " mm beside " << part(o.cut.other);
+          why << "), where the shape is so thin that the parts kept stand within " << o.distance
               << " mm of its surface";
           break;
         case Why::kInsideOut:
