@@ -214,8 +214,12 @@ class PatchKerfBuilder {
   std::vector<Polygon2> region_;                         // what cuts may use
   std::optional<std::vector<Polygon2>> default_region_;  // the same at the default margin
   double allowed_ = 0;                                   // tau_yield / safety [MPa]
-  std::vector<double> skipped_;  // positions where a planned cut did not fit the part
-  std::vector<double> skipped_fit_;  // per skipped cut: the size factor it fits from (0: unknown)
+  /// A planned cut that did not fit the part: where, and the size factor it fits from (0:
+  /// unknown).
+  struct Skipped {
+    double at = 0, fit = 0;
+  };
+  std::vector<Skipped> skipped_;
 
   /// Fold across each internal ruling: the largest sector-normal angle at any of its rail
   /// vertices, in every row [rad].
@@ -401,8 +405,7 @@ class PatchKerfBuilder {
       const Vec2 a0 = 0.5 * (a + b) - 0.5 * reach * d, b0 = 0.5 * (a + b) + 0.5 * reach * d;
       // A planned cut that does not fit the part: where, and whether the options took its room.
       const auto skip = [&](double fit) {
-        skipped_.push_back(pos);
-        skipped_fit_.push_back(fit);
+        skipped_.push_back({pos, fit});
         ++out.skipped;
         out.skipped_by_options += fits_by_default(a0, b0, reach) ? 1 : 0;
       };
@@ -475,11 +478,11 @@ class PatchKerfBuilder {
       // cut that did not fit the part; else the spacing of converging cut lines (a fan).
       bool skipped = false, unknown = false;
       double fit = 0;
-      for (std::size_t k = 0; k < skipped_.size(); ++k)
-        if (skipped_[k] > c.start && skipped_[k] < b) {
+      for (const Skipped& k : skipped_)
+        if (k.at > c.start && k.at < b) {
           skipped = true;
-          unknown = unknown || !(skipped_fit_[k] > 0);
-          fit = std::max(fit, skipped_fit_[k]);
+          unknown = unknown || !(k.fit > 0);
+          fit = std::max(fit, k.fit);
         }
       c.fit_factor = unknown ? 0.0 : fit;
       c.cause = c.spacing < o_.min_cut_spacing - 1e-6 ? CriticalCause::kTooDense

@@ -556,6 +556,7 @@ class Resolver {
          ++k) {
     }
     if (r_.enabled) split_thin_necks(small);
+    bool narrow_unsized = false;  // a too-narrow region whose fit factor is unknown
     for (const CriticalRegion& c : build_.kerf.critical) {
       const Region r = region_of(build_.flat.strips, build_.flat.flattening, c);
       record(r, "unresolved");
@@ -573,14 +574,12 @@ class Resolver {
         why << "the bend overstresses the beams even at the minimum spacing";
       if (c.cause == CriticalCause::kTooNarrow) {
         ++out_.narrow_after;
-        if (c.fit_factor > 0 && out_.narrow_size_mm >= 0)
-          out_.narrow_size_mm = std::max(out_.narrow_size_mm, c.fit_factor * out_.current_size_mm);
-        else
-          out_.narrow_size_mm = -1;  // one unknown: none named
+        narrow_unsized = narrow_unsized || !(c.fit_factor > 0);
+        out_.narrow_size_mm = std::max(out_.narrow_size_mm, c.fit_factor * out_.current_size_mm);
       }
       change.reason = why.str();
     }
-    if (out_.narrow_size_mm < 0) out_.narrow_size_mm = 0;
+    if (narrow_unsized) out_.narrow_size_mm = 0;  // one unknown: none named
     const double max_angle = o_.flatten.max_angle_error;
     for (int p : small) {
       record(part_region(build_.flat.strips, p), "unresolved");
