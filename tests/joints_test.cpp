@@ -1574,6 +1574,58 @@ TEST(Joints, AToothsSliverGoesButItsSquareCornersStay) {
       tooth_slivers(polygon_difference({plain}, plain_opened), plain_opened, {tooth}, 1.0).empty());
 }
 
+// Where a border's tooth rectangles run over a notch of the part's outline (a collapsed strip
+// end), the parts of them over the notch hang free: spot_quadrangulated at 200 mm, two such 0.1
+// mm thick, hanging 0.9 mm, 0.25 mm apart over the notch's mouth, the laser path into the notch
+// passing within 0.1 mm of itself. They reach less than the smallest feature from the rest, so
+// they were no sliver. A body 10 x 10 mm with a notch 2.05 x 1.5 mm in its top side and two
+// tooth rectangles 0.1 mm thick along the top, each hanging 0.8 mm over the notch.
+TEST(Joints, ToothRectanglesHangingOverANotchAreSlivers) {
+  auto with_rectangles = [](double t) {
+    return Polygon2{{0, 0},         {10, 0},    {10, 10},      {8, 10},     {8, 10 + t},
+                    {4.25, 10 + t}, {4.25, 10}, {5.05, 10},    {5.05, 8.5}, {3, 8.5},
+                    {3, 10},        {3.8, 10},  {3.8, 10 + t}, {0, 10 + t}, {0, 10}};
+  };
+  auto rectangles = [](double t) {
+    return std::vector<Polygon2>{{{0, 10}, {3.8, 10}, {3.8, 10 + t}, {0, 10 + t}},
+                                 {{4.25, 10}, {8, 10}, {8, 10 + t}, {4.25, 10 + t}}};
+  };
+  const Polygon2 outline = with_rectangles(0.1);
+  ASSERT_GT(polygon_area(outline), 0) << "counter-clockwise";
+  const auto opened = polygon_offset(polygon_offset({outline}, -0.5), 0.5);
+  const auto taken = polygon_difference({outline}, opened);
+  for (const Polygon2& piece : taken)
+    EXPECT_FALSE(reaches_beyond(piece, opened, 1.0))
+        << "no piece reaches a whole feature from the rest: not a sliver by that test";
+  const auto slivers = tooth_slivers(taken, opened, rectangles(0.1), 1.0);
+  const Polygon2 notch = {{3, 9}, {5.05, 9}, {5.05, 10.2}, {3, 10.2}};
+  double over_notch = 0;
+  for (const Polygon2& s : slivers) {
+    for (const Vec2& v : s) {
+      EXPECT_GT(v.x(), 2.4) << "the rectangles over the body stay";
+      EXPECT_LT(v.x(), 5.6);
+    }
+    over_notch += common_area(s, notch);
+  }
+  EXPECT_NEAR(over_notch, 0.1 * (0.8 + 0.8), 0.01) << "all that hangs over the notch goes";
+  // Without them the notch's mouth is open: the outline left has no slit to widen.
+  std::vector<Polygon2> cut = slivers;
+  for (auto& c : cut) make_counter_clockwise(c);
+  const auto left_over = polygon_difference({outline}, polygon_offset(cut, 1e-4));
+  ASSERT_EQ(left_over.size(), 1u);
+  EXPECT_TRUE(slit_widenings(left_over[0], rectangles(0.1), 1.0).empty());
+  // Shallow teeth are no slivers: rectangles 0.29 mm thick (a box tooth of Spot's at 250 mm)
+  // over the same notch stay, though the opening takes them too; the sheet auditor, whose tails
+  // reach a whole feature, leaves them as well.
+  const Polygon2 shallow = with_rectangles(0.29);
+  const auto shallow_opened = polygon_offset(polygon_offset({shallow}, -0.5), 0.5);
+  const auto shallow_taken = polygon_difference({shallow}, shallow_opened);
+  double hanging = 0;
+  for (const Polygon2& piece : shallow_taken) hanging += common_area(piece, notch);
+  EXPECT_GT(hanging, 0.29 * 1.0) << "the opening takes what hangs over the notch";
+  EXPECT_TRUE(tooth_slivers(shallow_taken, shallow_opened, rectangles(0.29), 1.0).empty());
+}
+
 // A tooth of which the opening by half the smallest feature keeps nothing is narrower than that
 // feature everywhere: the cleanup takes it off like any tail (demosthenes at 250 mm: an L of tooth
 // material 0.08 mm wide, left of two thin tooth rectangles round a tail's corner, was kept and the

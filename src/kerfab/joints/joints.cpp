@@ -1902,10 +1902,17 @@ std::vector<Polygon2> tooth_slivers(const std::vector<Polygon2>& taken,
   if (teeth.empty()) return out;
   const double w = min_feature;
   for (const auto& piece : taken) {
-    if (std::abs(polygon_area(piece)) <= w * w && !reaches_beyond(piece, opened, w)) continue;
+    const bool feature = std::abs(polygon_area(piece)) > w * w || reaches_beyond(piece, opened, w);
     for (const auto& tooth : teeth)
-      for (auto& c : polygon_intersection(piece, tooth))
-        if (polygon_area(c) > 0) out.push_back(std::move(c));
+      for (auto& c : polygon_intersection(piece, tooth)) {
+        if (!(polygon_area(c) > 0)) continue;
+        // Nearer the rest, only tooth material nowhere thicker than kSliverThickness of the
+        // feature that hangs more than half a feature from the rest: such a sliver breaks off
+        // or burns away however short it is.
+        if (feature || (reaches_beyond(c, opened, 0.5 * w) &&
+                        polygon_offset({c}, -0.5 * kSliverThickness * w).empty()))
+          out.push_back(std::move(c));
+      }
   }
   return out;
 }

@@ -258,10 +258,21 @@ std::vector<Polygon2> teeth_kept_by_opening(const Polygon2& outline,
                                             const std::vector<Polygon2>& opened,
                                             std::vector<Polygon2> teeth);
 
+/// Tooth material nowhere thicker than this share of the smallest feature is a sliver
+/// wherever it hangs more than half that feature from the rest (tooth_slivers) [-]; thicker,
+/// only where it reaches a whole feature, as the sheet auditor's tails do. spot_quadrangulated
+/// at 200 mm: two tooth rectangles 0.1 and 0.16 mm thick hanging 0.9 mm over the mouth of a
+/// notch, 0.25 mm apart, the laser path into the notch passing within 0.1 mm of itself. A
+/// shallow box tooth is thicker (Spot's at 250 mm down to 0.29 mm, one hanging 0.7 mm past its
+/// part's corner, and filling its slot with that).
+inline constexpr double kSliverThickness = 0.2;
+
 /// The tooth material among \p taken, what an opening by half \p min_feature (\p opened) takes
 /// from an outline, in the pieces that reach farther than \p min_feature from the rest or hold
-/// more than its square [mm, mm2]: a sliver of a tooth (where a cut-back at a corner narrowed it)
-/// that the laser burns away or that breaks off. The outline cleanup keeps teeth whole otherwise (a
+/// more than its square [mm, mm2], and, nearer, where it is thinner than kSliverThickness of
+/// \p min_feature and hangs more than half of it from the rest: a sliver of a tooth (where a
+/// cut-back at a corner narrowed it, or where a tooth's rectangle runs over a notch) that the
+/// laser burns away or that breaks off. The outline cleanup keeps teeth whole otherwise (a
 /// tooth fills its mate's slot); without such a sliver the tooth still does, less that corner.
 /// The rounding of a tooth's corner of 40 degrees or more is no sliver.
 std::vector<Polygon2> tooth_slivers(const std::vector<Polygon2>& taken,
