@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,10 +33,19 @@ inline bool have_shared_meshes() { return std::filesystem::is_directory(shared_m
   } while (0)
 
 /// A fresh empty directory under the test temp dir, named after the running test.
+/// Under a folder of its build tree's own: two suites running at once on one machine (a clean
+/// clone's beside a working copy's) each cleared the other's folder of the same test
+/// (OutputSafety.ARerunKeepsTheUsersOwnFilesInsideAnEarlierRun failed so, 2026-12-05).
 inline std::filesystem::path fresh_dir(const std::string& tag = "") {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  static const std::string tree = [] {
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::string where = ec ? std::string(KERFAB_TEST_DATA) : exe.parent_path().string();
+    return "tree-" + std::to_string(std::hash<std::string>{}(where) % 1000000007u);
+  }();
   const std::filesystem::path dir =
-      std::filesystem::path(::testing::TempDir()) / "kerfab_tests" /
+      std::filesystem::path(::testing::TempDir()) / "kerfab_tests" / tree /
       (std::string(info->test_suite_name()) + "." + info->name() + tag);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
