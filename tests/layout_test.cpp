@@ -549,6 +549,26 @@ TEST(Layout, RealPartsFillTheBoundOnAFinerGrid) {
   EXPECT_EQ(nest_parts(parts, LayoutOptions{}).sheets, 1);
 }
 
+// The same parts on 325 to 340 x 250 mm sheets: grown by half the spacing they fill 2.27 to
+// 2.17 sheets, 3 by both bounds (the area bound 2). Largest first on the 0.5 mm grid,
+// bottom-left, they needed 4 on 325 and 330 mm; by the far corner, with the last sheet's parts
+// turned into the others' gaps, every one of them 3.
+TEST(Layout, RealPartsFillTheBoundByTheFarCornerOnAFinerGrid) {
+  const std::vector<Polygon2> parts = spot_parts();
+  ASSERT_EQ(parts.size(), 252u);
+  for (double width : {325.0, 330.0, 335.0, 340.0}) {
+    SCOPED_TRACE(width);
+    LayoutOptions o;
+    o.sheet_width = width, o.sheet_height = 250;
+    const LayoutResult l = nest_parts(parts, o);
+    ASSERT_TRUE(l.unplaced.empty());
+    EXPECT_EQ(l.sheets_lower_bound_spaced, 3);
+    EXPECT_GT(l.spaced_fill, 2.16);
+    EXPECT_EQ(l.sheets, 3);
+    expect_sound_nest(parts, l, o);
+  }
+}
+
 }  // namespace
 }  // namespace kerfab
 

@@ -303,8 +303,10 @@ Spot find_spot(const SheetGrid& grid, const Turned& turns, Rule rule, const Layo
         std::min(grid.height - r.height,
                  static_cast<int>(std::floor((grid.size.y() - o.margin - dy1) / cell)));
     for (int y = y_min; y <= y_max; ++y) {
-      // Both scores grow with y at least as fast as y: no lower row can win any more.
-      if (best.raster >= 0 && y > best_score) break;
+      // Both scores grow with y: once the least a row can score is over the best, no lower
+      // row can win any more.
+      const double least = rule == Rule::kBottomLeft ? y : (y + r.height) + 0.5 * (x_min + r.width);
+      if (best.raster >= 0 && least > best_score) break;
       if (!grid.rows_may_hold(r, y)) continue;
       const int x = grid.first_free(r, x_min, y, x_max);
       if (x < 0) continue;
@@ -345,6 +347,12 @@ void put(Pass& pass, int i, int s, const Raster& r, const Spot& spot, double are
 
 /// The most cells a sheet's occupancy grid has: 2000 x 2000 mm at the 1 mm step.
 constexpr double kMaxCells = 4e6;
+
+/// The far corner's pass on the half-cell grid (nest_parts) runs only where the last sheet
+/// holds at most this share of a sheet's usable area in parts [-]: where it saved a sheet, the
+/// last one held 0.8-4.5 %; on the scaling benchmark's Spot with 1 and 2 Catmull-Clark steps
+/// (29.5 and 16.1 %) it saved none, for 0.7 and 2.8 s more.
+constexpr double kEmptiableLastSheet = 0.1;
 
 /// \p turns: per part, the turns to try (default: its quarter turns, Prepared::quarters),
 /// rasterised on a grid of o.step.
@@ -561,11 +569,19 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
   }
   // Still over the spaced bound: once more, largest first, on a grid of half the cell (each
   // cell a part's outline touches is taken, so the gaps lose half as much; about 4 times the
-  // cost of a pass), kept only where it saves a sheet. stanford-bunny from its triangles: 365
-  // parts, 4 of them on a second sheet (0.1 % used) at 1 mm cells, all on one at 0.5 mm. Only
-  // where the grown parts would fill the sheets but one no fuller than the fullest sheets the
-  // passes reach (kFullestSheet): else it cannot save one, and costs (Amo on 300 x 250
-  // sheets: 0.7 s more for the same 4 sheets).
+  // cost of a pass), bottom-left, and where that saves no sheet by the far corner with the
+  // last sheet emptied into the others (which costs more: every row is tried, and the last
+  // sheet's parts turned in 10 degree steps); kept only where it saves a sheet.
+  // stanford-bunny from its triangles: 365 parts, 4 of them on a second sheet (0.1 % used) at
+  // 1 mm cells, all on one at 0.5 mm, bottom-left. The far corner's pass saves where
+  // bottom-left does not: 3 sheets, the spaced bound, instead of 4 for Spot's parts from its
+  // triangles (tests/data) on 325 and 330 x 250 sheets, and in a whole run for
+  // spot_quadrangulated in 4 mm plywood at 300 mm on 400 x 300 (460 parts); of 58 jobs (the
+  // shared meshes' parts in plywood at 300 mm, read back from their sheets and nested again
+  // on 300 x 300, 400 x 300 and 600 x 450 sheets) it saved 2 sheets of 165, for 4-10 % more
+  // nesting time in all. Only where the grown parts would fill the sheets but one no fuller
+  // than the fullest sheets the passes reach (kFullestSheet): else it cannot save one, and
+  // costs (Amo on 300 x 250 sheets: 0.7 s more for the same 4 sheets).
   if (cheap && best.sheets() > result.sheets_lower_bound_spaced &&
       !too_full_for_one_fewer(result.spaced_fill, best.sheets())) {
     LayoutOptions fine = o;
@@ -574,9 +590,16 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     for_each_index(n, hardware_threads(), [&](int i) {
       if (parts[i].fits) quarters[i] = turned(parts[i], 4, fine.step);
     });
-    Pass finer = place_in_order(by_area, parts, fine, Rule::kBottomLeft, &quarters);
-    if (finer.unplaced.size() <= best.unplaced.size() && finer.sheets() < best.sheets())
-      best = std::move(finer);
+    const double last_share = best.sheet_area.back() / usable_of(o.size_of(best.sheets() - 1), 0);
+    for (Rule rule : {Rule::kBottomLeft, Rule::kCorner}) {
+      if (rule == Rule::kCorner && last_share > kEmptiableLastSheet) break;
+      Pass finer = place_in_order(by_area, parts, fine, rule, &quarters);
+      if (rule == Rule::kCorner) empty_last_sheet(finer, parts, fine);
+      if (finer.unplaced.size() <= best.unplaced.size() && finer.sheets() < best.sheets()) {
+        best = std::move(finer);
+        break;
+      }
+    }
   }
   // Offcuts no part took are not used: the sheets are numbered without them.
   std::vector<char> used(best.sheets(), 0);
