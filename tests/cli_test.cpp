@@ -1770,14 +1770,12 @@ TEST(Cli, AFineGivenQuadMeshIsCoarsenedIntoCleanBentStrips) {
 // (tooth_slivers): the sheet, read back by the independent auditor, has no slit or tail, and
 // what it finds besides is a part the run names as too small to handle.
 TEST(Cli, ToothSliversOverANotchGoFromSpotsFineQuadMesh) {
-  const fs::path scratch = test::fresh_dir(), out = scratch / "out";
-  const std::string target = test::real_mesh("spot_triangulated.obj").string(),
-                    quad = test::real_mesh("spot_quadrangulated.obj").string();
-  const CliRun r = run_cli(
-      "run --quiet --target " + target + " --quad " + quad + " --size 200 --out " + out.string(),
-      scratch);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto report = read_report(out);
+  const fs::path out = test::fresh_dir() / "out";
+  const auto report =
+      run_quietly("--target " + test::real_mesh("spot_triangulated.obj").string() + " --quad " +
+                      test::real_mesh("spot_quadrangulated.obj").string() + " --size 200",
+                  out);
+  ASSERT_FALSE(report.is_null());
   const auto audit = test::audit_sheets(out / "cut");
   EXPECT_EQ(audit.thin_features, 0) << (audit.findings.empty() ? "" : audit.findings[0]);
   int unresolved_small = 0;
@@ -1801,14 +1799,12 @@ TEST(Cli, ToothSliversOverANotchGoFromSpotsFineQuadMesh) {
 // small to handle is one the report names; the one there was (the horn's tip, 48.4 mm^2 once that
 // tooth had gone) now owns its borders' teeth instead of their slots and is none.
 TEST(Cli, JointsLeaveNoThinNeckOnSpotsFineQuadMesh) {
-  const fs::path scratch = test::fresh_dir(), out = scratch / "out";
-  const std::string target = test::real_mesh("spot_triangulated.obj").string(),
-                    quad = test::real_mesh("spot_quadrangulated.obj").string();
-  const CliRun r = run_cli(
-      "run --quiet --target " + target + " --quad " + quad + " --size 250 --out " + out.string(),
-      scratch);
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto report = read_report(out);
+  const fs::path out = test::fresh_dir() / "out";
+  const auto report =
+      run_quietly("--target " + test::real_mesh("spot_triangulated.obj").string() + " --quad " +
+                      test::real_mesh("spot_quadrangulated.obj").string() + " --size 250",
+                  out);
+  ASSERT_FALSE(report.is_null());
   EXPECT_EQ(report["resolve"]["critical_after"].get<int>(), 0);
   EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
   std::set<std::pair<int, int>> jointed;
