@@ -590,16 +590,19 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
     for_each_index(n, hardware_threads(), [&](int i) {
       if (parts[i].fits) quarters[i] = turned(parts[i], 4, fine.step);
     });
-    const double last_share = best.sheet_area.back() / usable_of(o.size_of(best.sheets() - 1), 0);
-    for (Rule rule : {Rule::kBottomLeft, Rule::kCorner}) {
-      if (rule == Rule::kCorner && last_share > kEmptiableLastSheet) break;
+    // One pass on the fine grid by \p rule (its last sheet then emptied into the others where
+    // \p empty), taken where it saves a sheet.
+    auto saves_a_sheet = [&](Rule rule, bool empty) {
       Pass finer = place_in_order(by_area, parts, fine, rule, &quarters);
-      if (rule == Rule::kCorner) empty_last_sheet(finer, parts, fine);
-      if (finer.unplaced.size() <= best.unplaced.size() && finer.sheets() < best.sheets()) {
-        best = std::move(finer);
-        break;
-      }
-    }
+      if (empty) empty_last_sheet(finer, parts, fine);
+      if (finer.unplaced.size() > best.unplaced.size() || finer.sheets() >= best.sheets())
+        return false;
+      best = std::move(finer);
+      return true;
+    };
+    const double last_share = best.sheet_area.back() / usable_of(o.size_of(best.sheets() - 1), 0);
+    if (!saves_a_sheet(Rule::kBottomLeft, false) && last_share <= kEmptiableLastSheet)
+      saves_a_sheet(Rule::kCorner, true);
   }
   // Offcuts no part took are not used: the sheets are numbered without them.
   std::vector<char> used(best.sheets(), 0);
