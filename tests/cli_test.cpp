@@ -1054,35 +1054,59 @@ TEST(Cli, NoPaperPartOfTheBunnyFlattensDistorted) {
 // which the outline then dropped: Spot's bundled triangles in paper at 250 mm kept a slit under
 // 1 mm (part 4), bob_tri at 200 mm one, fertility at 200 mm three. And a V wider than about 29
 // degrees came back from the mitred closing as it was: rocker-arm and fandisk at 200 mm kept a
-// slit each. Their pages, read back by the auditor: no slit a cutter cannot follow (nor, on
-// Spot and bob_tri, a tail: rocker-arm and fandisk keep a sharp corner of a strip's own body).
+// slit each. Their pages, read back by the auditor: no slit or tail a cutter cannot follow
+// (rocker-arm and fandisk kept a sharp corner of a strip's own body until 2026-12-05: 0.6 mm
+// spikes).
 TEST(Cli, PaperTabsMeetingAtACornerLeaveNoSlit) {
-  struct Case {
-    fs::path target;
-    std::string size;
-    bool no_tail;
-  };
-  std::vector<Case> cases = {{test::real_mesh("spot_triangulated.obj"), "250", true}};
+  std::vector<fs::path> targets = {test::real_mesh("spot_triangulated.obj")};
+  std::vector<std::string> sizes = {"250"};
   if (test::have_shared_meshes()) {
-    cases.push_back({test::shared_meshes() / "bob_tri.obj", "200", true});
-    cases.push_back({test::shared_meshes() / "rocker-arm.obj", "200", false});
-    cases.push_back({test::shared_meshes() / "fandisk.obj", "200", false});
+    for (const char* name : {"bob_tri.obj", "rocker-arm.obj", "fandisk.obj"}) {
+      targets.push_back(test::shared_meshes() / name);
+      sizes.push_back("200");
+    }
   }
-  for (const auto& [target, size, no_tail] : cases) {
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    const fs::path& target = targets[k];
     const fs::path out = test::fresh_dir() / "out";
-    const CliRun r = run_cli("run --quiet --target " + target.string() + " --size " + size +
+    const CliRun r = run_cli("run --quiet --target " + target.string() + " --size " + sizes[k] +
                                  " --material paper --out " + out.string(),
                              out.parent_path());
     ASSERT_EQ(r.exit_code, 0) << target << r.err;
     EXPECT_EQ(read_report(out)["joints"]["borders_without_joint"].get<int>(), 0) << target;
     const auto audit = test::audit_sheets(out / "cut");
     EXPECT_GE(audit.parts, 40) << target;
-    for (const std::string& f : audit.findings)
-      EXPECT_EQ(f.find("slit"), std::string::npos) << target << ": " << f;
-    if (no_tail) {
-      EXPECT_EQ(audit.thin_features, 0)
-          << target << ": " << (audit.findings.empty() ? "" : audit.findings[0]);
-    }
+    EXPECT_EQ(audit.thin_features, 0)
+        << target << ": " << (audit.findings.empty() ? "" : audit.findings[0]);
+  }
+}
+
+// Two shapes of scripts/shapes.py in paper, as a maker makes them from its files. The vase at
+// 180 mm: where a tab's tail was cut off, a slot 1.13 mm wide at its flat end (two concave
+// corners of about 90 degrees, its walls nearly parallel) was left 0.98 mm as cut; the mitred
+// closing gave it back whole and no corner of it was under 90 degrees. The saddle at 200 mm: a
+// strip's end at one of its corners, a spike of the part's body 21 degrees sharp, under 1 mm
+// wide for its last 2.6 mm. Their pages, read back by the auditor: no slit or tail a cutter
+// cannot follow (1 each before 2026-12-05), every border glued, every part placed.
+TEST(Cli, PaperSlotEndsAndSharpTipsAreCutAsACutterSeesThem) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path vase = scratch / "vase.obj", saddle = scratch / "saddle.obj";
+  test::write_obj(test::scripts_vase(), vase);
+  test::write_obj(
+      test::height_grid(50, 80, [](double x, double y) { return (x * x - y * y) / 200; }), saddle);
+  for (const auto& [target, size] : {std::pair{vase, "180"}, std::pair{saddle, "200"}}) {
+    const fs::path out = scratch / target.stem();
+    const CliRun r = run_cli("run --quiet --target " + target.string() + " --size " + size +
+                                 " --material paper --out " + out.string(),
+                             scratch);
+    ASSERT_EQ(r.exit_code, 0) << target << r.err;
+    const auto report = read_report(out);
+    EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0) << target;
+    EXPECT_TRUE(report["layout"]["unplaced"].empty()) << target;
+    const auto audit = test::audit_sheets(out / "cut");
+    EXPECT_GE(audit.parts, 20) << target;
+    EXPECT_EQ(audit.thin_features, 0)
+        << target << ": " << (audit.findings.empty() ? "" : audit.findings[0]);
   }
 }
 

@@ -2,8 +2,10 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numbers>
+#include <stdexcept>
 
 namespace kerfab::test {
 namespace {
@@ -197,6 +199,57 @@ std::vector<std::array<double, 2>> vase_profile() {
   std::vector<std::array<double, 2>> profile;
   for (int k = 0; k <= 20; ++k) profile.push_back({60 + 25 * std::sin(kPi * k / 20), 10.0 * k});
   return profile;
+}
+
+TriangleMesh scripts_vase() {
+  constexpr int nu = 64, nv = 40;
+  constexpr double h = 200;
+  TriangleMesh m;
+  for (int j = 0; j <= nv; ++j) {
+    const double z = h * j / nv;
+    const double r = 50 + 25 * std::sin(1.5 * kPi * z / h) + 10 * std::cos(3 * kPi * z / h);
+    for (int i = 0; i < nu; ++i) {
+      const double a = 2 * kPi * i / nu;
+      m.vertices.push_back({r * std::cos(a), r * std::sin(a), z});
+    }
+  }
+  auto index = [](int i, int j) { return j * nu + i % nu; };
+  for (int i = 0; i < nu; ++i)  // column by column, as the script's ring_faces
+    for (int j = 0; j < nv; ++j) {
+      const int a = index(i, j), b = index(i + 1, j), c = index(i + 1, j + 1), d = index(i, j + 1);
+      m.triangles.push_back({a, b, c});
+      m.triangles.push_back({a, c, d});
+    }
+  const int centre = static_cast<int>(m.vertices.size());
+  m.vertices.push_back({0, 0, 0});
+  for (int i = 0; i < nu; ++i) m.triangles.push_back({centre, index(i + 1, 0), index(i, 0)});
+  return m;
+}
+
+TriangleMesh height_grid(int n, double extent,
+                         const std::function<double(double, double)>& height) {
+  TriangleMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = -extent + 2 * extent * i / n, y = -extent + 2 * extent * j / n;
+      m.vertices.push_back({x, y, height(x, y)});
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const int a = j * (n + 1) + i, b = a + 1, c = (j + 1) * (n + 1) + i + 1, d = c - 1;
+      m.triangles.push_back({a, b, c});
+      m.triangles.push_back({a, c, d});
+    }
+  return m;
+}
+
+void write_obj(const TriangleMesh& mesh, const std::filesystem::path& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+  for (const Vec3& v : mesh.vertices) std::fprintf(f, "v %.6f %.6f %.6f\n", v.x(), v.y(), v.z());
+  for (const auto& t : mesh.triangles)
+    std::fprintf(f, "f %d %d %d\n", t[0] + 1, t[1] + 1, t[2] + 1);
+  std::fclose(f);
 }
 
 TriangleMesh c_bench(double r_in, double r_out, double height, int n) {

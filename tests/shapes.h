@@ -2,6 +2,7 @@
 // Test shapes generated in code, each with a coarse quad mesh on the surface, a fine
 // triangulation of the same surface as target, and the exact analytic signed distance.
 #include <array>
+#include <filesystem>
 #include <functional>
 #include <string>
 
@@ -49,6 +50,19 @@ TriangleMesh lathe(const std::vector<std::array<double, 2>>& profile, int n, boo
 /// A vase's profile for lathe(): radius 60 + 25 sin(pi z / 200) mm over z = 0 to 200 mm, in
 /// 20 facets of 10 mm height.
 std::vector<std::array<double, 2>> vase_profile();
+
+/// scripts/shapes.py's vase, triangle for triangle in its order: open at the top, a fan at the
+/// bottom, r(z) = 50 + 25 sin(1.5 pi z / 200) + 10 cos(3 pi z / 200) mm in 40 rings of 64.
+TriangleMesh scripts_vase();
+
+/// scripts/shapes.py's grid(): an open square patch of n x n cells over [-extent, extent]^2 mm,
+/// z = height(x, y), two triangles per cell, column by column (its saddle: 50, 80, (x^2 -
+/// y^2)/200).
+TriangleMesh height_grid(int n, double extent, const std::function<double(double, double)>& height);
+
+/// \p mesh as an OBJ file as scripts/shapes.py writes it (6 decimals): a run on it is a run on
+/// the script's file.
+void write_obj(const TriangleMesh& mesh, const std::filesystem::path& path);
 
 /// A bench of C-shaped section: the ring between radii r_in and r_out from angle 0.3 to
 /// 2 pi - 0.3 (its gap facing +x), swept from z = 0 to height, n segments per arc.

@@ -27,6 +27,17 @@ constexpr double kOverlap = 1e-3;
 /// be kept [-].
 constexpr double kStubGlueLoss = 0.02;
 
+/// The rounded closing of an outline (without_slits): its arcs within this of a circle [mm].
+constexpr double kRoundTolerance = 0.01;
+/// A piece of that closing is a slot's end, not a corner's fillet, where it holds more than
+/// this many squares of the closing's radius [-]: a concave corner of 90 degrees or more is
+/// filled by at most (1 - pi/4) = 0.215 of it.
+constexpr double kSlotEnd = 0.25;
+/// Pieces of an outline narrower than this all round are hairs, not pieces [mm].
+constexpr double kHair = 0.01;
+/// Rounds of taking out the fills that close a pocket into a hole (without_slits) [-].
+constexpr int kSealingRounds = 3;
+
 Polygon2 ccw(Polygon2 p) {
   make_counter_clockwise(p);
   return p;
@@ -533,39 +544,113 @@ class GlueBuilder {
       // None of it may lie on the part (another edge reaching into the V).
       if (common_area(outline, tip) < 1e-6) all.push_back(std::move(tip));
     }
-    if (all.empty()) return outline;
+    // A slot that narrows below 2r toward a flat end, with no vertex of its own under 90
+    // degrees, the mitred closing gives back too (its walls, nearly parallel, meet far past its
+    // end) and the tips above miss: the rounded closing fills it, as a cutter's circle sees it
+    // (the vase of scripts/shapes.py in paper at 180 mm: a slot 1.13 mm wide at its end, two
+    // concave corners of about 90 degrees, 0.98 mm as cut). Of its pieces only those holding
+    // more than a concave corner's fillet of 90 degrees or more ((1 - pi/4) r^2) are added: the
+    // rest are the fillets of the outline's corners, which a cutter rounds anyway.
+    std::vector<Polygon2> rounded;
+    for (auto& fill : polygon_difference(
+             polygon_offset_round(polygon_offset_round({outline}, r, kRoundTolerance), -r,
+                                  kRoundTolerance),
+             {outline}))
+      if (std::abs(polygon_area(fill)) > kSlotEnd * r * r) rounded.push_back(std::move(fill));
+    if (all.empty() && rounded.empty()) return outline;
     // Grown by a hair: united exactly, a fill sharing its sides with the outline can come back
     // as a piece of its own touching it, which largest_polygon then drops (the tip of the V
     // between two tabs: Spot in paper at 250 mm kept a 0.9 mm slit so).
     all = polygon_offset(all, 1e-4);
-    all.push_back(outline);
+    rounded = polygon_offset(rounded, 1e-4);
+    // A fill of the rounded closing across the mouth of a pocket (a slit that opens into a
+    // wider space between two arms of the part) would close the pocket into a hole, which the
+    // part's outline, one ring, does not keep: the pocket would become paper where the surface
+    // has none, bridging a tab to its part (the bunny in paper at 250 mm: 80 mm^2 so, behind a
+    // slit 0.1 mm wide). Such fills are left out; the slit into the pocket stays a single cut,
+    // as before them. A pocket narrower than twice the smallest feature all round is a slot a
+    // cutter can hardly follow itself, and filled (the same bunny: 5.2 mm^2, 1.1-1.3 mm wide,
+    // between a part and its own tab, its mouth 0.1 mm, which the auditor found as the cut
+    // passing by itself). The mitred closing's fills and the tips close pockets as they did
+    // before 2026-12-05 (fertility at 250 mm: one of 20 mm^2 behind a slot 1.1 mm wide).
+    for (int round = 0; round <= kSealingRounds; ++round) {
+      std::vector<Polygon2> united = all;
+      united.insert(united.end(), rounded.begin(), rounded.end());
+      united.push_back(outline);
+      united = polygon_union(united);
+      std::vector<Polygon2> holes;
+      for (Polygon2& ring : united)
+        if (polygon_area(ring) < -kHair * kHair) {
+          make_counter_clockwise(ring);
+          // A hole narrower than twice the smallest feature all round is a slot itself: filled.
+          if (polygon_offset({ring}, -o_.min_feature).empty()) continue;
+          for (auto& grown : polygon_offset({ring}, kHair)) holes.push_back(std::move(grown));
+        }
+      const Polygon2 outer = largest_polygon(united);
+      if (holes.empty()) return outer;
+      // What closes a pocket touches both it and the outside (a fill at the tip of a V inside
+      // the pocket touches the pocket alone, and stays).
+      auto open = [&](std::vector<Polygon2>& fills) {
+        const std::size_t before = fills.size();
+        std::erase_if(fills, [&](const Polygon2& fill) {
+          bool pocket = false;
+          for (const Polygon2& hole : holes) pocket = pocket || common_area(fill, hole) > 0;
+          if (!pocket) return false;
+          double outside = 0;
+          for (const Polygon2& c : polygon_difference(polygon_offset({fill}, kHair), {outer}))
+            outside += std::abs(polygon_area(c));
+          return outside > kHair * kHair * kHair;
+        });
+        return fills.size() < before;
+      };
+      if (!open(rounded)) return outer;
+    }
+    all.push_back(outline);  // still closing one: without the rounded closing's fills
     return largest_polygon(polygon_union(all));
   }
 
-  /// \p outline without the tails of its tabs narrower than JointOptions::min_feature: of what
-  /// an opening by half that width takes away, the pieces holding more than a square of it or
-  /// reaching farther than it from the rest (the auditor's rule for a tail), where they lie off
-  /// the part's body \p body. Where two tabs meet at a corner of their part their tapered ends
-  /// left hooks 0.5 mm wide (bob_tri in paper at 200 mm) that tear off; a tab glued under its
-  /// mate misses nothing by losing one.
-  Polygon2 without_tab_tails(const Polygon2& outline, const Polygon2& body) const {
+  /// \p outline without its tails narrower than JointOptions::min_feature: of what an opening
+  /// by half that width takes away, the pieces holding more than a square of it or reaching
+  /// farther than it from the rest (the auditor's rule for a tail). Where two tabs meet at a
+  /// corner of their part their tapered ends left hooks 0.5 mm wide (bob_tri in paper at
+  /// 200 mm) that tear off; a tab glued under its mate misses nothing by losing one. A spike of
+  /// the part's body itself (a strip's end at a sharp corner of the model, 20 degrees or less)
+  /// goes too, down to where it is that wide, as a cutter burns it away (the joints stage's
+  /// without_thin_features does so for wood): rocker-arm and fandisk in paper kept 0.6 mm tips
+  /// so, and the saddle of scripts/shapes.py a 22 degree corner. The body loses nothing but such
+  /// tips: where taking them leaves more than one piece (a neck, not a tip), only the tabs'
+  /// tails go.
+  Polygon2 without_tails(const Polygon2& outline, const Polygon2& body) const {
     const double r = 0.5 * o_.min_feature;
     if (outline.size() < 3 || !(r > 0)) return outline;
     const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
     if (opened.empty()) return outline;
-    std::vector<Polygon2> tails;
+    std::vector<Polygon2> tab_tails, tips;
     for (const auto& piece : polygon_difference({outline}, opened)) {
       if (!(polygon_area(piece) > 0)) continue;
       if (polygon_area(piece) <= o_.min_feature * o_.min_feature &&
           !reaches_beyond(piece, opened, o_.min_feature))
         continue;
       for (auto& off_body : polygon_difference({piece}, {body}))
-        if (polygon_area(off_body) > 0) tails.push_back(std::move(off_body));
+        if (polygon_area(off_body) > 0) tab_tails.push_back(std::move(off_body));
+      for (auto& on_body : polygon_intersection(piece, body))
+        if (polygon_area(on_body) > 0) tips.push_back(std::move(on_body));
     }
-    if (tails.empty()) return outline;
     // Grown by a hair: taken away exactly, a tail sharing its sides with the outline can come
     // back as a hole touching it.
-    return largest_polygon(polygon_difference({outline}, polygon_offset(tails, 1e-4)));
+    auto without = [&](const std::vector<Polygon2>& tails) {
+      std::vector<Polygon2> left;
+      for (auto& c : polygon_difference({outline}, polygon_offset(tails, 1e-4)))
+        if (polygon_area(c) > kHair * kHair) left.push_back(std::move(c));
+      return left;
+    };
+    if (!tips.empty()) {
+      std::vector<Polygon2> all = tab_tails;
+      all.insert(all.end(), tips.begin(), tips.end());
+      if (const std::vector<Polygon2> left = without(all); left.size() == 1) return left.front();
+    }
+    if (tab_tails.empty()) return outline;
+    return largest_polygon(without(tab_tails));
   }
 
   PartOutline outline(int p) {
@@ -573,7 +658,7 @@ class GlueBuilder {
     std::vector<Polygon2> all = {body_[p]};
     all.insert(all.end(), own_[p].begin(), own_[p].end());
     const auto united = polygon_union(all);
-    part.designed = without_slits(without_tab_tails(largest_polygon(united), body_[p]));
+    part.designed = without_slits(without_tails(largest_polygon(united), body_[p]));
     int pieces = 0;
     for (const auto& c : united) pieces += polygon_area(c) > 0 ? 1 : 0;
     part.repaired = pieces != 1;
