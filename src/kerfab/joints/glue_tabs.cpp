@@ -590,20 +590,17 @@ class GlueBuilder {
       if (holes.empty()) return outer;
       // What closes a pocket touches both it and the outside (a fill at the tip of a V inside
       // the pocket touches the pocket alone, and stays).
-      auto open = [&](std::vector<Polygon2>& fills) {
-        const std::size_t before = fills.size();
-        std::erase_if(fills, [&](const Polygon2& fill) {
-          bool pocket = false;
-          for (const Polygon2& hole : holes) pocket = pocket || common_area(fill, hole) > 0;
-          if (!pocket) return false;
-          double outside = 0;
-          for (const Polygon2& c : polygon_difference(polygon_offset({fill}, kHair), {outer}))
-            outside += std::abs(polygon_area(c));
-          return outside > kHair * kHair * kHair;
-        });
-        return fills.size() < before;
-      };
-      if (!open(rounded)) return outer;
+      const std::size_t before = rounded.size();
+      std::erase_if(rounded, [&](const Polygon2& fill) {
+        bool pocket = false;
+        for (const Polygon2& hole : holes) pocket = pocket || common_area(fill, hole) > 0;
+        if (!pocket) return false;
+        double outside = 0;
+        for (const Polygon2& c : polygon_difference(polygon_offset({fill}, kHair), {outer}))
+          outside += std::abs(polygon_area(c));
+        return outside > kHair * kHair * kHair;
+      });
+      if (rounded.size() == before) return outer;  // closed by the mitred fills, as before
     }
     all.push_back(outline);  // still closing one: without the rounded closing's fills
     return largest_polygon(polygon_union(all));
@@ -614,11 +611,11 @@ class GlueBuilder {
   /// farther than it from the rest (the auditor's rule for a tail). Where two tabs meet at a
   /// corner of their part their tapered ends left hooks 0.5 mm wide (bob_tri in paper at
   /// 200 mm) that tear off; a tab glued under its mate misses nothing by losing one. A spike of
-  /// the part's body itself (a strip's end at a sharp corner of the model, 20 degrees or less)
-  /// goes too, down to where it is that wide, as a cutter burns it away (the joints stage's
-  /// without_thin_features does so for wood): rocker-arm and fandisk in paper kept 0.6 mm tips
-  /// so, and the saddle of scripts/shapes.py a 22 degree corner. The body loses nothing but such
-  /// tips: where taking them leaves more than one piece (a neck, not a tip), only the tabs'
+  /// the part's body itself (a strip's end at a sharp corner of the model) goes too, down to
+  /// where it is that wide, as a cutter burns it away (the joints stage's
+  /// without_thin_features does so for wood): rocker-arm in paper kept a spike 0.7 mm wide over
+  /// 4 mm so, and the saddle of scripts/shapes.py a 21 degree corner. The body loses nothing but
+  /// such tips: where taking them leaves more than one piece (a neck, not a tip), only the tabs'
   /// tails go.
   Polygon2 without_tails(const Polygon2& outline, const Polygon2& body) const {
     const double r = 0.5 * o_.min_feature;
