@@ -209,7 +209,7 @@ struct OutlineCheck {
 /// part's outline is drawn from its body, its teeth and its cut-backs alone (with the options
 /// and the kerf width), so where all of these are the same to the bit the earlier drawing is
 /// reused: the joints come out identical with or without a memo. It keeps at most `max_bytes`
-/// of keys and drawings and is emptied when full; it may be shared between threads.
+/// of keys and drawings, the most recently used (Memo); it may be shared between threads.
 class OutlineMemo : public Memo<OutlineDrawing> {
  public:
   explicit OutlineMemo(std::size_t max_bytes = std::size_t{48} << 20)

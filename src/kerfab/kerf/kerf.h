@@ -145,8 +145,8 @@ struct PatchPlacement {
 /// time). A patch's cuts follow from its own sub-quads alone (their 3D corners and how they
 /// join), its flattened points and outline, its part's designed outline, the material and the
 /// options; where all of these are the same to the bit, the earlier cuts are reused, so the
-/// result is identical with or without a memo. It keeps at most `max_bytes` of keys and cuts
-/// and is emptied when full; it may be shared between threads.
+/// result is identical with or without a memo. It keeps at most `max_bytes` of keys and cuts,
+/// the most recently used (Memo); it may be shared between threads.
 class KerfMemo : public Memo<PatchPlacement> {
  public:
   explicit KerfMemo(std::size_t max_bytes = std::size_t{32} << 20) : Memo(max_bytes) {}

@@ -209,7 +209,7 @@ RunResult run_pipeline(const RunInputs& inputs, const PipelineOptions& o,
 
   // Part outlines drawn by the joints stage and patches' cuts placed by the kerf stage, reused
   // by the resolve stage's rebuilds.
-  PartsMemo memo;
+  PartsMemo memo(parts_memo_bytes(o.max_memory_mb));
   // Warnings of the first build that the resolve stage carries and a later rebuild keeps.
   std::vector<std::string> of_first;
   // Whether the resolve loop runs on the parts the joints and kerf stages cut.

@@ -2246,6 +2246,13 @@ std::vector<int> parts_too_small(const PartsBuild& b, double min_area, double mi
   return small_parts(b, min_area, min_width, max_angle_error);
 }
 
+std::size_t parts_memo_bytes(double max_memory_mb) {
+  const double mb = max_memory_mb > 0
+                        ? std::clamp(max_memory_mb / 32, std::min(80.0, max_memory_mb / 8), 1024.0)
+                        : 80.0;
+  return static_cast<std::size_t>(mb * (1 << 20));
+}
+
 void cut_parts(PartsBuild& b, const Guidance& g, const PartsOptions& o, PartsMemo* memo) {
   if (!g.omit.empty()) omit_patches(b.flat, std::set<int>(g.omit.begin(), g.omit.end()));
   b.joints = make_joints(b.flat.strips, b.flat.flattening, o.material, o.machine, o.joints,
