@@ -20,8 +20,8 @@ std::string key(int i) { return "part " + std::to_string(i); }  // 6 to 9 bytes
 
 // Rebuilds that each draw the same 40 parts and 40 new ones, 1 kB each, in a store of 100 kB:
 // the 40 the rebuilds share are found every time after the first, although the store fills
-// up every rebuild. (Emptied when full, as it was, it lost them: 40 of 80 looked up in vain
-// where the store had just been emptied.)
+// up every rebuild. (Emptied when full, as it was, it lost them in the rebuild after each
+// emptying.)
 TEST(Memo, WhatTheLastRebuildUsedStays) {
   Memo<Blob> memo(100'000);
   int fresh = 1000;

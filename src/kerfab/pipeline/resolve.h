@@ -136,20 +136,20 @@ struct PartsOptions {
   KerfOptions kerf;
 };
 
-/// What earlier builds made and later ones may reuse where it is the same: part outlines and
-/// patches' kerf cuts (the results never depend on it).
-struct PartsMemo {
-  /// \p max_bytes: what the two may hold together, three fifths of it outlines [bytes].
-  explicit PartsMemo(std::size_t max_bytes = std::size_t{80} << 20)
-      : outlines(max_bytes / 5 * 3), kerf(max_bytes / 5 * 2) {}
-  OutlineMemo outlines;
-  KerfMemo kerf;
-};
-
 /// What a run's PartsMemo may hold with \p max_memory_mb for the whole run (0: no budget): a
 /// thirty-second of it, between 80 MB (or an eighth of a smaller budget) and 1 GB [bytes]. A
 /// rebuild of Spot at 4000 mm draws about 100 MB of outlines; the demo's fewer than 20.
 std::size_t parts_memo_bytes(double max_memory_mb);
+
+/// What earlier builds made and later ones may reuse where it is the same: part outlines and
+/// patches' kerf cuts (the results never depend on it).
+struct PartsMemo {
+  /// \p max_bytes: what the two may hold together, three fifths of it outlines [bytes].
+  explicit PartsMemo(std::size_t max_bytes = parts_memo_bytes(0))
+      : outlines(max_bytes / 5 * 3), kerf(max_bytes / 5 * 2) {}
+  OutlineMemo outlines;
+  KerfMemo kerf;
+};
 
 /// The parts of \p b a maker cannot handle: less than \p min_area as cut [mm^2], nowhere \p
 /// min_width wide [mm], fallen apart when cut, or flattened inverted, crossing itself or with a
