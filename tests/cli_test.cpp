@@ -1077,6 +1077,26 @@ TEST(Cli, PaperTabsMeetingAtACornerLeaveNoSlit) {
   }
 }
 
+// scripts/shapes.py's cone at 350 mm in 3 mm plywood: a slit its first widening left 0.996 mm
+// wide over 2 mm between two wider stretches (part 13), which the run neither widened nor named
+// (the widening looked at the corners of what the closing fills, all at its ends). Read back by
+// the auditor: no slit or tail under 1 mm (1 before 2026-12-06), and no part named as keeping
+// one either.
+TEST(Cli, ASlitNarrowOnlyBetweenWiderStretchesIsWidenedOnTheSheet) {
+  const fs::path scratch = test::fresh_dir(), cone = scratch / "cone.obj", out = scratch / "out";
+  test::write_obj(test::scripts_cone(), cone);
+  const CliRun r = run_cli("run --quiet --target " + cone.string() +
+                               " --size 350 --material plywood3 --out " + out.string(),
+                           scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  EXPECT_TRUE(report["joints"]["slit_parts"].empty());
+  EXPECT_TRUE(report["joints"]["thin_neck_parts"].empty());
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_GE(audit.parts, 40);
+  EXPECT_EQ(audit.thin_features, 0) << (audit.findings.empty() ? "" : audit.findings[0]);
+}
+
 // Two shapes of scripts/shapes.py in paper, as a maker makes them from its files. The vase at
 // 180 mm: where a tab's tail was cut off, a slot 1.13 mm wide at its flat end (two concave
 // corners of about 90 degrees, its walls nearly parallel) was left 0.98 mm as cut; the mitred

@@ -1513,6 +1513,73 @@ TEST(Joints, ASlitBesideAToothWidensOnItsOtherSide) {
   EXPECT_TRUE(slit_widenings(wide, {tooth}, 1.0).empty());
 }
 
+// A slit narrower than the smallest feature only between two places where it is wider (as a
+// first widening leaves one that tapered: the cone of scripts/shapes.py at 350 mm in plywood3,
+// 0.996 mm over 2 mm, which the auditor found and the run did not): what the closing fills
+// there has its corners all at its ends, within half a feature of the rest, but its middle
+// reaches beyond that, and it is widened. A body 10 x 20 mm with a slit 15 mm deep from its
+// top, 1.2 mm wide but for a 4 mm stretch 0.99 mm wide.
+TEST(Joints, ASlitNarrowOnlyBetweenWiderStretchesIsWidened) {
+  const Polygon2 body = {{0, 0},      {10, 0},   {10, 20},  {5.6, 20}, {5.6, 12}, {5.495, 12},
+                         {5.495, 8},  {5.6, 8},  {5.6, 5},  {4.4, 5},  {4.4, 8},  {4.505, 8},
+                         {4.505, 12}, {4.4, 12}, {4.4, 20}, {0, 20}};
+  const auto closed = polygon_offset(polygon_offset({body}, 0.5), -0.5);
+  const auto gaps = polygon_difference(closed, {body});
+  ASSERT_EQ(gaps.size(), 1u);
+  double far_corner = 0;  // of the filled stretch, from the rest of the closing's outline
+  for (const Vec2& v : gaps[0]) {
+    double d = 1e300;
+    for (const Polygon2& ring : closed) d = std::min(d, distance_to_boundary(v, ring));
+    far_corner = std::max(far_corner, d);
+  }
+  EXPECT_LT(far_corner, 0.5);  // no corner of it reaches beyond half a feature
+  EXPECT_FALSE(reaches_beyond(gaps[0], closed, 0.5));
+  EXPECT_TRUE(reaches_beyond(gaps[0], closed, 0.5, true));  // its middle does: 2 mm
+  const auto cut = slit_widenings(body, {}, 1.0);
+  ASSERT_FALSE(cut.empty());
+  const std::vector<Polygon2> left = polygon_difference({body}, polygon_offset(cut, 1e-4));
+  ASSERT_EQ(left.size(), 1u);
+  // Nothing left that a closing by half the smallest feature fills.
+  double filled = 0;
+  for (const auto& g :
+       polygon_difference(polygon_offset(polygon_offset({left[0]}, 0.5), -0.5), {left[0]}))
+    filled += std::abs(polygon_area(g));
+  EXPECT_LT(filled, 1e-3);
+}
+
+// A slit whose widening would cut the part in two is left as it is (the part is named instead,
+// Joints::slit_parts): looking along slits' edges found one on fandisk at 250 mm in MDF whose
+// widening split part 111 at its slots, and the part lost 390 mm^2 and four joints. A body 10 x
+// 20 mm with a slit 0.6 mm wide from its top to 0.15 mm above its bottom: widened by what it
+// lacks (0.2 mm each side and at its end), it would reach through.
+TEST(Joints, ASlitWhoseWideningCutsThePartInTwoStays) {
+  const Polygon2 body = {{0, 0},      {10, 0},     {10, 20},  {5.3, 20},
+                         {5.3, 0.15}, {4.7, 0.15}, {4.7, 20}, {0, 20}};
+  const auto closed = polygon_offset(polygon_offset({body}, 0.5), -0.5);
+  const auto gaps = polygon_difference(closed, {body});
+  ASSERT_EQ(gaps.size(), 1u);
+  ASSERT_TRUE(reaches_beyond(gaps[0], closed, 0.5, true));  // a slit, 19.85 mm deep
+  const auto cut = slit_widenings(body, {}, 1.0);
+  const std::vector<Polygon2> left = cut.empty()
+                                         ? std::vector<Polygon2>{body}
+                                         : polygon_difference({body}, polygon_offset(cut, 1e-4));
+  EXPECT_EQ(left.size(), 1u);
+  EXPECT_NEAR(std::abs(polygon_area(left[0])), 200 - 0.6 * 19.85, 1e-6);
+  EXPECT_EQ(narrow_slits(left[0], 1.0).size(), 1u);  // and it is named
+  // Made regardless (no piece counts as whole), the widening cuts the body in two halves.
+  const auto made = slit_widenings(body, {}, 1.0, 1e9);
+  ASSERT_FALSE(made.empty());
+  EXPECT_EQ(polygon_difference({body}, polygon_offset(made, 1e-4)).size(), 2u);
+  // The same slit 0.8 mm above the bottom is widened (by 0.2 mm at its end): it stays one piece.
+  Polygon2 deep = body;
+  deep[4].y() = deep[5].y() = 0.8;
+  const auto cut_deep = slit_widenings(deep, {}, 1.0);
+  ASSERT_FALSE(cut_deep.empty());
+  const auto widened = polygon_difference({deep}, polygon_offset(cut_deep, 1e-4));
+  ASSERT_EQ(widened.size(), 1u);
+  EXPECT_TRUE(narrow_slits(widened[0], 1.0).empty());
+}
+
 // A V between two teeth (two borders' teeth meeting at a part's corner) narrower than the
 // smallest feature has nothing but tooth on both sides: the teeth give it a wedge each, as
 // little as makes it a cut the laser can make (demosthenes from its triangles at 500 mm: a V

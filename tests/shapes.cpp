@@ -226,6 +226,32 @@ TriangleMesh scripts_vase() {
   return m;
 }
 
+TriangleMesh scripts_cone() {
+  constexpr int nu = 64, nv = 30;
+  constexpr double radius = 80, h = 150;
+  TriangleMesh m;
+  m.vertices.push_back({0, 0, h});
+  for (int j = 1; j <= nv; ++j) {
+    const double r = radius * j / nv, z = h - h * j / nv;
+    for (int i = 0; i < nu; ++i) {
+      const double a = 2 * kPi * i / nu;
+      m.vertices.push_back({r * std::cos(a), r * std::sin(a), z});
+    }
+  }
+  auto index = [](int i, int j) { return 1 + (j - 1) * nu + i % nu; };
+  for (int i = 0; i < nu; ++i) m.triangles.push_back({0, index(i, 1), index(i + 1, 1)});
+  for (int j = 1; j < nv; ++j)  // ring by ring, facing inward as the script's ring_faces
+    for (int i = 0; i < nu; ++i) {
+      const int a = index(i, j), b = index(i + 1, j), c = index(i + 1, j + 1), d = index(i, j + 1);
+      m.triangles.push_back({a, d, c});
+      m.triangles.push_back({a, c, b});
+    }
+  const int centre = static_cast<int>(m.vertices.size());
+  m.vertices.push_back({0, 0, 0});
+  for (int i = 0; i < nu; ++i) m.triangles.push_back({centre, index(i + 1, nv), index(i, nv)});
+  return m;
+}
+
 TriangleMesh height_grid(int n, double extent,
                          const std::function<double(double, double)>& height) {
   TriangleMesh m;

@@ -55,6 +55,10 @@ std::vector<std::array<double, 2>> vase_profile();
 /// bottom, r(z) = 50 + 25 sin(1.5 pi z / 200) + 10 cos(3 pi z / 200) mm in 40 rings of 64.
 TriangleMesh scripts_vase();
 
+/// scripts/shapes.py's cone, triangle for triangle in its order: base radius 80 mm, height 150
+/// mm, its apex a point (a fan of 64), 30 rings of 64, its base disc a fan.
+TriangleMesh scripts_cone();
+
 /// scripts/shapes.py's grid(): an open square patch of n x n cells over [-extent, extent]^2 mm,
 /// z = height(x, y), two triangles per cell, column by column (its saddle: 50, 80, (x^2 -
 /// y^2)/200).

@@ -181,6 +181,9 @@ struct Joints {
   /// tooth, a corner) breaks off or burns away. The thin-neck pass makes the joints there plain
   /// where that leaves the parts better; these are the ones it could not mend.
   std::vector<int> thin_neck_parts;
+  /// Parts that keep a slit narrower than JointOptions::min_feature (narrow_slits): one whose
+  /// widening would have cut the part in two.
+  std::vector<int> slit_parts;
   double lost_area = 0;           ///< of the pieces the parts that fell apart lost [mm^2]
   double largest_lost_piece = 0;  ///< the largest such piece [mm^2]
   /// Made without stub teeth (JointOptions::stub_teeth false): a draft the resolve loop looks
@@ -279,10 +282,13 @@ std::vector<Polygon2> tooth_slivers(const std::vector<Polygon2>& taken,
                                     const std::vector<Polygon2>& opened,
                                     const std::vector<Polygon2>& teeth, double min_feature);
 
-/// True when some vertex of \p piece lies farther than \p r from the boundary of \p region
-/// [mm]: a piece an opening by half the smallest feature takes away is a feature (a tail, a
-/// sliver) where it reaches beyond that feature, not the rounding of a corner.
-bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, double r);
+/// True when some vertex of \p piece (\p along_edges: some point of its edges, to within r/8)
+/// lies farther than \p r from the boundary of \p region [mm]: a piece an opening by half the
+/// smallest feature takes away is a feature (a tail, a sliver) where it reaches beyond that
+/// feature, not the rounding of a corner; so is what a closing fills (a slit), looked at along
+/// its edges, which may run far from the rest between corners that lie by it.
+bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, double r,
+                    bool along_edges = false);
 
 /// The regions to cut away from \p outline so that no slit is narrower than \p min_feature [mm]:
 /// what a closing by half that width fills and that reaches more than half of it from the rest,
@@ -290,8 +296,17 @@ bool reaches_beyond(const Polygon2& piece, const std::vector<Polygon2>& region, 
 /// slots are cut to their width). Where a tooth stops the growth on one side, the other side
 /// gives all the slit lacks. One step, by what a slit lacks on average: a slit that tapers can
 /// keep its end under the width, so the outline cleanup applies it again until it returns none.
+/// A widening that would cut the part in two (two pieces larger than \p split_area [mm^2] left)
+/// is not made: that slit stays, and narrow_slits() names it.
 std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<Polygon2>& teeth,
-                                     double min_feature);
+                                     double min_feature, double split_area = 9.0);
+
+/// The slits of \p outline narrower than \p min_feature [mm] that are cuts the laser cannot
+/// make: what a closing by half that width fills and that holds more than a square of that width
+/// or reaches farther than that width from the rest along its edges (the test the sheet auditor
+/// applies; a shallower notch is no slit). The outline cleanup widens them all but where that
+/// would cut the part in two (slit_widenings).
+std::vector<Polygon2> narrow_slits(const Polygon2& outline, double min_feature);
 
 /// \p outline without the small pieces that hang at one end of a short neck narrower than
 /// \p min_feature [mm]: the erosion by half that width (less 10 um) falls in two there, though an

@@ -348,6 +348,7 @@ json joints_section(const Joints& jt, const Material& material) {
           {"intervals_in_collision", blocked},
           {"repaired_parts", jt.repaired_parts},
           {"thin_neck_parts", jt.thin_neck_parts},
+          {"slit_parts", jt.slit_parts},
           {"lost_area_mm2", jt.lost_area},
           {"largest_lost_piece_mm2", jt.largest_lost_piece},
           {"samples", samples}};

@@ -24,6 +24,13 @@ constexpr double kLargestSize = 10000;
 /// Borders a warning names by their two parts, at most [-].
 constexpr std::size_t kBordersNamed = 6;
 
+/// \p parts named after \p w, up to kBordersNamed of them ("3, 8, ...").
+void name_parts(Line& w, const std::vector<int>& parts) {
+  for (std::size_t k = 0; k < parts.size() && k < kBordersNamed; ++k)
+    w << (k ? ", " : "") << parts[k];
+  if (parts.size() > kBordersNamed) w << ", ...";
+}
+
 std::string summary_line(const std::string& what, const MeshSummary& s) {
   Line os;
   os << what << ": " << s.vertices << " vertices, " << s.faces << " faces (";
@@ -321,9 +328,15 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
     w << j.thin_neck_parts.size() << " parts narrow to a neck under " << options.min_feature
       << " mm between two of their pieces, where what hangs on it may break off or burn away "
          "(joints.thin_neck_parts): parts ";
-    for (std::size_t k = 0; k < j.thin_neck_parts.size() && k < kBordersNamed; ++k)
-      w << (k ? ", " : "") << j.thin_neck_parts[k];
-    if (j.thin_neck_parts.size() > kBordersNamed) w << ", ...";
+    name_parts(w, j.thin_neck_parts);
+    n.warnings.push_back(w.str());
+  }
+  if (!j.slit_parts.empty()) {
+    Line w;
+    w << j.slit_parts.size() << " parts keep a slit narrower than " << options.min_feature
+      << " mm, a cut the laser cannot make cleanly, where widening it would cut the part in two "
+         "(joints.slit_parts): parts ";
+    name_parts(w, j.slit_parts);
     n.warnings.push_back(w.str());
   }
   if (j.repaired_parts > 0) {
