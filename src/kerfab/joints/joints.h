@@ -181,8 +181,9 @@ struct Joints {
   /// tooth, a corner) breaks off or burns away. The thin-neck pass makes the joints there plain
   /// where that leaves the parts better; these are the ones it could not mend.
   std::vector<int> thin_neck_parts;
-  /// Parts that keep a slit narrower than JointOptions::min_feature (narrow_slits): one whose
-  /// widening would have cut the part in two.
+  /// Parts that keep a slit narrower than JointOptions::min_feature (narrow_slits): one the
+  /// outline cleanup could not widen (where that would cut the part in two, or into a tooth
+  /// beside it, or a tapering one still narrow at its end after the last widening).
   std::vector<int> slit_parts;
   double lost_area = 0;           ///< of the pieces the parts that fell apart lost [mm^2]
   double largest_lost_piece = 0;  ///< the largest such piece [mm^2]
@@ -304,8 +305,7 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
 /// The slits of \p outline narrower than \p min_feature [mm] that are cuts the laser cannot
 /// make: what a closing by half that width fills and that holds more than a square of that width
 /// or reaches farther than that width from the rest along its edges (the test the sheet auditor
-/// applies; a shallower notch is no slit). The outline cleanup widens them all but where that
-/// would cut the part in two (slit_widenings).
+/// applies; a shallower notch is no slit): what the outline cleanup (slit_widenings) left.
 std::vector<Polygon2> narrow_slits(const Polygon2& outline, double min_feature);
 
 /// \p outline without the small pieces that hang at one end of a short neck narrower than

@@ -334,8 +334,9 @@ StageNotes notes(const Joints& j, const JointOptions& options, double thickness,
   if (!j.slit_parts.empty()) {
     Line w;
     w << j.slit_parts.size() << " parts keep a slit narrower than " << options.min_feature
-      << " mm, a cut the laser cannot make cleanly, where widening it would cut the part in two "
-         "(joints.slit_parts): parts ";
+      << " mm, a cut the laser cannot make cleanly, that the outline cleanup could not widen "
+         "(where that would cut the part in two, or into a tooth beside it; joints.slit_parts): "
+         "parts ";
     name_parts(w, j.slit_parts);
     n.warnings.push_back(w.str());
   }
