@@ -81,6 +81,31 @@ std::vector<std::array<Vec2, 2>> edges_near(const Polygon2& piece,
   return near;
 }
 
+/// \p from less \p cut, grown by a hair: a tail shares its sides with the outline, and taken
+/// away exactly it can come back as a hole touching the outline (the outline whole, with the
+/// tail as a hole), which left the tail on the part (a spike of a quad sphere's facet, 4.7 mm
+/// under 1 mm wide).
+std::vector<Polygon2> cut_away(const std::vector<Polygon2>& from, std::vector<Polygon2> cut) {
+  for (auto& poly : cut) make_counter_clockwise(poly);
+  std::vector<Polygon2> kept;
+  for (auto& c : polygon_difference(from, polygon_offset(cut, 1e-4)))
+    if (polygon_area(c) > 0) kept.push_back(std::move(c));
+  return kept;
+}
+
+/// The morphological closing of \p outline by a disc of radius \p r, and what it fills: its
+/// slits and notches narrower than 2r (slit_widenings() widens them, narrow_slits() names those
+/// left).
+struct Closing {
+  std::vector<Polygon2> closed, gaps;
+};
+Closing closing_of(const Polygon2& outline, double r) {
+  Closing c;
+  c.closed = polygon_offset(polygon_offset({outline}, r), -r);
+  c.gaps = polygon_difference(c.closed, {outline});
+  return c;
+}
+
 class Builder {
  public:
   Builder(const Strips& s, const Flattening& f, double thickness, double kerf_width,
@@ -198,17 +223,13 @@ class Builder {
     });
     // What the thin-neck pass could not mend, said (stanford-bunny from its triangles at 250
     // mm: a strip end of part 266 hung on a neck 0.24 mm wide as cut, found only by the auditor).
-    std::vector<char> necked(out_.parts.size(), 0);
-    for_each_of(std::vector<int>(all.begin(), all.end()),
-                [&](int p) { necked[p] = thin_necks(p).empty() && !splits_apart(p) ? 0 : 1; });
-    for (std::size_t p = 0; p < necked.size(); ++p)
-      if (necked[p]) out_.thin_neck_parts.push_back(static_cast<int>(p));
-    // Slits left narrower than the smallest feature, said: the widening that would cut the
-    // part in two is not made (slit_widenings), nor one into a tooth, and a tapering slit may
-    // stay narrow at its end after the last widening (Spot's cage remeshed at 4000 mm: a V 1.2
-    // mm deep beside a tooth, which the auditor finds).
-    std::vector<char> slit(out_.parts.size(), 0);
+    // And slits left narrower than the smallest feature: the widening that would cut the part
+    // in two is not made (slit_widenings), nor one into a tooth, and a tapering slit may stay
+    // narrow at its end after the last widening (Spot's cage remeshed at 4000 mm: a V 1.2 mm
+    // deep beside a tooth, which the auditor finds).
+    std::vector<char> necked(out_.parts.size(), 0), slit(out_.parts.size(), 0);
     for_each_of(std::vector<int>(all.begin(), all.end()), [&](int p) {
+      necked[p] = thin_necks(p).empty() && !splits_apart(p) ? 0 : 1;
       const Polygon2& outline = out_.parts[p].designed;
       slit[p] = checked(
                     'S', [&](std::string& key) { put_polygons(key, {outline}); },
@@ -218,8 +239,10 @@ class Builder {
                     ? 0
                     : 1;
     });
-    for (std::size_t p = 0; p < slit.size(); ++p)
+    for (std::size_t p = 0; p < out_.parts.size(); ++p) {
+      if (necked[p]) out_.thin_neck_parts.push_back(static_cast<int>(p));
       if (slit[p]) out_.slit_parts.push_back(static_cast<int>(p));
+    }
     for (std::size_t p = 0; p < out_.parts.size(); ++p) {
       if (!out_.parts[p].repaired) continue;
       ++out_.repaired_parts;
@@ -1807,17 +1830,6 @@ class Builder {
     remove.insert(remove.end(), wide.begin(), wide.end());
     const bool widened = !wide.empty();
     if (remove.empty()) return {outline};
-    // \p from less \p cut, grown by a hair: a tail shares its sides with the outline, and taken
-    // away exactly it can come back as a hole touching the outline (the outline whole, with the
-    // tail as a hole), which left the tail on the part (a spike of a quad sphere's facet, 4.7 mm
-    // under 1 mm wide).
-    const auto cut_away = [](const std::vector<Polygon2>& from, std::vector<Polygon2> cut) {
-      for (auto& poly : cut) make_counter_clockwise(poly);
-      std::vector<Polygon2> kept;
-      for (auto& c : polygon_difference(from, polygon_offset(cut, 1e-4)))
-        if (polygon_area(c) > 0) kept.push_back(std::move(c));
-      return kept;
-    };
     std::vector<Polygon2> left = cut_away({outline}, std::move(remove));
     if (left.empty()) return {outline};
     if (!widened) return left;
@@ -1977,8 +1989,9 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
   const double r = 0.5 * min_feature;
   std::vector<Polygon2> out;
   if (outline.size() < 3 || !(r > 0)) return out;
-  const auto closed = polygon_offset(polygon_offset({outline}, r), -r);
-  for (const auto& gap : polygon_difference(closed, {outline})) {
+  const Closing closing = closing_of(outline, r);
+  const std::vector<Polygon2>& closed = closing.closed;
+  for (const auto& gap : closing.gaps) {
     // Its edges looked along too: a stretch that stayed under the width between a step where
     // it was widened and where it widens by itself has its corners all at its ends, by the rest
     // (the cone of scripts/shapes.py at 350 mm in plywood3: 0.996 mm over 2 mm, which the
@@ -2037,11 +2050,9 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
     // it) instead of a part that falls apart there (fandisk at 250 mm in MDF: part 111 lost 390
     // mm^2 and four joints at a slit found along its edges). One that cuts off a piece no
     // larger than a square tooth is made: what hung there was a tail (as neck() has it).
-    std::vector<Polygon2> grown = wide;
-    for (auto& poly : grown) make_counter_clockwise(poly);
     int pieces = 0;
-    for (const auto& piece : polygon_difference({outline}, polygon_offset(grown, 1e-4)))
-      pieces += std::abs(polygon_area(piece)) > split_area ? 1 : 0;
+    for (const auto& piece : cut_away({outline}, wide))
+      pieces += polygon_area(piece) > split_area ? 1 : 0;
     if (pieces > 1) continue;
     out.insert(out.end(), wide.begin(), wide.end());
   }
@@ -2052,10 +2063,10 @@ std::vector<Polygon2> narrow_slits(const Polygon2& outline, double min_feature) 
   const double r = 0.5 * min_feature;
   std::vector<Polygon2> out;
   if (outline.size() < 3 || !(r > 0)) return out;
-  const auto closed = polygon_offset(polygon_offset({outline}, r), -r);
-  for (auto& gap : polygon_difference(closed, {outline}))
+  Closing closing = closing_of(outline, r);
+  for (auto& gap : closing.gaps)
     if (std::abs(polygon_area(gap)) > min_feature * min_feature ||
-        reaches_beyond(gap, closed, min_feature, true))
+        reaches_beyond(gap, closing.closed, min_feature, true))
       out.push_back(std::move(gap));
   return out;
 }
