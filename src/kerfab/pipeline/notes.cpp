@@ -415,7 +415,8 @@ StageNotes notes(const ResolveResult& r, const KerfOptions& kerf, bool quads_mad
     w << actions["omit"] << " parts were left out (resolve.changes, \"omit\"): faces folded back "
       << "thinner than the sheets, slivers narrower than --min-part-width, parts of which "
       << "their joints left nothing or that fell apart at their slots where the shape is "
-      << "thinner than two sheets, or parts inside out (their quads folded over the parts "
+      << "thinner than two sheets, facets flattening distorted that their joints cut back "
+      << "under --min-part-area, or parts inside out (their quads folded over the parts "
       << "beside them); the surface there lies within " << farthest
       << " mm of the parts kept, whose borders with them are free edges";
     if (r.gone_parts > 0) {

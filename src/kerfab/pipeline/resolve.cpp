@@ -770,12 +770,14 @@ class Resolver {
   /// largest piece is cut and its border where it broke has no joint (fertility at 250 mm: a
   /// part 10.5 mm across where the statue is thin, cut back 1.8 mm by the mitre beside a facet
   /// folded onto the other side, its surface within 4.1 mm of the parts kept; the one border
-  /// without a joint on the shared models at 250 mm). Their neighbours' borders with them
-  /// become free edges. Kept only where the build has fewer defects (critical regions and parts
-  /// too small, parts inside out counted among them), or as many and fewer borders without a
-  /// joint, after it: returns whether it was. \p small: small_now(), updated.
+  /// without a joint on the shared models at 250 mm). So is a facet still flattening distorted
+  /// that its joints cut back under --min-part-area (kCrumb) where they stand within a sheet of
+  /// it. Their neighbours' borders with them become free edges. Kept only where the build has
+  /// fewer defects (critical regions and parts too small, parts inside out counted among them),
+  /// or as many and fewer borders without a joint, after it: returns whether it was. \p small:
+  /// small_now(), updated.
   bool omit_thin_parts(std::vector<int>& small) {
-    enum class Why { kGone, kFolded, kSliver, kApart, kInsideOut };
+    enum class Why { kGone, kFolded, kSliver, kApart, kCrumb, kInsideOut };
     struct Omitted {
       int part;
       Why why;
@@ -784,11 +786,17 @@ class Resolver {
       bool gone;            // nothing_left()
       double distance = 0;  // of its surface from the parts kept [mm]
       bool apart = false;   // fell apart at its slots
+      double area = 0;      // as cut [mm^2]
     };
     std::vector<Omitted> omitted;
     for (int p : small) {
       const bool gone = nothing_left(p);
-      if (!gone && bent_facet(build_, p, o_.flatten.max_angle_error)) continue;
+      // A facet that flattens bent is the outline cut's business (cut_bent_facets_by_outline),
+      // unless its joints leave a crumb of it: fertility from its triangles at 500 mm kept a
+      // facet flattening 35 deg off that its mitres cut back to 1.4 mm^2, cut as a part of its
+      // own, its three neighbours' teeth going into it.
+      const bool bent = !gone && bent_facet(build_, p, o_.flatten.max_angle_error);
+      if (bent && area_as_cut(build_.joints.parts[p]) >= r_.min_part_area) continue;
       const CutBack cut = deepest_cut_back(p);
       const double across = 2 * inscribed_radius(flat_outline(strips(), build_.flat.flattening, p));
       if (cut.fold > kFoldBackAngle)
@@ -799,6 +807,8 @@ class Resolver {
         omitted.push_back({p, Why::kGone, cut, across, gone});
       else if (build_.joints.parts[p].repaired)
         omitted.push_back({p, Why::kApart, cut, across, gone});
+      else if (bent)
+        omitted.push_back({p, Why::kCrumb, cut, across, gone});
     }
     // Parts inside out, small or not: no size cures them, and where they lie over the parts
     // beside them (checked below), those hold the surface.
@@ -808,6 +818,7 @@ class Resolver {
                        [&](const Omitted& o) { return o.part == p; }))
         omitted.push_back({p, Why::kInsideOut, deepest_cut_back(p), 0.0, false});
     if (omitted.empty()) return false;
+    for (Omitted& o : omitted) o.area = area_as_cut(build_.joints.parts[o.part]);
     // How far the surface that was there lies from the parts kept, sampled on a 4 x 4 grid in
     // each of its sub-quads: left out only where the sheets a maker builds stand within a
     // sheet's thickness of it (leaving one out can only bring the others' distances down when it
@@ -917,6 +928,12 @@ class Resolver {
             why << ", cut back up to " << o.cut.depth << " mm beside " << part(o.cut.other);
           why << "), where the shape is so thin that the parts kept stand within " << o.distance
               << " mm of its surface";
+          break;
+        case Why::kCrumb:
+          why << "it flattens distorted (its corners are shared with facets at other angles) and "
+                 "its joints leave only "
+              << o.area << " mm^2 of it, under --min-part-area, where the parts kept stand within "
+              << o.distance << " mm of its surface";
           break;
         case Why::kInsideOut:
           why << "inside out: its faces are turned against the target's (its quads fold over "
