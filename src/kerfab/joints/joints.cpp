@@ -125,11 +125,12 @@ class Builder {
   Joints run() {
     out_.draft = !o_.stub_teeth;
     std::vector<std::vector<std::array<double, 2>>> forbidden(pieces_.size() * 2);
-    for (std::size_t p = 0; p < rings_.size(); ++p)
-      restrict_by_bands(static_cast<int>(p), forbidden);
-    place_teeth(forbidden);
     std::set<int> all;
     for (std::size_t p = 0; p < rings_.size(); ++p) all.insert(static_cast<int>(p));
+    // Each part writes only the sides of its own ring: on all threads.
+    for_each_of(std::vector<int>(all.begin(), all.end()),
+                [&](int p) { restrict_by_bands(p, forbidden); });
+    place_teeth(forbidden);
     drop_bitten_teeth(all);
     out_.parts.resize(rings_.size());
     draw(all);
@@ -227,8 +228,12 @@ class Builder {
     // in two is not made (slit_widenings), nor one into a tooth, and a tapering slit may stay
     // narrow at its end after the last widening (Spot's cage remeshed at 4000 mm: a V 1.2 mm
     // deep beside a tooth, which the auditor finds).
+    // A draft's are not looked for: the resolve loop reads neither, and its final build, with
+    // stub teeth, names them.
+    const std::vector<int> named =
+        o_.stub_teeth ? std::vector<int>(all.begin(), all.end()) : std::vector<int>{};
     std::vector<char> necked(out_.parts.size(), 0), slit(out_.parts.size(), 0);
-    for_each_of(std::vector<int>(all.begin(), all.end()), [&](int p) {
+    for_each_of(named, [&](int p) {
       necked[p] = thin_necks(p).empty() && !splits_apart(p) ? 0 : 1;
       const Polygon2& outline = out_.parts[p].designed;
       slit[p] = checked(

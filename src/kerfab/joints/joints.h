@@ -179,11 +179,13 @@ struct Joints {
   /// Parts whose outline still narrows to less than JointOptions::min_feature between two of its
   /// pieces (an opening by half that width falls in two there): what hangs on such a neck (a
   /// tooth, a corner) breaks off or burns away. The thin-neck pass makes the joints there plain
-  /// where that leaves the parts better; these are the ones it could not mend.
+  /// where that leaves the parts better; these are the ones it could not mend. Empty in a draft
+  /// (no thin-neck pass there, and the resolve loop does not read them).
   std::vector<int> thin_neck_parts;
   /// Parts that keep a slit narrower than JointOptions::min_feature (narrow_slits): one the
   /// outline cleanup could not widen (where that would cut the part in two, or into a tooth
-  /// beside it, or a tapering one still narrow at its end after the last widening).
+  /// beside it, or a tapering one still narrow at its end after the last widening). Empty in a
+  /// draft.
   std::vector<int> slit_parts;
   double lost_area = 0;           ///< of the pieces the parts that fell apart lost [mm^2]
   double largest_lost_piece = 0;  ///< the largest such piece [mm^2]
