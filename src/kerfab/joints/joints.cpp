@@ -127,9 +127,9 @@ class Builder {
     std::vector<std::vector<std::array<double, 2>>> forbidden(pieces_.size() * 2);
     std::set<int> all;
     for (std::size_t p = 0; p < rings_.size(); ++p) all.insert(static_cast<int>(p));
+    const std::vector<int> every(all.begin(), all.end());  // for for_each_of
     // Each part writes only the sides of its own ring: on all threads.
-    for_each_of(std::vector<int>(all.begin(), all.end()),
-                [&](int p) { restrict_by_bands(p, forbidden); });
+    for_each_of(every, [&](int p) { restrict_by_bands(p, forbidden); });
     place_teeth(forbidden);
     drop_bitten_teeth(all);
     out_.parts.resize(rings_.size());
@@ -204,7 +204,7 @@ class Builder {
     // Last, with every joint settled: corners hanging on a short neck go (never a tooth). Done
     // while drawing, it changed which stub teeth fit (one of the demo's short borders lost its
     // joint: the tooth would have hung on the neck the cut corner had shared).
-    for_each_of(std::vector<int>(all.begin(), all.end()), [&](int p) {
+    for_each_of(every, [&](int p) {
       PartOutline& part = out_.parts[p];
       const std::vector<Polygon2> teeth = tooth_regions(part.spans);
       Polygon2 trimmed = std::move(
@@ -230,10 +230,8 @@ class Builder {
     // deep beside a tooth, which the auditor finds).
     // A draft's are not looked for: the resolve loop reads neither, and its final build, with
     // stub teeth, names them.
-    const std::vector<int> named =
-        o_.stub_teeth ? std::vector<int>(all.begin(), all.end()) : std::vector<int>{};
     std::vector<char> necked(out_.parts.size(), 0), slit(out_.parts.size(), 0);
-    for_each_of(named, [&](int p) {
+    for_each_of(out_.draft ? std::vector<int>{} : every, [&](int p) {
       necked[p] = thin_necks(p).empty() && !splits_apart(p) ? 0 : 1;
       const Polygon2& outline = out_.parts[p].designed;
       slit[p] = checked(
