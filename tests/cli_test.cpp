@@ -2685,6 +2685,10 @@ TEST(Cli, LongStripsAreSplitWhereThatSavesASheet) {
   EXPECT_EQ(s["sheets_before"].get<int>(), 4);
   EXPECT_EQ(s["sheets_after"].get<int>(), 3);
   EXPECT_EQ(s["saved_sheets"].get<int>(), 1);
+  // The attempt that saves the sheet is built: the screen before it (halves_in_plane) lets it
+  // through.
+  EXPECT_EQ(s["screened"].get<int>(), 0);
+  EXPECT_EQ(s["attempts"].get<int>(), 1);
   const int parts = static_cast<int>(split["layout"]["parts"].size());
   EXPECT_EQ(s["parts_before"].get<int>(), static_cast<int>(whole["layout"]["parts"].size()));
   EXPECT_EQ(s["parts_after"].get<int>(), parts);

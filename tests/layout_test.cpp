@@ -336,6 +336,36 @@ TEST(Layout, RingsAreCutInTwoWhereThatSavesASheet) {
       EXPECT_LE(v.x(), o.layout.sheet_width - o.layout.margin + 0.5) << part.id;
       EXPECT_LE(v.y(), o.layout.sheet_height - o.layout.margin + 0.5) << part.id;
     }
+  // What split_to_fit nests before it builds an attempt: each ring's path cut in two in its own
+  // flattening at its middle ruling (halves_in_plane), or recut there (ring_recut_in_plane). The
+  // two pieces partition the path (their areas add up to it), each is about as long as a real half,
+  // and they nest on the one sheet the real halves take; the attempt that saved the sheet was
+  // built, not screened out.
+  EXPECT_EQ(s.screened, 0);
+  std::vector<Polygon2> halves;
+  for (std::size_t p = 0; p < whole.joints->parts.size(); ++p) {
+    const int middle = static_cast<int>(whole.flat->strips.patches[p].rulings.size()) / 2;
+    const auto two = halves_in_plane(*whole.flat, *whole.joints, static_cast<int>(p), middle, 8);
+    ASSERT_EQ(two.size(), 2u) << p;
+    const double path = std::abs(polygon_area(whole.joints->parts[p].cut));
+    EXPECT_NEAR(std::abs(polygon_area(two[0])) + std::abs(polygon_area(two[1])), path, 1e-3 * path);
+    for (const Polygon2& half : two) {
+      const MinRect m = min_area_rect(half);
+      EXPECT_NEAR(std::max(m.width, m.height), 192, 6) << p;
+      halves.push_back(half);
+    }
+    // Recut at its middle instead, a ring of a cylinder flattens to the same straight strip:
+    // the halves joined again where it was cut open are one outline as long and as large.
+    const auto recut =
+        ring_recut_in_plane(*whole.flat, *whole.joints, static_cast<int>(p), middle, 8);
+    ASSERT_EQ(recut.size(), 1u) << p;
+    const MinRect before = min_area_rect(whole.joints->parts[p].cut),
+                  after = min_area_rect(recut[0]);
+    EXPECT_NEAR(std::max(after.width, after.height), std::max(before.width, before.height), 4) << p;
+    EXPECT_NEAR(std::min(after.width, after.height), std::min(before.width, before.height), 1) << p;
+    EXPECT_NEAR(std::abs(polygon_area(recut[0])), path, 0.03 * path) << p;
+  }
+  EXPECT_EQ(nest_parts(halves, o.layout).sheets, 1);
 }
 
 TEST(Layout, MinimumRectangleAndBadSheets) {

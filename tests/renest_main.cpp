@@ -1,6 +1,7 @@
 // kerfab_renest OUT_DIR [WxH] [spacing]: reads a run's written sheets back (tests/sheet_audit.h)
 // and nests the same part outlines again with the current nester, printing sheets against the
-// area lower bound, utilisation and time. For measuring the nester by hand on real parts.
+// area lower bound, utilisation and time. KERFAB_RENEST_STEP and KERFAB_RENEST_MARGIN [mm] set
+// the grid step and the margin. For measuring the nester by hand on real parts.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
   }
   if (argc > 3) o.spacing = std::atof(argv[3]);
   if (const char* v = std::getenv("KERFAB_RENEST_STEP")) o.step = std::atof(v);
+  if (const char* v = std::getenv("KERFAB_RENEST_MARGIN")) o.margin = std::atof(v);
   std::vector<kerfab::Polygon2> outlines;
   for (auto& part : kerfab::test::read_sheet_parts(std::filesystem::path(argv[1]) / "cut"))
     outlines.push_back(std::move(part.outline));

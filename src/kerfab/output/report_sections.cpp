@@ -500,6 +500,7 @@ json split_to_fit_section(const SplitToFitResult& s) {
           {"min_length_mm", s.min_length_mm},
           {"split_edges", edges},
           {"attempts", s.attempts},
+          {"screened", s.screened},
           {"seconds", s.seconds},
           {"why_not", s.why_not}};
 }

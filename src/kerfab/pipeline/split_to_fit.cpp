@@ -1,5 +1,6 @@
 #include "kerfab/pipeline/split_to_fit.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -28,18 +29,19 @@ Defects defects_of(const PartsBuild& b, const LayoutResult& l, const SplitToFitI
           l.unplaced.size(), b.joints.borders_without_joint};
 }
 
-/// The coarse edge of strip \p p's ruling nearest its middle at a boundary between two of its
-/// quads (a strip border there leaves a whole quad on each side), or -1.
-int middle_ruling_edge(const Strips& s, const Patch& p) {
+/// Strip \p p's ruling nearest its middle at a boundary between two of its quads (a strip border
+/// there leaves a whole quad on each side): its coarse edge and its index among the strip's
+/// rulings; {-1, -1} if none.
+std::array<int, 2> middle_ruling(const Strips& s, const Patch& p) {
   const std::vector<int> starts = column_starts(s, p);
   const double half = 0.5 * starts.back();
-  int best = -1;
+  std::array<int, 2> best{-1, -1};
   double off = 0;
   for (std::size_t col = 1; col + 1 < starts.size(); ++col) {
     const int edge = p.ruling_edges[starts[col]];
     if (edge < 0) continue;
     const double d = std::abs(starts[col] - half);
-    if (best < 0 || d < off) best = edge, off = d;
+    if (best[0] < 0 || d < off) best = {edge, starts[col]}, off = d;
   }
   return best;
 }
@@ -50,6 +52,82 @@ bool at_bound(const LayoutResult& l) {
 }
 
 }  // namespace
+
+namespace {
+
+/// Strip \p p's laser path cut at ruling \p ruling in its own flattening (halves_in_plane):
+/// the pieces on the first half's side, and the rest.
+std::array<std::vector<Polygon2>, 2> cut_in_plane(const CuttablePatches& flat, const Joints& joints,
+                                                  int p, int ruling, double reach) {
+  const Patch& patch = flat.strips.patches[p];
+  const std::vector<Vec2>& pts = flat.flattening.patches[p].points;
+  const Polygon2& path = joints.parts[p].cut;
+  const Vec2 a = pts[patch.local(0, ruling)], c = pts[patch.local(1, ruling)];
+  if (!((c - a).norm() > 0)) return {};
+  // The first half: rail 0 up to the ruling, the last rail back.
+  Polygon2 first;
+  for (int i = 0; i <= ruling; ++i) first.push_back(pts[patch.local(0, i)]);
+  for (int i = ruling; i >= 0; --i) first.push_back(pts[patch.local(1, i)]);
+  make_counter_clockwise(first);
+  const std::vector<Polygon2> near = polygon_offset({first}, reach);
+  // Its side of the ruling's line: a square of side 2 L beyond it, L past any part.
+  const Vec2 u = (c - a).normalized();
+  Vec2 n(-u.y(), u.x());
+  const Vec2 inside = 0.5 * (pts[patch.local(0, 0)] + pts[patch.local(1, 0)]);
+  if (n.dot(inside - a) < 0) n = -n;
+  double l = 0;
+  for (const Vec2& v : path) l = std::max(l, (v - a).norm());
+  l = 2 * l + 1;
+  Polygon2 side{a - l * u, a + l * u, a + l * u + 2 * l * n, a - l * u + 2 * l * n};
+  make_counter_clockwise(side);
+  std::vector<Polygon2> one;
+  for (const Polygon2& h : polygon_intersection(path, side))
+    for (const Polygon2& region : near)
+      for (auto& piece : polygon_intersection(h, region))
+        if (polygon_area(piece) > 0) one.push_back(std::move(piece));
+  if (one.empty()) return {};
+  std::array<std::vector<Polygon2>, 2> out;
+  for (auto& piece : polygon_union(one))
+    if (polygon_area(piece) > 0) out[0].push_back(std::move(piece));
+  for (auto& piece : polygon_difference({path}, one))
+    if (polygon_area(piece) > 0) out[1].push_back(std::move(piece));
+  return out;
+}
+
+}  // namespace
+
+std::vector<Polygon2> halves_in_plane(const CuttablePatches& flat, const Joints& joints, int p,
+                                      int ruling, double reach) {
+  auto [one, rest] = cut_in_plane(flat, joints, p, ruling, reach);
+  if (one.empty()) return {joints.parts[p].cut};
+  for (auto& piece : one) rest.push_back(std::move(piece));
+  return rest;
+}
+
+std::vector<Polygon2> ring_recut_in_plane(const CuttablePatches& flat, const Joints& joints, int p,
+                                          int ruling, double reach) {
+  const Patch& patch = flat.strips.patches[p];
+  const std::vector<Vec2>& pts = flat.flattening.patches[p].points;
+  const int last = static_cast<int>(patch.rulings.size()) - 1;
+  auto [one, rest] = cut_in_plane(flat, joints, p, ruling, reach);
+  const Vec2 a0 = pts[patch.local(0, 0)], c0 = pts[patch.local(1, 0)];
+  const Vec2 an = pts[patch.local(0, last)], cn = pts[patch.local(1, last)];
+  if (one.empty() || rest.empty() || !patch.loop_cut || !((c0 - a0).norm() > 0) ||
+      !((cn - an).norm() > 0))
+    return {joints.parts[p].cut};
+  // The first ruling and the last are one in 3D, where the ring was cut open: the first half
+  // turned and moved to continue the rest there.
+  const double turn =
+      std::atan2((cn - an).y(), (cn - an).x()) - std::atan2((c0 - a0).y(), (c0 - a0).x());
+  const Eigen::Rotation2Dd r(turn);
+  for (Polygon2& piece : one)
+    for (Vec2& v : piece) v = r * (v - a0) + an;
+  for (auto& piece : one) rest.push_back(std::move(piece));
+  std::vector<Polygon2> out;
+  for (auto& piece : polygon_union(rest))
+    if (polygon_area(piece) > 0) out.push_back(std::move(piece));
+  return out;
+}
 
 SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const SplitToFitInput& in,
                               const SplitToFitOptions& options, PartsMemo* memo) {
@@ -101,15 +179,18 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
   Guidance guidance = in.guidance;
   Defects now = defects_of(build, layout, in);
   std::set<int> tried_edges;  // the last attempt's, to skip one that adds nothing
+  // How far a strip's teeth reach beyond its flattened quads (halves_in_plane) [mm].
+  const double reach = 2 * in.parts->material.thickness + 2;
   // Per fraction, rings (strips the strips stage cut open) cut in two first, then only cut open
-  // at their middle instead (their other shape may nest better; Bob at 600 mm saved a sheet
-  // that way and not the other).
+  // at their middle instead (their other shape may nest better).
   std::vector<std::pair<double, bool>> attempts;
   for (double fraction : options.fractions)
     for (bool halve_rings : {true, false}) attempts.push_back({fraction, halve_rings});
   for (const auto& [fraction, halve_rings] : attempts) {
     const double min_length = fraction * side;
     std::vector<int> edges;
+    // Strip, ruling, whether it is a ring recut there (else it is cut in two there).
+    std::vector<std::array<int, 3>> cuts;
     int strips = 0, rings = 0;
     const Strips& s = build.flat.strips;
     for (std::size_t p = 0; p < s.patches.size(); ++p) {
@@ -117,14 +198,16 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
       if (patch.flat || patch.rows() > 1 || patch.quads.size() < 2) continue;
       const MinRect rect = min_area_rect(build.joints.parts[p].designed);
       if (std::max(rect.width, rect.height) < min_length) continue;
-      const int edge = middle_ruling_edge(s, patch);
+      const auto [edge, ruling] = middle_ruling(s, patch);
       if (edge < 0) continue;
       edges.push_back(edge);
       // A ring cut open where the strips stage chose: a border there too cuts it in two;
       // without, the one in the middle moves the cut there.
+      const bool recut = patch.loop_cut && !(halve_rings && patch.end_edges[0] >= 0);
+      cuts.push_back({static_cast<int>(p), ruling, recut ? 1 : 0});
       if (!patch.loop_cut) {
         ++strips;
-      } else if (halve_rings && patch.end_edges[0] >= 0) {
+      } else if (!recut) {
         edges.push_back(patch.end_edges[0]);
         ++strips;
       } else {
@@ -141,6 +224,26 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
       added.push_back({m.from_vertex_handle(h).idx(), m.to_vertex_handle(h).idx()});
     }
     g.split.insert(g.split.end(), added.begin(), added.end());
+    // Cutting and nesting the parts again takes seconds; first the paths as they are, the
+    // strips cut in two in the plane (halves_in_plane) and the rings recut there
+    // (ring_recut_in_plane), are nested: where even those need as many sheets, the attempt is
+    // not built.
+    {
+      std::vector<Polygon2> paths;
+      std::vector<char> taken(build.joints.parts.size(), 0);
+      for (const auto& [p, ruling, recut] : cuts) {
+        taken[p] = 1;
+        for (auto& piece : recut ? ring_recut_in_plane(build.flat, build.joints, p, ruling, reach)
+                                 : halves_in_plane(build.flat, build.joints, p, ruling, reach))
+          paths.push_back(std::move(piece));
+      }
+      for (std::size_t p = 0; p < build.joints.parts.size(); ++p)
+        if (!taken[p]) paths.push_back(build.joints.parts[p].cut);
+      if (nest_parts(paths, sheets).sheets >= layout.sheets) {
+        ++r.screened;
+        continue;
+      }
+    }
     ++r.attempts;
     PartsBuild tried;
     try {

@@ -6,7 +6,11 @@
 /// in two at the ruling nearest their middle (a strip border there: the two halves meet edge to
 /// edge in the same bent sheet, joined like any border), and the parts are cut and nested again:
 /// taken where that uses fewer sheets with no more critical regions, parts too small to handle,
-/// borders without a joint or parts off the sheets.
+/// borders without a joint or parts off the sheets. An attempt is built only where the parts'
+/// paths, the strips cut in two in the plane (halves_in_plane) and the rings recut there
+/// (ring_recut_in_plane), nest on fewer sheets: a judgement, not a proof (those pieces lack
+/// the new border's joint, and nesting smaller parts can use more sheets), which on the jobs
+/// measured (README, issue 18) skipped no attempt that saves a sheet.
 #include <array>
 #include <string>
 #include <vector>
@@ -32,6 +36,9 @@ struct SplitToFitResult {
   bool tried = false;   ///< the job was one that could save a sheet (see why_not otherwise)
   std::string why_not;  ///< why nothing was tried, or why nothing was kept (for the report)
   int attempts = 0;     ///< builds cut and nested
+  /// Attempts not built: the parts' laser paths, the strips to split cut in two in the plane,
+  /// nested on no fewer sheets (each such nesting a fraction of a second, a build seconds).
+  int screened = 0;
   int sheets_before = 0, sheets_after = 0;
   int parts_before = 0, parts_after = 0;
   double minutes_before = 0, minutes_after = 0;  ///< estimated cutting time [min]
@@ -55,6 +62,24 @@ struct SplitToFitInput {
   /// Why the run's build may not be split (nothing is tried); empty: it may.
   std::string blocked;
 };
+
+/// The laser path (\p joints) of one-row strip \p p of \p flat cut in two in its own flattening at
+/// ruling \p ruling (an index into Patch::rulings): what a build with a strip border there would
+/// nest, but for the joint along the new border and the halves flattened afresh. The path on
+/// the first half's side of the ruling's line and near that half (its rails and rulings grown
+/// by \p reach [mm], which takes its teeth) is one piece, the rest the other; the whole path
+/// where the ruling has no length. split_to_fit nests these before it builds an attempt.
+std::vector<Polygon2> halves_in_plane(const CuttablePatches& flat, const Joints& joints, int p,
+                                      int ruling, double reach);
+
+/// The laser path of ring \p p of \p flat (a strip the strips stage cut open from a closed
+/// loop, Patch::loop_cut) recut at ruling \p ruling instead: its two pieces there
+/// (halves_in_plane) joined again where it was cut open, the first half turned and moved so
+/// that its first ruling lies on the last one (the same ruling in 3D), as one outline. Where
+/// the ring turns by more than a full circle the two overlap and the union is smaller than the
+/// recut ring will be. The whole path where \p p is no ring or a ruling has no length.
+std::vector<Polygon2> ring_recut_in_plane(const CuttablePatches& flat, const Joints& joints, int p,
+                                          int ruling, double reach);
 
 /// Tries to save sheets on \p build laid out as \p layout; where it does, replaces both (the
 /// parts renumbered, \p layout filled as lay_out_parts fills it). \p memo: the run's.
