@@ -112,27 +112,30 @@ Raster rasterise(const Polygon2& grown, double angle, double cell) {
   r.height = static_cast<int>(std::ceil((b.y1 - b.y0) / cell)) + 1;
   r.rows.resize(r.height);
   // Each row of cells [y, y + cell): the outline's extent over that band, from its edges'
-  // crossings of the band's two lines and its vertices inside the band.
-  for (int j = 0; j < r.height; ++j) {
-    const double ya = b.y0 + j * cell, yb = ya + cell;
-    std::vector<double> xs;  // crossings at the band's lines, for interior spans
-    std::vector<std::array<double, 2>> spans;
-    for (double y : {ya, yb, 0.5 * (ya + yb)}) {
-      std::vector<double> cross;
-      for (std::size_t i = 0; i < p.size(); ++i) {
-        const Vec2 &u = p[i], &v = p[(i + 1) % p.size()];
+  // crossings of the band's two lines and its middle line, and the x extent within the band of
+  // every edge passing through it. Each edge visits only the rows its y range reaches (two more
+  // either side, for rounding), not every row: the same spans as testing every edge against
+  // every row, in a fraction of the time (rasterising was half the nesting time of
+  // sphere_ico's 40 rings, each of thousands of vertices, turned in 10 degree steps).
+  const int rows = r.height;
+  std::vector<double> band_lo(rows), band_hi(rows);
+  for (int j = 0; j < rows; ++j) band_lo[j] = b.y0 + j * cell, band_hi[j] = band_lo[j] + cell;
+  std::vector<std::array<std::vector<double>, 3>> crossings(rows);  // per row, per line
+  std::vector<std::vector<std::array<double, 2>>> passing(rows);    // edges' extents per row
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec2 &u = p[i], &v = p[(i + 1) % p.size()];
+    const double y_min = std::min(u.y(), v.y()), y_max = std::max(u.y(), v.y());
+    const int j0 = std::max(0, static_cast<int>(std::floor((y_min - b.y0) / cell)) - 2);
+    const int j1 = std::min(rows - 1, static_cast<int>(std::floor((y_max - b.y0) / cell)) + 2);
+    for (int j = j0; j <= j1; ++j) {
+      const double ya = band_lo[j], yb = band_hi[j];
+      const double lines[3] = {ya, yb, 0.5 * (ya + yb)};
+      for (int k = 0; k < 3; ++k) {
+        const double y = lines[k];
         if ((u.y() <= y) != (v.y() <= y))
-          cross.push_back(u.x() + (y - u.y()) / (v.y() - u.y()) * (v.x() - u.x()));
+          crossings[j][k].push_back(u.x() + (y - u.y()) / (v.y() - u.y()) * (v.x() - u.x()));
       }
-      std::sort(cross.begin(), cross.end());
-      for (std::size_t k = 0; k + 1 < cross.size(); k += 2)
-        spans.push_back({cross[k], cross[k + 1]});
-    }
-    // Edges passing through the band add their x extent within it.
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      const Vec2 &u = p[i], &v = p[(i + 1) % p.size()];
-      const double lo = std::max(ya, std::min(u.y(), v.y())),
-                   hi = std::min(yb, std::max(u.y(), v.y()));
+      const double lo = std::max(ya, y_min), hi = std::min(yb, y_max);
       if (lo > hi) continue;
       auto x_at = [&](double y) {
         return std::abs(v.y() - u.y()) < 1e-12
@@ -140,10 +143,19 @@ Raster rasterise(const Polygon2& grown, double angle, double cell) {
                    : u.x() + (y - u.y()) / (v.y() - u.y()) * (v.x() - u.x());
       };
       const double x0 = x_at(lo), x1 = x_at(hi);
-      spans.push_back(
+      passing[j].push_back(
           {std::min({x0, x1, std::abs(v.y() - u.y()) < 1e-12 ? std::min(u.x(), v.x()) : x0}),
            std::max({x0, x1, std::abs(v.y() - u.y()) < 1e-12 ? std::max(u.x(), v.x()) : x1})});
     }
+  }
+  for (int j = 0; j < rows; ++j) {
+    std::vector<std::array<double, 2>> spans;
+    for (std::vector<double>& cross : crossings[j]) {
+      std::sort(cross.begin(), cross.end());
+      for (std::size_t k = 0; k + 1 < cross.size(); k += 2)
+        spans.push_back({cross[k], cross[k + 1]});
+    }
+    spans.insert(spans.end(), passing[j].begin(), passing[j].end());
     // Rounding may put an end a hair outside the box: cells stay within [0, width] (a span
     // from cell -1 read before the sheet grid's rows; found by AddressSanitizer).
     std::vector<std::array<int, 2>> cells;
