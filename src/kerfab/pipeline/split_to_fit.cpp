@@ -51,10 +51,6 @@ bool at_bound(const LayoutResult& l) {
   return l.sheets <= std::max({1, l.sheets_lower_bound, l.sheets_lower_bound_spaced});
 }
 
-}  // namespace
-
-namespace {
-
 /// Strip \p p's laser path cut at ruling \p ruling in its own flattening (halves_in_plane):
 /// the pieces on the first half's side, and the rest.
 std::array<std::vector<Polygon2>, 2> cut_in_plane(const CuttablePatches& flat, const Joints& joints,
@@ -109,12 +105,12 @@ std::vector<Polygon2> ring_recut_in_plane(const CuttablePatches& flat, const Joi
   const Patch& patch = flat.strips.patches[p];
   const std::vector<Vec2>& pts = flat.flattening.patches[p].points;
   const int last = static_cast<int>(patch.rulings.size()) - 1;
-  auto [one, rest] = cut_in_plane(flat, joints, p, ruling, reach);
   const Vec2 a0 = pts[patch.local(0, 0)], c0 = pts[patch.local(1, 0)];
   const Vec2 an = pts[patch.local(0, last)], cn = pts[patch.local(1, last)];
-  if (one.empty() || rest.empty() || !patch.loop_cut || !((c0 - a0).norm() > 0) ||
-      !((cn - an).norm() > 0))
+  if (!patch.loop_cut || !((c0 - a0).norm() > 0) || !((cn - an).norm() > 0))
     return {joints.parts[p].cut};
+  auto [one, rest] = cut_in_plane(flat, joints, p, ruling, reach);
+  if (one.empty() || rest.empty()) return {joints.parts[p].cut};
   // The first ruling and the last are one in 3D, where the ring was cut open: the first half
   // turned and moved to continue the rest there.
   const double turn =
@@ -178,7 +174,10 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
   const PolyMesh& m = in.input->quads;
   Guidance guidance = in.guidance;
   Defects now = defects_of(build, layout, in);
-  std::set<int> tried_edges;  // the last attempt's, to skip one that adds nothing
+  // The edge sets tried since the last build taken: the same set again (a smaller fraction
+  // adding no strip, the rings halved again after a recut between) would screen or build the
+  // same parts again, with the same outcome.
+  std::set<std::set<int>> tried_since;
   // How far a strip's teeth reach beyond its flattened quads (halves_in_plane) [mm].
   const double reach = 2 * in.parts->material.thickness + 2;
   // Per fraction, rings (strips the strips stage cut open) cut in two first, then only cut open
@@ -215,8 +214,7 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
       }
     }
     const std::set<int> these(edges.begin(), edges.end());
-    if (these.empty() || these == tried_edges) continue;
-    tried_edges = these;
+    if (these.empty() || !tried_since.insert(these).second) continue;
     Guidance g = guidance;
     std::vector<std::array<int, 2>> added;
     for (int edge : these) {
@@ -266,7 +264,7 @@ SplitToFitResult split_to_fit(PartsBuild& build, LayoutResult& layout, const Spl
     r.sheets_after = layout.sheets;
     r.parts_after = static_cast<int>(build.joints.parts.size());
     r.minutes_after = build.kerf.cutting.minutes;
-    tried_edges.clear();
+    tried_since.clear();
     if (at_bound(layout) || too_full_for_one_fewer(layout.spaced_fill, layout.sheets)) break;
   }
   if (!r.saved()) r.why_not = "splitting the longest strips saved no sheet without a defect more";
