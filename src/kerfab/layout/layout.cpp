@@ -127,6 +127,10 @@ Raster rasterise(const Polygon2& grown, double angle, double cell) {
     const double y_min = std::min(u.y(), v.y()), y_max = std::max(u.y(), v.y());
     const int j0 = std::max(0, static_cast<int>(std::floor((y_min - b.y0) / cell)) - 2);
     const int j1 = std::min(rows - 1, static_cast<int>(std::floor((y_max - b.y0) / cell)) + 2);
+    const bool level = std::abs(v.y() - u.y()) < 1e-12;
+    auto x_at = [&](double y) {
+      return level ? u.x() : u.x() + (y - u.y()) / (v.y() - u.y()) * (v.x() - u.x());
+    };
     for (int j = j0; j <= j1; ++j) {
       const double ya = band_lo[j], yb = band_hi[j];
       const double lines[3] = {ya, yb, 0.5 * (ya + yb)};
@@ -137,15 +141,9 @@ Raster rasterise(const Polygon2& grown, double angle, double cell) {
       }
       const double lo = std::max(ya, y_min), hi = std::min(yb, y_max);
       if (lo > hi) continue;
-      auto x_at = [&](double y) {
-        return std::abs(v.y() - u.y()) < 1e-12
-                   ? u.x()
-                   : u.x() + (y - u.y()) / (v.y() - u.y()) * (v.x() - u.x());
-      };
       const double x0 = x_at(lo), x1 = x_at(hi);
-      passing[j].push_back(
-          {std::min({x0, x1, std::abs(v.y() - u.y()) < 1e-12 ? std::min(u.x(), v.x()) : x0}),
-           std::max({x0, x1, std::abs(v.y() - u.y()) < 1e-12 ? std::max(u.x(), v.x()) : x1})});
+      passing[j].push_back({std::min({x0, x1, level ? std::min(u.x(), v.x()) : x0}),
+                            std::max({x0, x1, level ? std::max(u.x(), v.x()) : x1})});
     }
   }
   for (int j = 0; j < rows; ++j) {
@@ -180,13 +178,16 @@ Raster rasterise(const Polygon2& grown, double angle, double cell) {
   return r;
 }
 
-/// Occupied cells of one sheet, with per row a prefix count and the last occupied cell at or
-/// before each column, for fast tests and jumps; and the free cells in all and per row the
-/// longest free run, which rule out sheets and rows where a raster cannot fit at all.
+/// Occupied cells of one sheet, with per row and column the free run starting there and the
+/// first free cell at or after it, for fast tests and jumps; and the free cells in all and per
+/// row the longest free run, which rule out sheets and rows where a raster cannot fit at all.
 struct SheetGrid {
   int width = 0, height = 0;
   std::vector<std::vector<char>> cells;
-  std::vector<std::vector<int>> prefix, last;
+  /// Per row, for columns 0..width: free cells from there up to the next occupied one (0 on an
+  /// occupied cell and at width), and the first free column from there (width if none).
+  std::vector<std::vector<int>> free_run, next_free;
+  std::vector<int> occupied;  ///< per row, its occupied cells
   int free_cells = 0;
   std::vector<int> longest_free;
   Vec2 size;  ///< the sheet's width and height [mm]
@@ -200,20 +201,27 @@ struct SheetGrid {
       : width(w),
         height(h),
         cells(h, std::vector<char>(w, 0)),
-        prefix(h, std::vector<int>(w + 1, 0)),
-        last(h, std::vector<int>(w, -1)),
+        free_run(h, std::vector<int>(w + 1, 0)),
+        next_free(h, std::vector<int>(w + 1, w)),
+        occupied(h, 0),
         free_cells(w * h),
-        longest_free(h, w) {}
+        longest_free(h, w) {
+    for (int y = 0; y < h; ++y) refresh(y);
+  }
   void refresh(int y) {
-    free_cells += prefix[y][width];
-    int run = 0, longest = 0;
-    for (int x = 0; x < width; ++x) {
-      prefix[y][x + 1] = prefix[y][x] + cells[y][x];
-      last[y][x] = cells[y][x] ? x : (x ? last[y][x - 1] : -1);
-      run = cells[y][x] ? 0 : run + 1;
-      longest = std::max(longest, run);
+    free_cells += occupied[y];
+    const std::vector<char>& row = cells[y];
+    std::vector<int>&run = free_run[y], &next = next_free[y];
+    int longest = 0, taken = 0;
+    run[width] = 0, next[width] = width;
+    for (int x = width - 1; x >= 0; --x) {
+      run[x] = row[x] ? 0 : run[x + 1] + 1;
+      next[x] = row[x] ? next[x + 1] : x;
+      longest = std::max(longest, run[x]);
+      taken += row[x] ? 1 : 0;
     }
-    free_cells -= prefix[y][width];
+    occupied[y] = taken;
+    free_cells -= taken;
     longest_free[y] = longest;
   }
   /// False where some row of \p r at rows y.. is wider than the longest free run there: no x
@@ -224,17 +232,35 @@ struct SheetGrid {
     return true;
   }
   /// Smallest x' >= x where the raster at (x', y) is free; -1 if none up to x_max.
-  int first_free(const Raster& r, int x, int y, int x_max) const {
+  /// A row's span that meets an occupied cell moves x to the next column where that span lies
+  /// on free cells: every x before is ruled out by that span alone, so the x returned is the
+  /// smallest free one whichever clash is found first. \p hint: the raster's row that clashed
+  /// last, tested first (and updated): a part sliding along x mostly meets the same neighbour
+  /// again.
+  int first_free(const Raster& r, int x, int y, int x_max, int& hint) const {
+    if (hint < 0 || hint >= r.height) hint = 0;
     while (x <= x_max) {
       int jump = -1;
-      for (int j = 0; j < r.height && jump < 0; ++j)
+      // Rows outward from the hint, alternately above and below it, then the rest on the side
+      // that has rows left.
+      const int h = hint;
+      for (int k = 0; k < r.height && jump < 0; ++k) {
+        const int near = std::min(h, r.height - 1 - h);
+        const int j = k <= 2 * near ? (k % 2 ? h + (k + 1) / 2 : h - k / 2)
+                                    : (h < r.height - 1 - h ? k : r.height - 1 - k);
+        const int* run = free_run[y + j].data();
+        const int* next = next_free[y + j].data();
         for (const auto& span : r.rows[j]) {
-          const int a = x + span[0], b = std::min(x + span[1], width);
-          if (b > a && prefix[y + j][b] - prefix[y + j][a] > 0) {
-            jump = last[y + j][b - 1] - span[0] + 1;
-            break;
-          }
+          const int a = x + span[0], len = std::min(x + span[1], width) - a;
+          if (len <= 0 || run[a] >= len) continue;
+          // The first start from a with the span's cells free after it.
+          int p = a;
+          while (p < width && run[p] < len) p = next[p + run[p]];
+          jump = p - span[0];
+          hint = j;
+          break;
         }
+      }
       if (jump < 0) return x;
       x = std::max(x + 1, jump);
     }
@@ -314,13 +340,14 @@ Spot find_spot(const SheetGrid& grid, const Turned& turns, Rule rule, const Layo
     const int y_max =
         std::min(grid.height - r.height,
                  static_cast<int>(std::floor((grid.size.y() - o.margin - dy1) / cell)));
+    int hint = 0;
     for (int y = y_min; y <= y_max; ++y) {
       // Both scores grow with y: once the least a row can score is over the best, no lower
       // row can win any more.
       const double least = rule == Rule::kBottomLeft ? y : (y + r.height) + 0.5 * (x_min + r.width);
       if (best.raster >= 0 && least > best_score) break;
       if (!grid.rows_may_hold(r, y)) continue;
-      const int x = grid.first_free(r, x_min, y, x_max);
+      const int x = grid.first_free(r, x_min, y, x_max, hint);
       if (x < 0) continue;
       const double score =
           rule == Rule::kBottomLeft ? y + 1e-6 * x : (y + r.height) + 0.5 * (x + r.width);
