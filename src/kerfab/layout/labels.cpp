@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace kerfab {
@@ -116,24 +117,51 @@ bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) 
 
 /// Where engraving may go on one part: inside its outline (slots and teeth included) by the
 /// clearance, off its kerf cuts by the clearance, and off labels already placed.
+/// The inset outline's edges are kept by bands of y: a point's winding number and a box's
+/// crossings look only at the edges whose y range reaches the point's band or the box's, the
+/// same answers as scanning every edge (a long toothed strip has thousands, and a part's
+/// number tries hundreds of spots).
 class LabelRoom {
  public:
   LabelRoom(const Polygon2& outline, const std::vector<KerfCut>& cuts)
       : inset_(polygon_offset({outline}, -kClear)) {
     for (const auto& c : cuts) cuts_.push_back({c.a, c.b});
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& poly : inset_)
+      for (std::size_t i = 0; i < poly.size(); ++i) {
+        edges_.push_back({poly[i], poly[(i + 1) % poly.size()]});
+        lo = std::min(lo, poly[i].y()), hi = std::max(hi, poly[i].y());
+      }
+    if (edges_.empty()) return;
+    bands_.resize(std::max<std::size_t>(1, edges_.size() / 8));
+    y0_ = lo;
+    band_height_ = hi > lo ? (hi - lo) / static_cast<double>(bands_.size()) : 1.0;
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      const auto& [a, b] = edges_[e];
+      for (std::size_t k = band(std::min(a.y(), b.y())); k <= band(std::max(a.y(), b.y())); ++k)
+        bands_[k].push_back(static_cast<int>(e));
+    }
   }
 
   bool fits(const Label& l) const {
     const auto box = label_box(l, 0.0);
     const auto grown = label_box(l, kClear);
     for (const Vec2& p : box)
-      if (!inside(p, inset_)) return false;
-    for (const auto& poly : inset_)
-      for (std::size_t i = 0; i < poly.size(); ++i)
-        if (crosses(box, poly[i], poly[(i + 1) % poly.size()])) return false;
-    for (const auto& c : cuts_)
+      if (!inside(p)) return false;
+    if (!bands_.empty()) {
+      const auto [lo, hi] = y_range(box);
+      for (std::size_t k = band(lo); k <= band(hi); ++k)
+        for (int e : bands_[k])
+          if (crosses(box, edges_[e][0], edges_[e][1])) return false;
+    }
+    const auto [grown_lo, grown_hi] = y_range(grown);
+    for (const auto& c : cuts_) {
+      // A cut wholly above or below the grown box neither crosses it nor ends in it.
+      if (std::max(c[0].y(), c[1].y()) < grown_lo || std::min(c[0].y(), c[1].y()) > grown_hi)
+        continue;
       if (crosses(grown, c[0], c[1]) || inside_box(grown, c[0]) || inside_box(grown, c[1]))
         return false;
+    }
     for (const auto& other : taken_) {
       for (const Vec2& p : other)
         if (inside_box(grown, p)) return false;
@@ -150,7 +178,36 @@ class LabelRoom {
   std::vector<Polygon2> inset_;
   std::vector<std::array<Vec2, 2>> cuts_;
   std::vector<std::array<Vec2, 4>> taken_;
+  std::vector<std::array<Vec2, 2>> edges_;  ///< the inset's edges, each ring in its order
+  std::vector<std::vector<int>> bands_;     ///< per band of y, the edges reaching it
+  double y0_ = 0, band_height_ = 1;
 
+  /// The band of \p y (the first or last one beyond the inset).
+  std::size_t band(double y) const {
+    const double k = std::floor((y - y0_) / band_height_);
+    return static_cast<std::size_t>(std::clamp(k, 0.0, static_cast<double>(bands_.size() - 1)));
+  }
+  /// The y range of \p box, a thousandth of a millimetre wider either side (far beyond what
+  /// rounding moves a crossing by).
+  static std::pair<double, double> y_range(const std::array<Vec2, 4>& box) {
+    double lo = box[0].y(), hi = box[0].y();
+    for (const Vec2& p : box) lo = std::min(lo, p.y()), hi = std::max(hi, p.y());
+    return {lo - 1e-3, hi + 1e-3};
+  }
+  /// Whether \p p lies inside the inset outline (non-zero winding over its rings), counting
+  /// as kerfab::inside() does the edges that cross the horizontal through \p p, from its band.
+  bool inside(const Vec2& p) const {
+    if (bands_.empty()) return false;
+    int w = 0;
+    for (int e : bands_[band(p.y())]) {
+      const auto& [a, b] = edges_[e];
+      const bool a_below = a.y() <= p.y();
+      if (a_below == (b.y() <= p.y())) continue;
+      const double c = cross2(b - a, p - a);
+      if (a_below ? c > 0 : c < 0) w += a_below ? 1 : -1;
+    }
+    return w != 0;
+  }
   static bool crosses(const std::array<Vec2, 4>& box, const Vec2& a, const Vec2& b) {
     for (int k = 0; k < 4; ++k)
       if (segments_cross(box[k], box[(k + 1) % 4], a, b)) return true;
