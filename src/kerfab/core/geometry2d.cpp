@@ -21,18 +21,9 @@ double polygon_area(const Polygon2& p) {
 namespace {
 /// Winding number of \p poly around \p p.
 int winding(const Vec2& p, const Polygon2& poly) {
-  // Edge (a, b) counts only where it crosses the horizontal through p, upwards with p on its
-  // left or downwards with p on its right; the cross product is formed only for those.
   int w = 0;
   const std::size_t n = poly.size();
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2& a = poly[j];
-    const Vec2& b = poly[i];
-    const bool a_below = a.y() <= p.y();
-    if (a_below == (b.y() <= p.y())) continue;
-    const double c = cross2(b - a, p - a);
-    if (a_below ? c > 0 : c < 0) w += a_below ? 1 : -1;
-  }
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) w += winding_step(poly[j], poly[i], p);
   return w;
 }
 }  // namespace

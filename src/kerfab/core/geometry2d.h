@@ -23,6 +23,16 @@ void make_counter_clockwise(Polygon2& polygon);
 /// The part of convex polygon \p convex with (p - at).m <= 0.
 Polygon2 clip_half_plane(const Polygon2& convex, const Vec2& at, const Vec2& m);
 
+/// What the edge from \p a to \p b adds to the winding number round \p p: +1 or -1 where it
+/// crosses the horizontal through \p p upwards with \p p on its left or downwards with \p p
+/// on its right, else 0 (the cross product is formed only for edges crossing it).
+inline int winding_step(const Vec2& a, const Vec2& b, const Vec2& p) {
+  const bool a_below = a.y() <= p.y();
+  if (a_below == (b.y() <= p.y())) return 0;
+  const double c = cross2(b - a, p - a);
+  return a_below ? (c > 0 ? 1 : 0) : (c < 0 ? -1 : 0);
+}
+
 /// Whether \p p lies inside \p polygons (non-zero winding over all their rings).
 bool inside(const Vec2& p, const std::vector<Polygon2>& polygons);
 /// Whether \p p lies inside \p polygon (non-zero winding).

@@ -123,11 +123,10 @@ bool segments_cross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) 
 /// number tries hundreds of spots).
 class LabelRoom {
  public:
-  LabelRoom(const Polygon2& outline, const std::vector<KerfCut>& cuts)
-      : inset_(polygon_offset({outline}, -kClear)) {
+  LabelRoom(const Polygon2& outline, const std::vector<KerfCut>& cuts) {
     for (const auto& c : cuts) cuts_.push_back({c.a, c.b});
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const auto& poly : inset_)
+    for (const auto& poly : polygon_offset({outline}, -kClear))
       for (std::size_t i = 0; i < poly.size(); ++i) {
         edges_.push_back({poly[i], poly[(i + 1) % poly.size()]});
         lo = std::min(lo, poly[i].y()), hi = std::max(hi, poly[i].y());
@@ -175,10 +174,10 @@ class LabelRoom {
   void take(const Label& l) { taken_.push_back(label_box(l, kClear)); }
 
  private:
-  std::vector<Polygon2> inset_;
   std::vector<std::array<Vec2, 2>> cuts_;
   std::vector<std::array<Vec2, 4>> taken_;
-  std::vector<std::array<Vec2, 2>> edges_;  ///< the inset's edges, each ring in its order
+  /// The outline's edges inset by the clearance, each ring in its order.
+  std::vector<std::array<Vec2, 2>> edges_;
   std::vector<std::vector<int>> bands_;     ///< per band of y, the edges reaching it
   double y0_ = 0, band_height_ = 1;
 
@@ -199,13 +198,7 @@ class LabelRoom {
   bool inside(const Vec2& p) const {
     if (bands_.empty()) return false;
     int w = 0;
-    for (int e : bands_[band(p.y())]) {
-      const auto& [a, b] = edges_[e];
-      const bool a_below = a.y() <= p.y();
-      if (a_below == (b.y() <= p.y())) continue;
-      const double c = cross2(b - a, p - a);
-      if (a_below ? c > 0 : c < 0) w += a_below ? 1 : -1;
-    }
+    for (int e : bands_[band(p.y())]) w += winding_step(edges_[e][0], edges_[e][1], p);
     return w != 0;
   }
   static bool crosses(const std::array<Vec2, 4>& box, const Vec2& a, const Vec2& b) {

@@ -243,9 +243,8 @@ struct SheetGrid {
       int jump = -1;
       // Rows outward from the hint, alternately above and below it, then the rest on the side
       // that has rows left.
-      const int h = hint;
+      const int h = hint, near = std::min(h, r.height - 1 - h);
       for (int k = 0; k < r.height && jump < 0; ++k) {
-        const int near = std::min(h, r.height - 1 - h);
         const int j = k <= 2 * near ? (k % 2 ? h + (k + 1) / 2 : h - k / 2)
                                     : (h < r.height - 1 - h ? k : r.height - 1 - k);
         const int* run = free_run[y + j].data();
