@@ -1108,12 +1108,7 @@ TEST(Cli, ASlitNarrowOnlyBetweenWiderStretchesIsWidenedOnTheSheet) {
 TEST(Cli, AFacetFlatteningBentThatItsJointsCutToACrumbIsLeftOut) {
   const fs::path scratch = test::fresh_dir(), terrain = scratch / "terrain.obj";
   const fs::path out = scratch / "out";
-  test::write_obj(test::height_grid(60, 100,
-                                    [](double x, double y) {
-                                      return 25 * std::sin(x / 30) * std::cos(y / 40) +
-                                             10 * std::exp(-(x * x + y * y) / 800);
-                                    }),
-                  terrain);
+  test::write_obj(test::scripts_terrain(), terrain);
   const CliRun r = run_cli(
       "run --quiet --target " + terrain.string() + " --size 300 --out " + out.string(), scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -1131,6 +1126,29 @@ TEST(Cli, AFacetFlatteningBentThatItsJointsCutToACrumbIsLeftOut) {
   EXPECT_GE(audit.parts, 100);
   EXPECT_EQ(audit.small_parts + audit.narrow_parts, 0)
       << (audit.findings.empty() ? "" : audit.findings[0]);
+}
+
+// The same terrain at 350 mm: a strip's wedge tip ended in a tooth whose root lay 1.1 mm from
+// the neck that held it, 0.23 mm wide where the slot beside it came down to the strip's other
+// edge. The thin-neck pass made plain the joints within a millimetre of the neck only, so the
+// tooth stayed, the neck with it, and the mend was refused: the part was named (with a second
+// one, whose plain joints make it fall apart) and the auditor found the laser path passing
+// within 0.5 mm of itself there (2026-12-07). Now, where those tries fail, the joints a tooth's
+// width round the neck are made plain and the part judged as it will be cut, without the small
+// corners that hang on a neck and hold no tooth. Read back by the auditor: no tail or slit.
+TEST(Cli, AToothOnAStripsWedgeTipBesideItsNeckGoesPlain) {
+  const fs::path scratch = test::fresh_dir(), terrain = scratch / "terrain.obj";
+  const fs::path out = scratch / "out";
+  test::write_obj(test::scripts_terrain(), terrain);
+  const CliRun r = run_cli(
+      "run --quiet --target " + terrain.string() + " --size 350 --out " + out.string(), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  EXPECT_LE(report["joints"]["thin_neck_parts"].size(), 1u) << report["joints"]["thin_neck_parts"];
+  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_GE(audit.parts, 50);
+  EXPECT_EQ(audit.thin_features, 0) << (audit.findings.empty() ? "" : audit.findings[0]);
 }
 
 // Two shapes of scripts/shapes.py in paper, as a maker makes them from its files. The vase at

@@ -1547,6 +1547,26 @@ TEST(Joints, ASlitNarrowOnlyBetweenWiderStretchesIsWidened) {
   EXPECT_LT(filled, 1e-3);
 }
 
+// The tails narrow_tails() names are the sheet auditor's: what an opening by half the smallest
+// feature takes away that holds more than a square of it or reaches farther than it. A body of
+// 20 x 10 mm with a spike 0.6 mm wide and 4 mm long has one; with a tab 3 mm wide and as long,
+// or a spike as narrow but 0.3 mm long (its corners' rounding), none.
+TEST(Joints, NarrowTailsAreWhatTheAuditorCallsTails) {
+  auto body_with = [](double width, double length) {
+    const double lo = 5 - 0.5 * width, hi = 5 + 0.5 * width;
+    return Polygon2{{0, 0},   {20, 0},  {20, lo}, {20 + length, lo}, {20 + length, hi},
+                    {20, hi}, {20, 10}, {0, 10}};
+  };
+  const auto spike = narrow_tails(body_with(0.6, 4), 1.0);
+  ASSERT_EQ(spike.size(), 1u);
+  double area = 0;
+  for (const Polygon2& t : spike) area += std::abs(polygon_area(t));
+  EXPECT_NEAR(area, 0.6 * 4, 0.3);  // the spike, give or take its root
+  EXPECT_TRUE(narrow_tails(body_with(3, 4), 1.0).empty());
+  EXPECT_TRUE(narrow_tails(body_with(0.6, 0.3), 1.0).empty());
+  EXPECT_TRUE(narrow_tails(body_with(0.6, 4), 0.5).empty());  // wide enough for a 0.5 mm rule
+}
+
 // A slit whose widening would cut the part in two is left as it is (the part is named instead,
 // Joints::slit_parts): looking along slits' edges found one on fandisk at 250 mm in MDF whose
 // widening split part 111 at its slots, and the part lost 390 mm^2 and four joints. A body 10 x

@@ -269,6 +269,12 @@ TriangleMesh height_grid(int n, double extent,
   return m;
 }
 
+TriangleMesh scripts_terrain() {
+  return height_grid(60, 100, [](double x, double y) {
+    return 25 * std::sin(x / 30) * std::cos(y / 40) + 10 * std::exp(-(x * x + y * y) / 800);
+  });
+}
+
 void write_obj(const TriangleMesh& mesh, const std::filesystem::path& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error("cannot write " + path.string());

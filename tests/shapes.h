@@ -64,6 +64,10 @@ TriangleMesh scripts_cone();
 /// y^2)/200).
 TriangleMesh height_grid(int n, double extent, const std::function<double(double, double)>& height);
 
+/// scripts/shapes.py's terrain: height_grid(60, 100, 25 sin(x/30) cos(y/40) + 10 exp(-(x^2 +
+/// y^2)/800)).
+TriangleMesh scripts_terrain();
+
 /// \p mesh as an OBJ file as scripts/shapes.py writes it (6 decimals): a run on it is a run on
 /// the script's file.
 void write_obj(const TriangleMesh& mesh, const std::filesystem::path& path);

@@ -206,20 +206,7 @@ class Builder {
     // joint: the tooth would have hung on the neck the cut corner had shared).
     for_each_of(every, [&](int p) {
       PartOutline& part = out_.parts[p];
-      const std::vector<Polygon2> teeth = tooth_regions(part.spans);
-      Polygon2 trimmed = std::move(
-          checked(
-              'H',
-              [&](std::string& key) {
-                put_polygons(key, {part.designed});
-                put_polygons(key, teeth);
-              },
-              [&] {
-                return OutlineCheck{{without_hanging_corners(part.designed, teeth, o_.min_feature,
-                                                             o_.tooth_width * o_.tooth_width)},
-                                    {}};
-              })
-              .polygons.front());
+      Polygon2 trimmed = trimmed_outline(p);
       if (trimmed != part.designed) set_outline(part, std::move(trimmed));
     });
     // What the thin-neck pass could not mend, said (stanford-bunny from its triangles at 250
@@ -1272,6 +1259,25 @@ class Builder {
   std::vector<Polygon2> thin_necks(int p, bool mitred = false) const {
     return thin_necks(out_.parts[p].designed, mitred);
   }
+  /// Part \p p's outline without the small corners that hang on a short neck and hold no tooth
+  /// (without_hanging_corners()): what the last pass of run() cuts.
+  Polygon2 trimmed_outline(int p) const {
+    const PartOutline& part = out_.parts[p];
+    const std::vector<Polygon2> teeth = tooth_regions(part.spans);
+    return std::move(checked(
+                         'H',
+                         [&](std::string& key) {
+                           put_polygons(key, {part.designed});
+                           put_polygons(key, teeth);
+                         },
+                         [&] {
+                           return OutlineCheck{
+                               {without_hanging_corners(part.designed, teeth, o_.min_feature,
+                                                        o_.tooth_width * o_.tooth_width)},
+                               {}};
+                         })
+                         .polygons.front());
+  }
   std::vector<Polygon2> thin_necks(const Polygon2& outline, bool mitred = false) const {
     if (outline.size() < 3) return {};
     return checked(
@@ -1319,8 +1325,8 @@ class Builder {
   /// True when part \p p falls in two or more pieces under the mitred erosion by half the
   /// smallest feature and under the morphological one (as thin_necks_drawn()), whether or not
   /// a neck between them is found: the part is named where the pass could not mend it.
-  bool splits_apart(int p) const {
-    const Polygon2& outline = out_.parts[p].designed;
+  bool splits_apart(int p) const { return splits_apart(out_.parts[p].designed); }
+  bool splits_apart(const Polygon2& outline) const {
     const double r = 0.5 * o_.min_feature;
     if (outline.size() < 3 || !(r > 0)) return false;
     const OutlineCheck found = checked(
@@ -1424,8 +1430,20 @@ class Builder {
       // tooth the round erosion parts, or stay bare where a corner holds them (the demo's part
       // 150: plain, its neck went, and a stub tooth given back made it again, just under 1 mm).
       bool plain_mends = false;
-      if (!mend_neck(p, necks, before, forbidden, mitred, false, plain_mends) && plain_mends)
-        mend_neck(p, necks, before, forbidden, mitred, true, plain_mends);
+      bool mended = mend_neck(p, necks, before, forbidden, mitred, false, plain_mends);
+      if (!mended && plain_mends)
+        mended = mend_neck(p, necks, before, forbidden, mitred, true, plain_mends);
+      // Last, where the last pass of run() would not cut the neck away as it is: as the second
+      // try but with the part's own teeth within a tooth's width of the neck made plain, kept
+      // only where the part is then left without a neck as that pass cuts it, without the small
+      // corners that hang on a neck and hold no tooth (scripts/shapes.py's terrain at 350 mm: a
+      // strip's wedge tip whose last tooth, its root 1.1 mm from the neck, hung on 0.23 mm; the
+      // joints within a millimetre made plain left the tooth, so the neck stayed and the tooth
+      // was cut to break off).
+      if (!mended && !thin_necks(trimmed_outline(p), mitred).empty()) {
+        bool unused = false;
+        mend_neck(p, necks, before, forbidden, mitred, true, unused, o_.tooth_width, true);
+      }
     }
   }
 
@@ -1434,13 +1452,16 @@ class Builder {
   /// updated), else \p before put back. \p round: the second try, where no such tooth may be
   /// one the round erosion parts and every such border must get one or be a stub held at a
   /// corner (join_stubs_at_corners()). \p plain_mends (first try): whether making the joints
-  /// plain alone had mended the neck, where that left a border bare.
+  /// plain alone had mended the neck, where that left a border bare. \p reach: how near the
+  /// necks a joint is made plain [mm]. \p as_cut: only the part's own teeth are made plain, and
+  /// the necks left are also counted on the outlines without their hanging corners
+  /// (trimmed_outline()).
   bool mend_neck(int p, std::vector<std::vector<Polygon2>>& necks, const Joints& before,
                  const std::vector<std::vector<std::array<double, 2>>>& forbidden, bool mitred,
-                 bool round, bool& plain_mends) {
+                 bool round, bool& plain_mends, double reach = 1.0, bool as_cut = false) {
     const std::vector<std::vector<Polygon2>> lost_before = lost_;
     std::set<int> redo, bare;
-    plain_near(p, necks[p], redo);
+    plain_near(p, necks[p], redo, reach, as_cut);
     if (redo.empty()) return false;
     redraw(redo);
     for (std::size_t b = 0; b < out_.borders.size(); ++b)
@@ -1461,13 +1482,37 @@ class Builder {
     // The mitred pass: no neck left on it, none more on the others. The morphological one:
     // fewer on it, none more on the others, and none on any where it had none (by count
     // alone a part with a neck elsewhere may take a new one beside the joints made plain).
-    bool better = !out_.parts[p].repaired &&
-                  (mitred ? after[p].empty()
-                          : after[p].size() < necks[p].size() && only_where(after[p], necks[p]));
-    for (const auto& [q, left] : after)
-      if (q != p && better)
-        better = (!out_.parts[q].repaired || before.parts[q].repaired) &&
-                 left.size() <= necks[q].size() && (mitred || only_where(left, necks[q]));
+    const auto improves = [&](const std::map<int, std::vector<Polygon2>>& left_by_part) {
+      const std::vector<Polygon2>& on_p = left_by_part.at(p);
+      bool ok =
+          !out_.parts[p].repaired &&
+          (mitred ? on_p.empty() : on_p.size() < necks[p].size() && only_where(on_p, necks[p]));
+      for (const auto& [q, left] : left_by_part)
+        if (q != p && ok)
+          ok = (!out_.parts[q].repaired || before.parts[q].repaired) &&
+               left.size() <= necks[q].size() && (mitred || only_where(left, necks[q]));
+      return ok;
+    };
+    bool better = !as_cut && improves(after);
+    // As cut (the third try): a small corner with no tooth in it that hangs on the neck goes in
+    // the last pass of run(), and the neck with it. Kept only where that leaves the part no
+    // neck at all, nor one its round erosion finds (as the run names them), and no more tails
+    // or slits narrower than the smallest feature: its teeth made plain narrow it (Spot's
+    // control mesh at 500 mm, part 245: a strip end 1 mm wide, one neck of two mended, left a
+    // 0.9 mm tail where its tooth was).
+    if (as_cut && !out_.parts[p].repaired) {
+      std::map<int, std::vector<Polygon2>> trimmed;
+      for (const auto& [q, left] : after)
+        trimmed[q] = left.empty() ? left : thin_necks(trimmed_outline(q), mitred);
+      const Polygon2 cut = trimmed_outline(p);
+      const auto thin = [&](const Polygon2& outline) {
+        return narrow_tails(outline, o_.min_feature).size() +
+               narrow_slits(outline, o_.min_feature).size();
+      };
+      better = trimmed.at(p).empty() && !splits_apart(cut) &&
+               thin(cut) <= thin(before.parts[p].designed) && improves(trimmed);
+      if (better) after = std::move(trimmed);
+    }
     if (round && better) {
       // Each border so left bare has its tooth again, or is a stub its parts' joints at one
       // of its corners hold (spot_quadrangulated's 1.2 mm stubs beside parts 392 and 439,
@@ -1497,17 +1542,19 @@ class Builder {
     return true;
   }
 
-  /// The intervals of part \p p's joints whose stretch on it comes within a millimetre of one
-  /// of \p pieces, made plain; the parts on both sides go into \p changed.
-  void plain_near(int p, const std::vector<Polygon2>& pieces, std::set<int>& changed) {
+  /// The intervals of part \p p's joints whose stretch on it comes within \p reach of one of
+  /// \p pieces [mm], made plain (\p own_teeth: only its own teeth, so that its mates only gain
+  /// material); the parts on both sides go into \p changed.
+  void plain_near(int p, const std::vector<Polygon2>& pieces, std::set<int>& changed,
+                  double reach = 1.0, bool own_teeth = false) {
     if (pieces.empty()) return;
-    const auto near = polygon_offset(pieces, 1.0);
+    const auto near = polygon_offset(pieces, reach);
     // The spans of the same drawing as the lost pieces; intervals another part has made plain
     // since are skipped by their owner.
     for (const JointSpan& sp : out_.parts[p].spans) {
       BorderJoint& b = out_.borders[sp.border];
       JointInterval& in = b.intervals[sp.interval];
-      if (in.owner < 0) continue;
+      if (in.owner < 0 || (own_teeth && !sp.tooth)) continue;
       const double e = sp.offset;
       Polygon2 stretch = {sp.from, sp.to, sp.to + e * sp.normal, sp.from + e * sp.normal};
       if (std::abs(polygon_area(stretch)) < 1e-12) continue;
@@ -2059,6 +2106,18 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
     if (pieces > 1) continue;
     out.insert(out.end(), wide.begin(), wide.end());
   }
+  return out;
+}
+
+std::vector<Polygon2> narrow_tails(const Polygon2& outline, double min_feature) {
+  const double r = 0.5 * min_feature;
+  std::vector<Polygon2> out;
+  if (outline.size() < 3 || !(r > 0)) return out;
+  const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
+  for (auto& piece : polygon_difference({outline}, opened))
+    if (std::abs(polygon_area(piece)) > min_feature * min_feature ||
+        reaches_beyond(piece, opened, min_feature, true))
+      out.push_back(std::move(piece));
   return out;
 }
 

@@ -310,6 +310,12 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
 /// applies; a shallower notch is no slit): what the outline cleanup (slit_widenings) left.
 std::vector<Polygon2> narrow_slits(const Polygon2& outline, double min_feature);
 
+/// The tails of \p outline narrower than \p min_feature [mm], the same test for material: what
+/// an opening by half that width takes away and that holds more than a square of that width or
+/// reaches farther than that width from the rest along its edges (what the sheet auditor calls
+/// a tail).
+std::vector<Polygon2> narrow_tails(const Polygon2& outline, double min_feature);
+
 /// \p outline without the small pieces that hang at one end of a short neck narrower than
 /// \p min_feature [mm]: the erosion by half that width (less 10 um) falls in two there, though an
 /// opening closes over the neck (the discs on both sides overlap across it). A piece no larger
