@@ -1442,7 +1442,7 @@ class Builder {
       // was cut to break off).
       if (!mended && !thin_necks(trimmed_outline(p), mitred).empty()) {
         bool unused = false;
-        mend_neck(p, necks, before, forbidden, mitred, true, unused, o_.tooth_width, true);
+        mend_neck(p, necks, before, forbidden, mitred, true, unused, true);
       }
     }
   }
@@ -1452,16 +1452,16 @@ class Builder {
   /// updated), else \p before put back. \p round: the second try, where no such tooth may be
   /// one the round erosion parts and every such border must get one or be a stub held at a
   /// corner (join_stubs_at_corners()). \p plain_mends (first try): whether making the joints
-  /// plain alone had mended the neck, where that left a border bare. \p reach: how near the
-  /// necks a joint is made plain [mm]. \p as_cut: only the part's own teeth are made plain, and
-  /// the necks left are also counted on the outlines without their hanging corners
-  /// (trimmed_outline()).
+  /// plain alone had mended the neck, where that left a border bare. \p as_cut (the third
+  /// try): the part's own teeth within a tooth's width of the necks are made plain (else every
+  /// joint within a millimetre), and the parts judged on their outlines without their hanging
+  /// corners (trimmed_outline()).
   bool mend_neck(int p, std::vector<std::vector<Polygon2>>& necks, const Joints& before,
                  const std::vector<std::vector<std::array<double, 2>>>& forbidden, bool mitred,
-                 bool round, bool& plain_mends, double reach = 1.0, bool as_cut = false) {
+                 bool round, bool& plain_mends, bool as_cut = false) {
     const std::vector<std::vector<Polygon2>> lost_before = lost_;
     std::set<int> redo, bare;
-    plain_near(p, necks[p], redo, reach, as_cut);
+    plain_near(p, necks[p], redo, as_cut ? o_.tooth_width : 1.0, as_cut);
     if (redo.empty()) return false;
     redraw(redo);
     for (std::size_t b = 0; b < out_.borders.size(); ++b)
@@ -2109,28 +2109,33 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
   return out;
 }
 
-std::vector<Polygon2> narrow_tails(const Polygon2& outline, double min_feature) {
-  const double r = 0.5 * min_feature;
+namespace {
+/// Of \p pieces (what an opening or closing by half \p min_feature [mm] changed, next to the
+/// opened or closed \p rest), those that are features: more than a square of that width, or
+/// reaching farther than it from the rest along their edges.
+std::vector<Polygon2> features_among(std::vector<Polygon2> pieces,
+                                     const std::vector<Polygon2>& rest, double min_feature) {
   std::vector<Polygon2> out;
-  if (outline.size() < 3 || !(r > 0)) return out;
-  const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
-  for (auto& piece : polygon_difference({outline}, opened))
+  for (auto& piece : pieces)
     if (std::abs(polygon_area(piece)) > min_feature * min_feature ||
-        reaches_beyond(piece, opened, min_feature, true))
+        reaches_beyond(piece, rest, min_feature, true))
       out.push_back(std::move(piece));
   return out;
+}
+}  // namespace
+
+std::vector<Polygon2> narrow_tails(const Polygon2& outline, double min_feature) {
+  const double r = 0.5 * min_feature;
+  if (outline.size() < 3 || !(r > 0)) return {};
+  const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
+  return features_among(polygon_difference({outline}, opened), opened, min_feature);
 }
 
 std::vector<Polygon2> narrow_slits(const Polygon2& outline, double min_feature) {
   const double r = 0.5 * min_feature;
-  std::vector<Polygon2> out;
-  if (outline.size() < 3 || !(r > 0)) return out;
+  if (outline.size() < 3 || !(r > 0)) return {};
   Closing closing = closing_of(outline, r);
-  for (auto& gap : closing.gaps)
-    if (std::abs(polygon_area(gap)) > min_feature * min_feature ||
-        reaches_beyond(gap, closing.closed, min_feature, true))
-      out.push_back(std::move(gap));
-  return out;
+  return features_among(std::move(closing.gaps), closing.closed, min_feature);
 }
 
 Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Polygon2>& teeth,
