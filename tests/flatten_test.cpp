@@ -221,6 +221,44 @@ TEST(Flatten, SphereStripsConvergeWithBoundedError) {
   EXPECT_GT(g.max_border_length_error_rel, f.max_border_length_error_rel);
 }
 
+// The evaluation's deformation (deformed_3d: how far the 3D strips move to take their flat
+// lengths) on doubly curved strips, which must move: every rail segment and ruling of it ends
+// within a hundred-millionth of its patch's longest edge of its flat length (where the steps
+// stop), from errors over ten thousand times larger, and no vertex moves far (under 5 mm).
+TEST(Flatten, DeformedStripsTakeTheirFlatLengths) {
+  const auto shape = test::sphere(50, 4);
+  const TargetSurface target(shape.target);
+  const Strips s =
+      build_strips(shape.quads, choose_bending_edges(shape.quads, target, {}), target, {});
+  const Flattening f = flatten_patches(s, {});
+  ASSERT_EQ(f.patches.size(), s.patches.size());
+  double worst_before = 0, moved = 0;
+  for (std::size_t p = 0; p < s.patches.size(); ++p) {
+    const auto& x = f.patches[p].points;
+    const auto& y = f.patches[p].deformed_3d;
+    const auto lv = s.patches[p].local_vertices();
+    ASSERT_EQ(y.size(), x.size());
+    double longest = 0, worst = 0;
+    for (const auto& q : s.patches[p].local_quads())
+      for (int a = 0; a < 4; ++a) longest = std::max(longest, (x[q[(a + 1) % 4]] - x[q[a]]).norm());
+    for (const auto& q : s.patches[p].local_quads())
+      for (int a = 0; a < 4; ++a) {
+        const int i = q[a], j = q[(a + 1) % 4];
+        const double flat = (x[j] - x[i]).norm();
+        worst = std::max(worst, std::abs((y[j] - y[i]).norm() - flat));
+        worst_before =
+            std::max(worst_before,
+                     std::abs((s.vertices[lv[j]] - s.vertices[lv[i]]).norm() - flat) / longest);
+      }
+    EXPECT_LE(worst, 1e-8 * longest) << "patch " << p;
+    for (std::size_t v = 0; v < y.size(); ++v)
+      moved = std::max(moved, (y[v] - s.vertices[lv[v]]).norm());
+  }
+  EXPECT_GT(worst_before, 1e-4);  // the strips had to move
+  EXPECT_GT(moved, 1e-3);
+  EXPECT_LT(moved, 5.0);  // mm, on a sphere of radius 50
+}
+
 TEST(Flatten, DeterministicAcrossThreadCounts) {
   const auto shape = test::torus(60, 20, 16, 8);
   const TargetSurface target(shape.target);
