@@ -313,16 +313,14 @@ def write_doc(path, model_runs, multi, density, scaling, whole, skipped, quick, 
               <= 1.1 * r["report"]["options"]["ilp_time_limit_s"]]
     L.append(f"| bending stage within its time limit + 10 % | {len(within)} of {len(timed)} runs "
              f"| {'yes' if len(within) == len(timed) else 'no'} |")
-    jobs = [r for r in model_runs + multi + scaling
-            if not r["failed"] and r["report"]["layout"]["sheets"] > 1]
-    by_area = [r for r in jobs if r["report"]["layout"]["sheets"]
-               <= r["report"]["layout"]["sheets_lower_bound"] + 1]
-    by_spaced = [r for r in jobs if r["report"]["layout"]["sheets"]
-                 <= r["report"]["layout"]["sheets_lower_bound_spaced"] + 1]
+    def lay(r):
+        return r["report"]["layout"]
+    jobs = [r for r in model_runs + multi + scaling if not r["failed"] and lay(r)["sheets"] > 1]
+    by_area = [r for r in jobs if lay(r)["sheets"] <= lay(r)["sheets_lower_bound"] + 1]
+    by_spaced = [r for r in jobs if lay(r)["sheets"] <= lay(r)["sheets_lower_bound_spaced"] + 1]
     # The spaced bound is a lower bound too: where it is over the area bound + 1, no nesting
     # at this spacing meets the goal; where it equals it, only one at the spaced bound does.
-    missed = [r for r in jobs if r not in by_area]
-    lay = lambda r: r["report"]["layout"]  # noqa: E731
+    missed = [r for r in jobs if lay(r)["sheets"] > lay(r)["sheets_lower_bound"] + 1]
     beyond = [r for r in missed
               if lay(r)["sheets_lower_bound_spaced"] > lay(r)["sheets_lower_bound"] + 1]
     at_edge = [r for r in missed
