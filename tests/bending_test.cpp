@@ -26,6 +26,15 @@ double exhaustive_optimum(const PolyMesh& m, const BendingResult& r) {
   return test::exhaustive_packing_optimum(m, weight);
 }
 
+// The demo's quads: Spot's cage after one Catmull-Clark step, on its triangle mesh, at 250 mm.
+PreparedInput demo_quads() {
+  InputOptions in_opt;
+  in_opt.size = 250.0;
+  in_opt.subdivide = 1;
+  return prepare_input(read_mesh(test::real_mesh("spot_triangulated.obj")),
+                       read_mesh(test::real_mesh("spot_control_mesh.obj")), in_opt);
+}
+
 void expect_feasible(const PolyMesh& m, const BendingResult& r) {
   for (auto f : m.faces()) {
     const auto e = quad_edges(m, f);
@@ -249,12 +258,7 @@ TEST(Bending, ClassifiesQuadsFromTheirBendableEdges) {
 // Real mesh: the default sample count is converged (doubling it moves no weight by more than
 // 1% of the largest), and the solve is deterministic.
 TEST(Bending, SpotWeightsConvergedAndDeterministic) {
-  InputOptions in_opt;
-  in_opt.size = 250.0;
-  in_opt.subdivide = 1;
-  const PreparedInput in =
-      prepare_input(read_mesh(test::real_mesh("spot_triangulated.obj")),
-                    read_mesh(test::real_mesh("spot_control_mesh.obj")), in_opt);
+  const PreparedInput in = demo_quads();
   const BendingOptions defaults;
   const auto w1 = edge_variances(in.quads, in.surface, defaults.edge_samples);
   const auto w2 = edge_variances(in.quads, in.surface, 2 * defaults.edge_samples);
@@ -269,6 +273,24 @@ TEST(Bending, SpotWeightsConvergedAndDeterministic) {
   EXPECT_EQ(a.bendable, b.bendable);
   EXPECT_NEAR(a.bound, a.objective, 1e-6 * a.objective);
   expect_feasible(in.quads, a);
+}
+
+// The limits the relaxation leaves slack (rings and odd cycles it does not meet) are left out
+// of the branch and bound: valid for every selection, they change neither the program's
+// optimum nor its relaxation's, and CBC, which solves its root relaxation again with every row
+// it is given, proves the optimum far sooner without them (Amo's QuadriFlow mesh: 2751 of 3540
+// left out, the stage 29 -> 17 s, the same selection). On the demo's quads (Spot's cage after
+// one Catmull-Clark step, 250 mm) the relaxation with every limit is integral: the selection
+// found without the slack ones reaches its bound, and is a selection (no two consecutive edges
+// of a quad bend).
+TEST(Bending, LimitsTheRelaxationLeavesSlackAreLeftOutOfTheSearch) {
+  const PreparedInput in = demo_quads();
+  const BendingResult r = choose_bending_edges(in.quads, in.surface, {});
+  EXPECT_GT(r.slack_limits, 0);  // 70 of its 422 limits (326 rings, 96 odd vertices' stars)
+  EXPECT_EQ(r.status, PackingStatus::kOptimal);
+  EXPECT_NEAR(r.objective, r.relaxation_bound, 1e-9 * r.relaxation_bound);
+  EXPECT_NEAR(r.bound, r.objective, 1e-6 * r.objective);
+  expect_feasible(in.quads, r);
 }
 
 }  // namespace

@@ -205,6 +205,7 @@ json bending_section(const BendingResult& b, const BendingOptions& options) {
             {"ring_cuts", b.ring_cuts},
             {"separated_cuts", b.separated_cuts},
             {"cut_rounds", b.cut_rounds},
+            {"slack_limits", b.slack_limits},
             {"relaxation_bound", b.relaxation_bound},
             {"cut_seconds", b.cut_seconds}}}};
 }
