@@ -63,8 +63,7 @@ struct BendingResult {
   int ring_cuts = 0;                  ///< odd rings added as cuts
   int separated_cuts = 0;             ///< odd cycles separated from the relaxation
   int cut_rounds = 0;                 ///< separation rounds
-  int slack_limits =
-      0;  ///< separated cycles slack at the last relaxation optimum, not given to CBC
+  int slack_limits = 0;               ///< separated cycles left slack, not given to CBC
   double relaxation_bound = 0;        ///< relaxation optimum with all cuts [mm^2]
   double cut_seconds = 0;             ///< time for start, rings and separation [s]
 };
