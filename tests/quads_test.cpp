@@ -963,6 +963,97 @@ TEST(Quads, ALoftsWallIsSweptInRowsAlongItsProfile) {
   }
 }
 
+// A loft that closes to a point (a pole vertex on the axis fanned to the ring round it: a
+// capsule, a bowl, a UV sphere) is swept too: its wall in rings up to the ring of kDomeStop
+// times the widest scale, the dome beyond it a cap meshed flat and lifted onto it. Every quad
+// corner lies on the target, the rows are rings (each of the wall's edges along its rims at
+// one height, each along the axis at one angle), and the domes reach their poles. From their
+// triangles at 300 mm in 3 mm MDF, a capsule of radius 50 and length 150 came out of the
+// lattice as 82 parts (47 critical regions, Hausdorff 1.97 % of the diagonal), swept as 51
+// (21, 0.66 %); a bowl 39 -> 36 parts (0.46 -> 0.22 %).
+TEST(Quads, ALoftThatClosesToAPointIsSweptWithDomes) {
+  struct Case {
+    std::string name;
+    TriangleMesh mesh;
+    int euler, borders;
+    double bottom_pole, top_pole;  // the poles' heights (NaN: none there)
+  };
+  const double none = std::numeric_limits<double>::quiet_NaN();
+  const int n = 48;
+  // A capsule: a tube of radius 50 from z = 0 to 150 with half spheres on it, 12 rings a side.
+  std::vector<std::array<double, 2>> capsule;
+  for (int k = 1; k <= 12; ++k)
+    capsule.push_back({50 * std::sin(kPi / 2 * k / 12), -50 * std::cos(kPi / 2 * k / 12)});
+  for (int k = 1; k < 10; ++k) capsule.push_back({50, 15.0 * k});
+  for (int k = 0; k < 12; ++k)
+    capsule.push_back({50 * std::cos(kPi / 2 * k / 12), 150 + 50 * std::sin(kPi / 2 * k / 12)});
+  // A bowl: a half sphere of radius 100 open at z = 0, its pole at z = -100; 16 rings.
+  std::vector<std::array<double, 2>> bowl;
+  for (int k = 1; k <= 16; ++k)
+    bowl.push_back({100 * std::sin(kPi / 2 * k / 16), -100 * std::cos(kPi / 2 * k / 16)});
+  // A UV sphere of radius 100: 23 rings between its poles.
+  std::vector<std::array<double, 2>> sphere;
+  for (int k = 1; k < 24; ++k)
+    sphere.push_back({100 * std::sin(kPi * k / 24), -100 * std::cos(kPi * k / 24)});
+  // lathe() fans an end round its centre at the end ring's height: moved to the pole.
+  const auto poles = [&](TriangleMesh m, std::size_t rings, double bottom, double top) {
+    if (!std::isnan(bottom)) m.vertices[rings * n].z() = bottom;
+    if (!std::isnan(top)) m.vertices[rings * n + (std::isnan(bottom) ? 0 : 1)].z() = top;
+    return m;
+  };
+  for (const Case& c :
+       {Case{"capsule", poles(test::lathe(capsule, n, true, true), capsule.size(), -50, 200), 2, 0,
+             -50, 200},
+        Case{"bowl", poles(test::lathe(bowl, n, true, false), bowl.size(), -100, none), 1, 1, -100,
+             none},
+        Case{"UV sphere", poles(test::lathe(sphere, n, true, true), sphere.size(), -100, 100), 2, 0,
+             -100, 100}}) {
+    SCOPED_TRACE(c.name);
+    const std::optional<quads::Extrusion> e = quads::find_extrusion(c.mesh);
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->cap_dome.empty() + e->other_dome.empty(), std::isnan(c.top_pole) ? 1 : 0);
+    for (const auto* dome : {&e->cap_dome, &e->other_dome})
+      if (!dome->empty()) {
+        EXPECT_EQ(dome->back()[1], 0);                      // to the pole
+        const double pole = dome->back()[0] * e->axis.z();  // heights along the axis, +-z
+        EXPECT_TRUE(std::abs(pole - c.bottom_pole) < 1e-9 || std::abs(pole - c.top_pole) < 1e-9)
+            << pole;
+      }
+    const QuadMeshResult r = mesh_of(c.mesh, {.quad_size = 20});
+    ASSERT_EQ(r.method.rfind("loft", 0), 0u) << r.method;
+    expect_sound_quads(r.quads);
+    EXPECT_EQ(euler(r.quads), c.euler);
+    EXPECT_EQ(boundary_loop_count(r.quads), c.borders);
+    EXPECT_LT(r.max_distance, 1e-6);
+    const PolyMesh& q = r.quads;
+    const auto point = [&](int v) { return to_eigen(q.point(q.vertex_handle(v))); };
+    int rims = 0, rulings = 0;
+    for (const auto& hint : r.bending) {
+      const Vec3 a = point(hint.v0), b = point(hint.v1);
+      if (hint.bendable) {
+        ++rims;
+        EXPECT_NEAR(a.z(), b.z(), 1e-6);
+      } else {
+        ++rulings;
+        EXPECT_NEAR(a.x() * b.y() - a.y() * b.x(), 0, 1e-6 * a.norm() * b.norm());
+        EXPECT_GT(a.x() * b.x() + a.y() * b.y(), 0);
+      }
+    }
+    EXPECT_GT(rims, 0);
+    EXPECT_GT(rulings, 0);
+    // The domes reach their poles: within half a quad.
+    double lowest = std::numeric_limits<double>::infinity(), highest = -lowest;
+    for (auto v : q.vertices()) {
+      lowest = std::min(lowest, static_cast<double>(q.point(v)[2]));
+      highest = std::max(highest, static_cast<double>(q.point(v)[2]));
+    }
+    EXPECT_LT(lowest, c.bottom_pole + 10);
+    if (!std::isnan(c.top_pole)) {
+      EXPECT_GT(highest, c.top_pole - 10);
+    }
+  }
+}
+
 // A target whose triangles face into the solid (or, open, the other way round) is swept the
 // same, its quads facing as its triangles do: a pot open at the top whose bottom faces up
 // was no extrusion (its caps looked for facing out), and a lampshade or vase so turned had all

@@ -223,12 +223,26 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
     }
   std::sort(along.begin(), along.end());
   along.erase(std::unique(along.begin(), along.end()), along.end());
-  const std::vector<std::vector<int>> rings = loops_of(along);
+  std::vector<std::vector<int>> rings = loops_of(along);
+  if (rings.empty()) return std::nullopt;
+  const int loops = static_cast<int>(rings.size());
+  std::vector<int> ring_of(nv, -1);
+  for (int r = 0; r < loops; ++r)
+    for (int i : rings[r]) ring_of[i] = r;
+  // Poles: wall vertices on no ring (a bowl's bottom, a sphere's poles, fanned to the ring
+  // round them), each a ring of its own, on the axis (checked below) at scale 0.
+  for (int t : wall)
+    for (int i : mesh.triangles[t])
+      if (ring_of[i] < 0) {
+        ring_of[i] = static_cast<int>(rings.size());
+        rings.push_back({i});
+      }
+  const auto is_pole = [&](int r) { return r >= loops; };
+  for (int t : flat)
+    for (int i : mesh.triangles[t])
+      if (ring_of[i] >= 0 && is_pole(ring_of[i])) return std::nullopt;
   if (rings.size() < 2) return std::nullopt;
   const int nr = static_cast<int>(rings.size());
-  std::vector<int> ring_of(nv, -1);
-  for (int r = 0; r < nr; ++r)
-    for (int i : rings[r]) ring_of[i] = r;
   const Vec3 u = axis.unitOrthogonal(), v = axis.cross(u);
   const auto flat2 = [&](int i) { return Vec2(mesh.vertices[i].dot(u), mesh.vertices[i].dot(v)); };
   // The outline every ring scales: the largest ring, about its centroid.
@@ -257,6 +271,11 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
   const double tolerance = 10 * same_height;
   std::vector<double> along_outline(nv), scale(nr);
   for (int r = 0; r < nr; ++r) {
+    if (is_pole(r)) {  // on the axis: within a thousandth of the diagonal
+      if (!((flat2(rings[r][0]) - centroid).norm() <= 100 * same_height)) return std::nullopt;
+      scale[r] = 0;
+      continue;
+    }
     std::vector<double> ratios;
     std::vector<double> reach;
     for (int i : rings[r]) {
@@ -387,11 +406,13 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
   constexpr double kOnEdge = 1e-4;
   for (int t : wall) {
     const auto& tr = mesh.triangles[t];
-    const int first = static_cast<int>(std::floor(along_outline[tr[0]]));
+    const int on_ring = is_pole(ring_of[tr[0]]) ? tr[1] : tr[0];  // a pole is on every edge
+    const int first = static_cast<int>(std::floor(along_outline[on_ring]));
     bool one_edge = false;
     for (int edge : {first - 1, first, first + 1}) {
       const int k = ((edge % n) + n) % n;
       one_edge = std::all_of(tr.begin(), tr.end(), [&](int vi) {
+        if (is_pole(ring_of[vi])) return true;
         const double d = off(along_outline[vi], k);
         return d >= -kOnEdge && d <= 1 + kOnEdge;
       });
@@ -399,30 +420,106 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
     }
     if (!one_edge) return std::nullopt;
   }
-  // The end whose outline the others scale: one with a cap, the larger.
-  const int ref =
-      e.top_cap != e.bottom_cap
-          ? (e.top_cap ? path.back() : path.front())
-          : (ring_area[path.back()] >= ring_area[path.front()] ? path.back() : path.front());
+  // A pole's end is a dome up to the first ring of kDomeStop times the widest one's scale, the
+  // scale rising all the way (the dome one height over the plane across the axis): the wall
+  // runs between positions lo and hi of the path.
+  // It ends sooner where the profile would steepen past kDomeSlope: no dome where it is that
+  // steep at the pole (a cone's apex: the lattice takes the whole).
+  int lo = 0, hi = nr - 1;
+  const double widest_scale = *std::max_element(scale.begin(), scale.end());
+  double mean_radius = 0;  // of the outline at scale 1
+  for (const Vec2& p : outline) mean_radius += p.norm() / static_cast<double>(outline.size());
+  const auto steep = [&](int a, int b) {  // the profile from path[a] to path[b]
+    const double across = std::abs(scale[path[b]] - scale[path[a]]) * mean_radius;
+    return std::abs(ring_height(path[b]) - ring_height(path[a])) > kDomeSlope * across;
+  };
+  const auto dome_end = [&](int from, int step) {
+    int k = from + step;
+    if (k < 0 || k >= nr || steep(from, k)) return -1;
+    while (true) {
+      if (!(scale[path[k]] > scale[path[k - step]])) return -1;
+      if (scale[path[k]] >= kDomeStop * widest_scale) return k;
+      const int after = k + step;
+      if (after < 0 || after >= nr) return -1;
+      if (steep(k, after)) return k;
+      k = after;
+    }
+  };
+  if (is_pole(path.front()) && (lo = dome_end(0, 1)) < 0) return std::nullopt;
+  if (is_pole(path.back()) && (hi = dome_end(nr - 1, -1)) < 0) return std::nullopt;
+  if (!(lo < hi)) return std::nullopt;
+  if (is_pole(path.front())) e.bottom = ring_height(path[lo]), e.bottom_cap = true;
+  if (is_pole(path.back())) e.top = ring_height(path[hi]), e.top_cap = true;
+  if (!(e.top - e.bottom > 100 * same_height)) return std::nullopt;
+  // The end whose outline the others scale: one with a cap (or a dome), the larger.
+  const int ref = e.top_cap != e.bottom_cap
+                      ? (e.top_cap ? path[hi] : path[lo])
+                      : (ring_area[path[hi]] >= ring_area[path[lo]] ? path[hi] : path[lo]);
   bool scaled = false;
-  for (int r = 0; r < nr; ++r) {
-    const double s = scale[r] / scale[ref];
+  for (int k = lo; k <= hi; ++k) {
+    const double s = scale[path[k]] / scale[ref];
     if (!(s >= kLeastLoftScale && s <= 1 / kLeastLoftScale)) return std::nullopt;
     scaled = scaled || std::abs(s - 1) > 1e-9;
   }
   if (!scaled && (e.top_cap || e.bottom_cap)) return std::nullopt;  // an extrusion's business
-  if (e.top_cap && e.bottom_cap) {                                  // the same outline, scaled
-    const int other = ref == path.back() ? path.front() : path.back();
+  // A dome's cap: its outline's area (its projection along the axis).
+  for (int k : {lo, hi})
+    if (k != 0 && k != nr - 1) cap_area[path[k]] = ring_area[path[k]];
+  if (e.top_cap && e.bottom_cap) {  // the same outline, scaled
+    const int other = ref == path[hi] ? path[lo] : path[hi];
     const double s = scale[other] / scale[ref];
     if (std::abs(cap_area[other] - s * s * cap_area[ref]) > 1e-3 * cap_area[ref])
       return std::nullopt;
   }
-  for (int r : path) e.profile.push_back({ring_height(r), scale[r] / scale[ref]});
+  for (int k = lo; k <= hi; ++k)
+    e.profile.push_back({ring_height(path[k]), scale[path[k]] / scale[ref]});
+  // The domes' profiles, from the wall's end ring to the pole, and their triangles (wall
+  // triangles and flat steps between rings of the dome).
+  std::vector<int> position(nr);
+  for (int k = 0; k < nr; ++k) position[path[k]] = k;
+  const auto dome_profile = [&](int from, int to) {
+    std::vector<std::array<double, 2>> d;
+    for (int k = from;; k += to > from ? 1 : -1) {
+      d.push_back({ring_height(path[k]), scale[path[k]] / scale[ref]});
+      if (k == to) break;
+    }
+    return d;
+  };
+  std::vector<std::array<double, 2>> bottom_dome, top_dome;
+  if (lo > 0) bottom_dome = dome_profile(lo, 0);
+  if (hi < nr - 1) top_dome = dome_profile(hi, nr - 1);
+  const bool ref_on_top = ref == path[hi];
+  e.cap_dome = ref_on_top ? top_dome : bottom_dome;
+  e.other_dome = ref_on_top ? bottom_dome : top_dome;
+  e.outline = outline;
+  e.across = u;
+  e.outline_scale = scale[ref];
   e.centre = centroid.x() * u + centroid.y() * v;
   e.radius = 0;
   for (int i : rings[ref]) e.radius += (flat2(i) - centroid).norm() / rings[ref].size();
-  e.cap_on_top = ref == path.back();
-  if (caps.contains(ref)) {
+  e.cap_on_top = ref_on_top;
+  if (!e.cap_dome.empty()) {
+    // The dome's triangles moved along the axis onto the plane of the ring round it.
+    std::vector<int> dome;
+    for (int t = 0; t < nt; ++t) {
+      int least = nr, most = -1;
+      bool on_rings = true;
+      for (int i : mesh.triangles[t]) {
+        if (ring_of[i] < 0) {
+          on_rings = false;
+          break;
+        }
+        least = std::min(least, position[ring_of[i]]);
+        most = std::max(most, position[ring_of[i]]);
+      }
+      if (on_rings && (ref_on_top ? least >= hi : most <= lo)) dome.push_back(t);
+    }
+    e.cap = sub_mesh(mesh, dome);
+    const double at = ring_height(ref);
+    for (Vec3& p : e.cap.vertices) p -= (p.dot(axis) - at) * axis;
+    e.cap_area = ring_area[ref];
+    e.cap_facing = facing_of(e.cap);
+  } else if (caps.contains(ref)) {
     e.cap = sub_mesh(mesh, caps.at(ref));
     e.cap_area = cap_area.at(ref);
     e.cap_facing = facing_of(e.cap);
@@ -448,7 +545,39 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
   return e;
 }
 
+/// lift_onto_dome() with \p star set to e.outline.
+Vec3 lifted(const Extrusion& e, const StarOutline& star,
+            const std::vector<std::array<double, 2>>& dome, const Vec3& p) {
+  if (dome.size() < 2) return p;
+  const Vec3 off = p - e.centre, across = off - off.dot(e.axis) * e.axis;
+  const Vec2 q(across.dot(e.across), across.dot(e.axis.cross(e.across)));
+  double scale = 0;  // against the cap's end
+  if (q.norm() > 0) {
+    const double distance = star.at(q).second;
+    if (distance > 0) scale = q.norm() / distance / e.outline_scale;
+  }
+  double height = dome.back()[0];
+  if (scale >= dome.front()[1]) {
+    height = dome.front()[0];
+  } else {
+    for (std::size_t k = 0; k + 1 < dome.size(); ++k)
+      if (scale >= dome[k + 1][1]) {
+        const double w = (dome[k][1] - scale) / (dome[k][1] - dome[k + 1][1]);
+        height = dome[k][0] + w * (dome[k + 1][0] - dome[k][0]);
+        break;
+      }
+  }
+  return p + (height - dome.front()[0]) * e.axis;
+}
+
 }  // namespace
+
+Vec3 lift_onto_dome(const Extrusion& e, const std::vector<std::array<double, 2>>& dome,
+                    const Vec3& p) {
+  StarOutline star;
+  if (dome.size() < 2 || !star.set(e.outline)) return p;
+  return lifted(e, star, dome, p);
+}
 
 std::vector<RowBorder> row_borders(const Extrusion& e, double size) {
   std::vector<RowBorder> out;
@@ -558,6 +687,23 @@ std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh) {
     const Vec3 normal = area_vector(corners);
     if (normal.norm() > 0) axes.push_back(normal.normalized());
   }
+  // Or (closed, a pole at an end: a capsule, a UV sphere) the way the fan round the vertex of
+  // most triangles faces, where it has at least kPoleFan.
+  {
+    constexpr int kPoleFan = 8;
+    std::vector<int> fan(mesh.vertices.size(), 0);
+    for (const auto& tr : mesh.triangles)
+      for (int i : tr) ++fan[i];
+    const auto most = std::max_element(fan.begin(), fan.end());
+    if (most != fan.end() && *most >= kPoleFan) {
+      const int pole = static_cast<int>(most - fan.begin());
+      Vec3 facing = Vec3::Zero();
+      for (int t = 0; t < nt; ++t)
+        for (int i : mesh.triangles[t])
+          if (i == pole) facing += areas[t] * normals[t];
+      if (facing.norm() > 0) axes.push_back(facing.normalized());
+    }
+  }
   for (const Vec3& axis : axes) {
     std::optional<Extrusion> e = loft_along(mesh, axis, normals, areas, same_height, *uses);
     if (e && (!best || e->cap_area > best->cap_area)) best = std::move(e);
@@ -581,6 +727,9 @@ PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e,
     return Vec3(p + borders[j].way * d + (borders[j].scale - 1.0) * across);
   };
   const bool other_cap = e.cap_on_top ? e.bottom_cap : e.top_cap;
+  // A dome's cap lifted onto it (lift_onto_dome).
+  StarOutline star;
+  if ((!e.cap_dome.empty() || !e.other_dome.empty()) && !star.set(e.outline)) return out;
   using VH = OpenMesh::VertexHandle;
   // The faces below are made as if the cap's quads faced the way its triangles in the target
   // do (out of the solid, or in where the target's triangles face in); where they face the
@@ -598,10 +747,12 @@ PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e,
   std::vector<std::vector<VH>> at(rows + 1, std::vector<VH>(n));
   for (auto v : cap.vertices()) {
     const Vec3 p = to_eigen(cap.point(v));
-    if (cap.is_boundary(v) || !e.cap_made) at[0][v.idx()] = out.add_vertex(to_openmesh(p));
+    if (cap.is_boundary(v) || !e.cap_made)
+      at[0][v.idx()] = out.add_vertex(to_openmesh(lifted(e, star, e.cap_dome, p)));
     for (int j = 1; j <= rows; ++j)
       if (cap.is_boundary(v) || (j == rows && other_cap))
-        at[j][v.idx()] = out.add_vertex(to_openmesh(in_row(p, j)));
+        at[j][v.idx()] = out.add_vertex(
+            to_openmesh(j == rows ? lifted(e, star, e.other_dome, in_row(p, j)) : in_row(p, j)));
   }
   const auto add = [&](std::vector<VH> corners, bool turned) {
     if (turned != inward) std::reverse(corners.begin(), corners.end());
