@@ -964,7 +964,8 @@ TEST(Quads, ALoftsWallIsSweptInRowsAlongItsProfile) {
 }
 
 // A loft that closes to a point (a pole vertex on the axis fanned to the ring round it: a
-// capsule, a bowl, a UV sphere) is swept too: its wall in rings up to the ring of kDomeStop
+// capsule, a bowl, a UV sphere; or a small flat polygon, as OpenSCAD closes a sphere) is
+// swept too: its wall in rings up to the ring of kDomeStop
 // times the widest scale, the dome beyond it a cap meshed flat and lifted onto it. Every quad
 // corner lies on the target, the rows are rings (each of the wall's edges along its rims at
 // one height, each along the axis at one angle), and the domes reach their poles. From their
@@ -995,6 +996,17 @@ TEST(Quads, ALoftThatClosesToAPointIsSweptWithDomes) {
   std::vector<std::array<double, 2>> sphere;
   for (int k = 1; k < 24; ++k)
     sphere.push_back({100 * std::sin(kPi * k / 24), -100 * std::cos(kPi * k / 24)});
+  // A sphere as OpenSCAD writes one: 24 rings at (k + 1/2) 180 / 24 degrees from the bottom,
+  // closed by flat 48-gons 7.5 degrees across, each fanned from one of its corners.
+  std::vector<std::array<double, 2>> scad;
+  for (int k = 0; k < 24; ++k)
+    scad.push_back({100 * std::sin(kPi * (k + 0.5) / 24), -100 * std::cos(kPi * (k + 0.5) / 24)});
+  TriangleMesh scad_sphere = test::lathe(scad, n, false, false);
+  for (int i = 1; i + 1 < n; ++i) {
+    scad_sphere.triangles.push_back({0, i + 1, i});
+    scad_sphere.triangles.push_back({23 * n, 23 * n + i, 23 * n + i + 1});
+  }
+  const double scad_pole = 100 * std::cos(kPi * 0.5 / 24);
   // lathe() fans an end round its centre at the end ring's height: moved to the pole.
   const auto poles = [&](TriangleMesh m, std::size_t rings, double bottom, double top) {
     if (!std::isnan(bottom)) m.vertices[rings * n].z() = bottom;
@@ -1007,7 +1019,8 @@ TEST(Quads, ALoftThatClosesToAPointIsSweptWithDomes) {
         Case{"bowl", poles(test::lathe(bowl, n, true, false), bowl.size(), -100, none), 1, 1, -100,
              none},
         Case{"UV sphere", poles(test::lathe(sphere, n, true, true), sphere.size(), -100, 100), 2, 0,
-             -100, 100}}) {
+             -100, 100},
+        Case{"OpenSCAD sphere", scad_sphere, 2, 0, -scad_pole, scad_pole}}) {
     SCOPED_TRACE(c.name);
     const std::optional<quads::Extrusion> e = quads::find_extrusion(c.mesh);
     ASSERT_TRUE(e);

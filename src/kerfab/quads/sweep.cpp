@@ -445,11 +445,18 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
       k = after;
     }
   };
-  if (is_pole(path.front()) && (lo = dome_end(0, 1)) < 0) return std::nullopt;
-  if (is_pole(path.back()) && (hi = dome_end(nr - 1, -1)) < 0) return std::nullopt;
+  // A tip: a pole, or a flat cap on a ring under kLeastLoftScale of the widest (a sphere as
+  // OpenSCAD writes one: its poles flat polygons a few degrees across), which no loft's scales
+  // reach: its dome takes the cap in.
+  const auto tip = [&](int r) {
+    return is_pole(r) || (caps.contains(r) && scale[r] < kLeastLoftScale * widest_scale);
+  };
+  const bool bottom_tip = tip(path.front()), top_tip = tip(path.back());
+  if (bottom_tip && (lo = dome_end(0, 1)) < 0) return std::nullopt;
+  if (top_tip && (hi = dome_end(nr - 1, -1)) < 0) return std::nullopt;
   if (!(lo < hi)) return std::nullopt;
-  if (is_pole(path.front())) e.bottom = ring_height(path[lo]), e.bottom_cap = true;
-  if (is_pole(path.back())) e.top = ring_height(path[hi]), e.top_cap = true;
+  if (bottom_tip) e.bottom = ring_height(path[lo]), e.bottom_cap = true;
+  if (top_tip) e.top = ring_height(path[hi]), e.top_cap = true;
   if (!(e.top - e.bottom > 100 * same_height)) return std::nullopt;
   // The end whose outline the others scale: one with a cap (or a dome), the larger.
   const int ref = e.top_cap != e.bottom_cap
@@ -483,6 +490,7 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
       d.push_back({ring_height(path[k]), scale[path[k]] / scale[ref]});
       if (k == to) break;
     }
+    if (d.back()[1] > 0) d.push_back({d.back()[0], 0.0});  // a flat cap, to the axis
     return d;
   };
   std::vector<std::array<double, 2>> bottom_dome, top_dome;
@@ -513,6 +521,13 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
         most = std::max(most, position[ring_of[i]]);
       }
       if (on_rings && (ref_on_top ? least >= hi : most <= lo)) dome.push_back(t);
+    }
+    // A flat cap at the tip (its inner vertices on no ring).
+    if (const int end = ref_on_top ? path.back() : path.front(); caps.contains(end)) {
+      const std::size_t walls = dome.size();  // sorted
+      for (int t : caps.at(end))
+        if (!std::binary_search(dome.begin(), dome.begin() + walls, t)) dome.push_back(t);
+      std::sort(dome.begin(), dome.end());
     }
     e.cap = sub_mesh(mesh, dome);
     const double at = ring_height(ref);
@@ -637,6 +652,7 @@ std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh) {
     }
   };
   std::unordered_map<std::array<long long, 3>, std::pair<double, Vec3>, KeyHash> by_direction;
+  std::map<std::array<long long, 3>, int> triangles_by_direction;
   for (int t = 0; t < nt; ++t) {
     const auto& tr = mesh.triangles[t];
     const Vec3 c = (mesh.vertices[tr[1]] - mesh.vertices[tr[0]])
@@ -655,6 +671,7 @@ std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh) {
     auto& [area, dir] = by_direction[key];
     if (area == 0) dir = n;
     area += areas[t];
+    ++triangles_by_direction[key];
   }
   // Most area first; equal areas (a cube's faces) in the order of their directions' keys, so
   // that the axis taken never depends on the hash table's order.
@@ -703,6 +720,17 @@ std::optional<Extrusion> find_extrusion(const TriangleMesh& mesh) {
           if (i == pole) facing += areas[t] * normals[t];
       if (facing.norm() > 0) axes.push_back(facing.normalized());
     }
+  }
+  // Or the way the most triangles face, where at least kFlatFan do: a flat polygon of many
+  // sides fanned from one of its corners (a sphere's pole as OpenSCAD writes it, a few
+  // degrees across: too small for the directions of most area).
+  {
+    constexpr int kFlatFan = 8;
+    const auto most =
+        std::max_element(triangles_by_direction.begin(), triangles_by_direction.end(),
+                         [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (most != triangles_by_direction.end() && most->second >= kFlatFan)
+      axes.push_back(by_direction.at(most->first).second);
   }
   for (const Vec3& axis : axes) {
     std::optional<Extrusion> e = loft_along(mesh, axis, normals, areas, same_height, *uses);
