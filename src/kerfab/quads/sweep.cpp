@@ -560,7 +560,10 @@ std::optional<Extrusion> loft_along(const TriangleMesh& mesh, const Vec3& axis,
   return e;
 }
 
-/// lift_onto_dome() with \p star set to e.outline.
+/// \p p (a point in the plane across \p e's axis at the height where \p dome starts) lifted
+/// along the axis onto \p dome (e.cap_dome or e.other_dome), by its scale: its distance from the
+/// axis over that of the outline (\p star, set to e.outline) in its direction. \p p itself
+/// where the dome is empty.
 Vec3 lifted(const Extrusion& e, const StarOutline& star,
             const std::vector<std::array<double, 2>>& dome, const Vec3& p) {
   if (dome.size() < 2) return p;
@@ -586,13 +589,6 @@ Vec3 lifted(const Extrusion& e, const StarOutline& star,
 }
 
 }  // namespace
-
-Vec3 lift_onto_dome(const Extrusion& e, const std::vector<std::array<double, 2>>& dome,
-                    const Vec3& p) {
-  StarOutline star;
-  if (dome.size() < 2 || !star.set(e.outline)) return p;
-  return lifted(e, star, dome, p);
-}
 
 std::vector<RowBorder> row_borders(const Extrusion& e, double size) {
   std::vector<RowBorder> out;
@@ -755,7 +751,7 @@ PolyMesh sweep_extrusion(const PolyMesh& cap, const Extrusion& e,
     return Vec3(p + borders[j].way * d + (borders[j].scale - 1.0) * across);
   };
   const bool other_cap = e.cap_on_top ? e.bottom_cap : e.top_cap;
-  // A dome's cap lifted onto it (lift_onto_dome).
+  // A dome's cap lifted onto it (lifted()).
   StarOutline star;
   if ((!e.cap_dome.empty() || !e.other_dome.empty()) && !star.set(e.outline)) return out;
   using VH = OpenMesh::VertexHandle;

@@ -46,12 +46,12 @@ struct Extrusion {
   /// to the pole is here, (height along the axis [mm], scale [-] as `profile`'s), scale
   /// falling to 0. Where the cap's end is a dome, `cap`
   /// is its triangles moved along the axis onto the ring's plane (a flat disc, meshed as any
-  /// cap), and the quads are lifted back onto the dome by lift_onto_dome(); a dome at the
+  /// cap), and the quads are lifted back onto the dome (sweep_extrusion()); a dome at the
   /// other end gets the cap's copy, lifted the same way. Empty: no dome at that end.
   std::vector<std::array<double, 2>> cap_dome, other_dome;
   /// A loft's outline at scale 1 (the widest ring's, about `centre`, in the plane across the
   /// axis with `across` as its first direction and axis x across as its second), and the
-  /// scale of the cap's end against it: what lift_onto_dome() measures a point's scale by.
+  /// scale of the cap's end against it: what a point lifted onto a dome has its scale measured by.
   std::vector<Vec2> outline;
   Vec3 across = Vec3::Zero();
   double outline_scale = 1;
@@ -67,12 +67,6 @@ inline constexpr double kDomeStop = 0.7;
 /// lifted onto it stretched at most 1.74 times across), ring to ring; where it is steeper at
 /// the pole (a cone's apex) there is no dome, and the dome ends sooner where it steepens [-].
 inline constexpr double kDomeSlope = 1.4281480067421146;
-
-/// \p p (a point in the plane across \p e's axis at the height where \p dome starts) lifted
-/// along the axis onto \p dome (e.cap_dome or e.other_dome), by its scale: its distance from
-/// the axis over the outline's there. \p p itself where the dome is empty.
-Vec3 lift_onto_dome(const Extrusion& e, const std::vector<std::array<double, 2>>& dome,
-                    const Vec3& p);
 
 /// A loft's profile turns by more than this at a corner (a frustum on a drum): its rows meet
 /// there, each run between two corners in rows of its own [rad].
