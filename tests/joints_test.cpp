@@ -1600,6 +1600,35 @@ TEST(Joints, ASlitWhoseWideningCutsThePartInTwoStays) {
   EXPECT_TRUE(narrow_slits(widened[0], 1.0).empty());
 }
 
+// Slits are named as the laser cuts them: a notch narrower than the kerf is one the laser path
+// (the outline grown by half the kerf) does not enter, so the part as cut has no slit there (the
+// bowl at 600 mm: a notch 0.04 mm wide and 1.5 mm deep on its outline as designed, named by the
+// run, absent from the sheet the auditor read back). A body 10 x 20 mm with a notch 2 mm deep
+// from its top, kerf 0.2 mm, smallest feature 1 mm.
+TEST(Joints, SlitsAreNamedAsTheLaserCutsThem) {
+  auto body_with = [](double width) {
+    const double a = 5 - 0.5 * width, b = 5 + 0.5 * width;
+    return Polygon2{{0, 0}, {10, 0}, {10, 20}, {b, 20}, {b, 18}, {a, 18}, {a, 20}, {0, 20}};
+  };
+  const double kerf = 0.2;
+  auto path_of = [&](const Polygon2& outline) {
+    return largest_polygon(polygon_offset({outline}, 0.5 * kerf));
+  };
+  // 0.05 mm wide: a slit of the outline as designed, none of the part as cut.
+  const Polygon2 hair = body_with(0.05);
+  EXPECT_EQ(narrow_slits(hair, 1.0).size(), 1u);
+  EXPECT_TRUE(narrow_slits_as_cut(path_of(hair), kerf, 1.0).empty());
+  // 0.5 mm wide: the path enters it, and the part as cut keeps a slit 0.5 mm wide, 2 mm deep.
+  const Polygon2 slit = body_with(0.5);
+  const auto found = narrow_slits_as_cut(path_of(slit), kerf, 1.0);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_NEAR(std::abs(polygon_area(found[0])), 0.5 * 2, 0.3);
+  // 1.2 mm wide: no slit either way.
+  EXPECT_TRUE(narrow_slits_as_cut(path_of(body_with(1.2)), kerf, 1.0).empty());
+  // Without a kerf the path is the part: the same as narrow_slits.
+  EXPECT_EQ(narrow_slits_as_cut(hair, 0, 1.0).size(), 1u);
+}
+
 // A V between two teeth (two borders' teeth meeting at a part's corner) narrower than the
 // smallest feature has nothing but tooth on both sides: the teeth give it a wedge each, as
 // little as makes it a cut the laser can make (demosthenes from its triangles at 500 mm: a V

@@ -215,19 +215,23 @@ class Builder {
     // in two is not made (slit_widenings), nor one into a tooth, and a tapering slit may stay
     // narrow at its end after the last widening (Spot's cage remeshed at 4000 mm: a V 1.2 mm
     // deep beside a tooth, which the auditor finds).
+    // Slits as the laser cuts them, as the auditor reads the sheets back: a notch narrower than
+    // the kerf is one the laser path does not enter (the bowl at 600 mm: a notch 0.04 mm wide
+    // and 1.5 mm deep where a tooth met a cut-back, named here, absent from the sheet).
     // A draft's are not looked for: the resolve loop reads neither, and its final build, with
     // stub teeth, names them.
     std::vector<char> necked(out_.parts.size(), 0), slit(out_.parts.size(), 0);
     for_each_of(out_.draft ? std::vector<int>{} : every, [&](int p) {
       necked[p] = thin_necks(p).empty() && !splits_apart(p) ? 0 : 1;
-      const Polygon2& outline = out_.parts[p].designed;
-      slit[p] = checked(
-                    'S', [&](std::string& key) { put_polygons(key, {outline}); },
-                    [&] {
-                      return OutlineCheck{narrow_slits(outline, o_.min_feature), {}};
-                    }).polygons.empty()
-                    ? 0
-                    : 1;
+      const Polygon2& path = out_.parts[p].cut;
+      slit[p] =
+          checked(
+              'S', [&](std::string& key) { put_polygons(key, {path}); },
+              [&] {
+                return OutlineCheck{narrow_slits_as_cut(path, kerf_width_, o_.min_feature), {}};
+              }).polygons.empty()
+              ? 0
+              : 1;
     });
     for (std::size_t p = 0; p < out_.parts.size(); ++p) {
       if (necked[p]) out_.thin_neck_parts.push_back(static_cast<int>(p));
@@ -2136,6 +2140,15 @@ std::vector<Polygon2> narrow_slits(const Polygon2& outline, double min_feature) 
   if (outline.size() < 3 || !(r > 0)) return {};
   Closing closing = closing_of(outline, r);
   return features_among(std::move(closing.gaps), closing.closed, min_feature);
+}
+
+std::vector<Polygon2> narrow_slits_as_cut(const Polygon2& path, double kerf_width,
+                                          double min_feature) {
+  if (!(kerf_width > 0)) return narrow_slits(path, min_feature);
+  Polygon2 ring = path;
+  if (polygon_area(ring) < 0) std::reverse(ring.begin(), ring.end());
+  const Polygon2 as_cut = largest_polygon(polygon_offset({ring}, -0.5 * kerf_width));
+  return as_cut.size() < 3 ? std::vector<Polygon2>{} : narrow_slits(as_cut, min_feature);
 }
 
 Polygon2 without_hanging_corners(const Polygon2& outline, const std::vector<Polygon2>& teeth,

@@ -182,10 +182,10 @@ struct Joints {
   /// where that leaves the parts better; these are the ones it could not mend. Empty in a draft
   /// (no thin-neck pass there, and the resolve loop does not read them).
   std::vector<int> thin_neck_parts;
-  /// Parts that keep a slit narrower than JointOptions::min_feature (narrow_slits): one the
-  /// outline cleanup could not widen (where that would cut the part in two, or into a tooth
-  /// beside it, or a tapering one still narrow at its end after the last widening). Empty in a
-  /// draft.
+  /// Parts that keep a slit narrower than JointOptions::min_feature as the laser cuts them
+  /// (narrow_slits_as_cut): one the outline cleanup could not widen (where that would cut the part
+  /// in two, or into a tooth beside it, or a tapering one still narrow at its end after the last
+  /// widening). Empty in a draft.
   std::vector<int> slit_parts;
   double lost_area = 0;           ///< of the pieces the parts that fell apart lost [mm^2]
   double largest_lost_piece = 0;  ///< the largest such piece [mm^2]
@@ -309,6 +309,12 @@ std::vector<Polygon2> slit_widenings(const Polygon2& outline, const std::vector<
 /// or reaches farther than that width from the rest along its edges (the test the sheet auditor
 /// applies; a shallower notch is no slit): what the outline cleanup (slit_widenings) left.
 std::vector<Polygon2> narrow_slits(const Polygon2& outline, double min_feature);
+
+/// The same slits in the part the laser path \p path leaves (the path shrunk by half \p
+/// kerf_width [mm]: a notch narrower than the kerf is one the path does not enter), as the sheet
+/// auditor reads a sheet back; narrow_slits() of \p path itself where the kerf is 0.
+std::vector<Polygon2> narrow_slits_as_cut(const Polygon2& path, double kerf_width,
+                                          double min_feature);
 
 /// The tails of \p outline narrower than \p min_feature [mm], the same test for material: what
 /// an opening by half that width takes away and that holds more than a square of that width or
