@@ -963,22 +963,17 @@ TEST(Quads, ALoftsWallIsSweptInRowsAlongItsProfile) {
   }
 }
 
-// A loft that closes to a point (a pole vertex on the axis fanned to the ring round it: a
-// capsule, a bowl, a UV sphere; or a small flat polygon, as OpenSCAD closes a sphere) is
-// swept too: its wall in rings up to the ring of kDomeStop
-// times the widest scale, the dome beyond it a cap meshed flat and lifted onto it. Every quad
-// corner lies on the target, the rows are rings (each of the wall's edges along its rims at
-// one height, each along the axis at one angle), and the domes reach their poles. From their
-// triangles at 300 mm in 3 mm MDF, a capsule of radius 50 and length 150 came out of the
-// lattice as 82 parts (47 critical regions, Hausdorff 1.97 % of the diagonal), swept as 51
-// (21, 0.66 %); a bowl 39 -> 36 parts (0.46 -> 0.22 %).
-TEST(Quads, ALoftThatClosesToAPointIsSweptWithDomes) {
-  struct Case {
-    std::string name;
-    TriangleMesh mesh;
-    int euler, borders;
-    double bottom_pole, top_pole;  // the poles' heights (NaN: none there)
-  };
+namespace {
+/// A loft that closes to a point (the cases of ALoftThatClosesToAPointIsSweptWithDomes).
+struct DomedLoft {
+  std::string name;
+  TriangleMesh mesh;
+  int euler, borders;
+  double bottom_pole, top_pole;  // the poles' heights (NaN: none there)
+};
+
+/// A capsule, a bowl, a UV sphere and a sphere as OpenSCAD writes one, from their triangles.
+std::vector<DomedLoft> domed_lofts() {
   const double none = std::numeric_limits<double>::quiet_NaN();
   const int n = 48;
   // A capsule: a tube of radius 50 from z = 0 to 150 with half spheres on it, 12 rings a side.
@@ -1013,14 +1008,28 @@ TEST(Quads, ALoftThatClosesToAPointIsSweptWithDomes) {
     if (!std::isnan(top)) m.vertices[rings * n + (std::isnan(bottom) ? 0 : 1)].z() = top;
     return m;
   };
-  for (const Case& c :
-       {Case{"capsule", poles(test::lathe(capsule, n, true, true), capsule.size(), -50, 200), 2, 0,
-             -50, 200},
-        Case{"bowl", poles(test::lathe(bowl, n, true, false), bowl.size(), -100, none), 1, 1, -100,
-             none},
-        Case{"UV sphere", poles(test::lathe(sphere, n, true, true), sphere.size(), -100, 100), 2, 0,
-             -100, 100},
-        Case{"OpenSCAD sphere", scad_sphere, 2, 0, -scad_pole, scad_pole}}) {
+  return {
+      DomedLoft{"capsule", poles(test::lathe(capsule, n, true, true), capsule.size(), -50, 200), 2,
+                0, -50, 200},
+      DomedLoft{"bowl", poles(test::lathe(bowl, n, true, false), bowl.size(), -100, none), 1, 1,
+                -100, none},
+      DomedLoft{"UV sphere", poles(test::lathe(sphere, n, true, true), sphere.size(), -100, 100), 2,
+                0, -100, 100},
+      DomedLoft{"OpenSCAD sphere", scad_sphere, 2, 0, -scad_pole, scad_pole}};
+}
+}  // namespace
+
+// A loft that closes to a point (a pole vertex on the axis fanned to the ring round it: a
+// capsule, a bowl, a UV sphere; or a small flat polygon, as OpenSCAD closes a sphere) is
+// swept too: its wall in rings up to the ring of kDomeStop
+// times the widest scale, the dome beyond it a cap meshed flat and lifted onto it. Every quad
+// corner lies on the target, the rows are rings (each of the wall's edges along its rims at
+// one height, each along the axis at one angle), and the domes reach their poles. From their
+// triangles at 300 mm in 3 mm MDF, a capsule of radius 50 and length 150 came out of the
+// lattice as 82 parts (47 critical regions, Hausdorff 1.97 % of the diagonal), swept as 51
+// (21, 0.66 %); a bowl 39 -> 36 parts (0.46 -> 0.22 %).
+TEST(Quads, ALoftThatClosesToAPointIsSweptWithDomes) {
+  for (const DomedLoft& c : domed_lofts()) {
     SCOPED_TRACE(c.name);
     const std::optional<quads::Extrusion> e = quads::find_extrusion(c.mesh);
     ASSERT_TRUE(e);
@@ -1032,7 +1041,9 @@ TEST(Quads, ALoftThatClosesToAPointIsSweptWithDomes) {
         EXPECT_TRUE(std::abs(pole - c.bottom_pole) < 1e-9 || std::abs(pole - c.top_pole) < 1e-9)
             << pole;
       }
-    const QuadMeshResult r = mesh_of(c.mesh, {.quad_size = 20});
+    // Swept whatever the lattice would give (DomesSweptWhereTheyBeatTheLattice: which is kept).
+    const QuadMeshResult r = mesh_of(
+        c.mesh, {.quad_size = 20, .domed_sweep_share = std::numeric_limits<double>::infinity()});
     ASSERT_EQ(r.method.rfind("loft", 0), 0u) << r.method;
     expect_sound_quads(r.quads);
     EXPECT_EQ(euler(r.quads), c.euler);
@@ -1065,6 +1076,40 @@ TEST(Quads, ALoftThatClosesToAPointIsSweptWithDomes) {
       EXPECT_GT(highest, c.top_pole - 10);
     }
   }
+}
+
+// A sweep with a dome competes with the lattice: kept where it has at most
+// QuadMeshOptions::domed_sweep_share (0.75) of the lattice's irregular vertices, else the
+// lattice is (an egg swept came out with 51 parts against the lattice's 46 at 300 mm, an
+// OpenSCAD sphere 52 against 39, their sweeps with 0.87 and 1.08 of the lattice's irregular
+// vertices; a capsule's, with 0.36, 51 against 82). Each shape meshed three ways: swept
+// (share infinite), by the lattice (share 0: no sweep has none), and by default, which must be
+// the one the rule picks, and say so.
+TEST(Quads, DomesSweptWhereTheyBeatTheLattice) {
+  int swept = 0, lattice = 0;
+  for (const DomedLoft& c : domed_lofts()) {
+    SCOPED_TRACE(c.name);
+    const double inf = std::numeric_limits<double>::infinity();
+    const QuadMeshResult s = mesh_of(c.mesh, {.quad_size = 20, .domed_sweep_share = inf});
+    const QuadMeshResult l = mesh_of(c.mesh, {.quad_size = 20, .domed_sweep_share = 0});
+    const QuadMeshResult d = mesh_of(c.mesh, {.quad_size = 20});
+    ASSERT_EQ(s.method.rfind("loft", 0), 0u) << s.method;
+    ASSERT_EQ(l.method.rfind("lattice", 0), 0u) << l.method;
+    ASSERT_GT(l.irregular_vertices, 0);
+    const bool sweep = s.irregular_vertices <= 0.75 * l.irregular_vertices;
+    const QuadMeshResult& picked = sweep ? s : l;
+    EXPECT_EQ(d.quads.n_faces(), picked.quads.n_faces());
+    EXPECT_EQ(d.irregular_vertices, picked.irregular_vertices);
+    EXPECT_EQ(d.method.rfind(sweep ? "loft" : "lattice", 0), 0u) << d.method;
+    const std::string counts = std::to_string(s.irregular_vertices) +
+                               " irregular vertices swept, " +
+                               std::to_string(l.irregular_vertices) + " on the lattice";
+    EXPECT_NE(d.method.find(counts), std::string::npos) << d.method;
+    (sweep ? swept : lattice) += 1;
+  }
+  // The capsule is swept (its lattice has far more irregular vertices), a sphere is not.
+  EXPECT_GE(swept, 1);
+  EXPECT_GE(lattice, 1);
 }
 
 // A target whose triangles face into the solid (or, open, the other way round) is swept the

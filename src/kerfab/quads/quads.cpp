@@ -840,12 +840,13 @@ TriangleMesh taubin_smoothed(const TriangleMesh& mesh, int rounds) {
 /// Rounds of taubin_smoothed() for the copy a noisy target is meshed on [-].
 constexpr int kDenoiseRounds = 10;
 
-/// make_quad_mesh on \p target as it is (below): its lattices alone, or with \p safe_net its
-/// triangles split into quads alone.
+/// make_quad_mesh on \p target as it is (below): swept where it is an extrusion or a loft (not
+/// with \p sweep false), else its lattices alone, or with \p safe_net its triangles split into
+/// quads alone.
 QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& material,
                                  const QuadMeshOptions& o,
                                  const std::function<void(const std::string&)>& progress,
-                                 bool safe_net);
+                                 bool safe_net, bool sweep = true);
 
 /// The feature angle is raised by this much at a time [rad] ...
 constexpr double kFeatureAngleStep = 5.0 * kPi / 180.0;
@@ -1010,6 +1011,46 @@ bool onto_outline(PolyMesh& cap, const quads::Extrusion& e, const TriangleMesh& 
   return true;
 }
 
+/// \p swept, a target's sweep with a dome, or its lattice (\p lattice_of()) where the sweep has
+/// more than \p share of the lattice's irregular vertices (QuadMeshOptions::domed_sweep_share);
+/// the sweep where no lattice pairs every triangle. The method says which and why.
+/// What a sweep gives is strips without singularities; where a dome's cap brings its own, as
+/// many as the lattice has, the lattice is as good a start and came out better downstream on
+/// round shapes. From their triangles at 300 mm in 3 mm MDF (docs/quad-meshing.md, "Domes"): a
+/// capsule, an OpenSCAD capsule, a bowl, an open dome and a bullet swept with 0.27-0.66 of the
+/// lattice's irregular vertices, and all came out with fewer parts and critical regions (the
+/// capsule 51 parts against 82); an egg, a UV sphere and an OpenSCAD sphere with 0.87-1.11: the
+/// egg 51 parts against the lattice's 46, the OpenSCAD sphere 52 against 39 (the UV sphere 37
+/// against 40).
+QuadMeshResult swept_or_lattice(QuadMeshResult swept, double share,
+                                const std::function<QuadMeshResult()>& lattice_of,
+                                const std::function<void(const std::string&)>& progress) {
+  if (std::isinf(share)) return swept;
+  if (progress)
+    progress("the sweep with its dome has " + std::to_string(swept.irregular_vertices) +
+             " irregular vertices; meshing the lattice to compare");
+  std::optional<QuadMeshResult> lattice;
+  try {
+    lattice = lattice_of();
+  } catch (const SolverError&) {
+  } catch (const InvalidInput&) {
+  }
+  if (!lattice || lattice->unpaired_triangles > 0 || lattice->quads.n_faces() == 0) {
+    swept.method += " (the lattice not made whole)";
+    return swept;
+  }
+  const std::string counts = std::to_string(swept.irregular_vertices) +
+                             " irregular vertices swept, " +
+                             std::to_string(lattice->irregular_vertices) + " on the lattice";
+  if (swept.irregular_vertices <= share * lattice->irregular_vertices) {
+    swept.method += " (" + counts + ")";
+    return swept;
+  }
+  if (progress) progress("the lattice kept: " + counts);
+  lattice->method += " (a loft with a dome, not swept: " + counts + ")";
+  return std::move(*lattice);
+}
+
 /// The cap's quad size tried, as factors on the first (swept_extrusion) [-].
 constexpr std::array<double, 4> kCapSizeTries = {1.0, 0.9, 1.1, 0.8};
 
@@ -1017,13 +1058,17 @@ constexpr std::array<double, 4> kCapSizeTries = {1.0, 0.9, 1.1, 0.8};
 /// make_quad_mesh (a flat patch), the wall swept from the cap's border in rows about as high
 /// as the quads are wide, and the other cap a copy. nullopt where the target is no extrusion,
 /// its cap finds no quads, or the swept quads fail the check.
+/// \p domed: set to whether the target ends in a dome (its sweep then competes with the
+/// lattice, swept_or_lattice).
 std::optional<QuadMeshResult> swept_extrusion(
     const TargetSurface& target, const Material& material, const QuadMeshOptions& o,
     const QuadMeshResult& sized, const FeatureTriangleMesh& features,
-    const std::vector<double>& raisable, const std::function<void(const std::string&)>& progress) {
+    const std::vector<double>& raisable, const std::function<void(const std::string&)>& progress,
+    bool* domed) {
   const TriangleMesh& mesh = target.mesh();
   const std::optional<quads::Extrusion> e = quads::find_extrusion(mesh);
   if (!e) return std::nullopt;
+  *domed = !e->cap_dome.empty() || !e->other_dome.empty();
   const double size = sized.size.size, height = e->top - e->bottom;
   const std::vector<quads::RowBorder> borders = quads::row_borders(*e, size);
   const int rows = static_cast<int>(borders.size()) - 1;
@@ -1121,12 +1166,13 @@ std::optional<QuadMeshResult> swept_extrusion(
 QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& material,
                                  const QuadMeshOptions& o,
                                  const std::function<void(const std::string&)>& progress,
-                                 bool safe_net) {
+                                 bool safe_net, bool sweep) {
   if (o.quads && (*o.quads < 20 || *o.quads > kMaxQuads))
     throw InvalidInput("--quads must be between 20 and " + std::to_string(kMaxQuads) + ", got " +
                        std::to_string(*o.quads));
   if (o.quad_size && !(*o.quad_size > 0 && std::isfinite(*o.quad_size)))
     throw InvalidInput("--quad-size must be > 0 mm");
+  if (!(o.domed_sweep_share >= 0)) throw InvalidInput("quads: domed_sweep_share must be >= 0");
   if (!(o.feature_angle > 0 && o.feature_angle < kPi))
     throw InvalidInput("--quad-feature-angle must be between 0 and 180 degrees");
   const TriangleMesh& mesh = target.mesh();
@@ -1165,10 +1211,15 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
                                border_corners(folds, kBorderCornerReach * size)};
   };
   FeatureTriangleMesh input = features_at(sized.size.size);
-  if (!safe_net)
+  bool domed = false;
+  if (!safe_net && sweep)
     if (std::optional<QuadMeshResult> swept =
-            swept_extrusion(target, material, o, sized, input, raisable, progress))
-      return std::move(*swept);
+            swept_extrusion(target, material, o, sized, input, raisable, progress, &domed)) {
+      if (!domed) return std::move(*swept);
+      return swept_or_lattice(
+          std::move(*swept), o.domed_sweep_share,
+          [&] { return make_quad_mesh_on(target, material, o, progress, false, false); }, progress);
+    }
   // Sharp edges the quads must follow, against the quads' own edges (about 2 area / size long
   // in all): past a quarter of those the lattice is mostly constraint. Spot from its triangles
   // at 250 mm with --quad-feature-angle 20 marks 5.0 m of its edges (0.69 of area / size) and

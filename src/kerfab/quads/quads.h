@@ -35,6 +35,10 @@ struct QuadMeshOptions {
   int min_quads = 400;                ///< the size rule never gives fewer quads [-]
   int max_quads = 6000;               ///< nor more [-]
   int smoothing_iterations = 200;     ///< Gauss-Seidel sweeps of the position field [-]
+  /// A target that ends in a dome is swept where the sweep has at most this share of the
+  /// lattice's irregular vertices, else meshed by the lattice (docs/quad-meshing.md, "Domes")
+  /// [-], >= 0; infinity: always swept.
+  double domed_sweep_share = 0.75;
 };
 
 /// How the quad size was chosen (docs/quad-meshing.md, "Size").
