@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <future>
 #include <limits>
 #include <map>
 #include <optional>
@@ -1253,8 +1254,6 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
   // The whole search, once as the fields come and, where its quads leave feature lines
   // crossing them, once with the lattice lines held on the feature lines (constrained).
   auto mesh_lattices = [&](bool constrained) {
-    QuadMeshResult r = sized;
-    FeatureTriangleMesh remeshed;
     using Mode = quads::LatticeInput::Mode;
     // The safe net tries finer triangles until every face is sound (each edge becomes two quad
     // edges, so 1.6 x the quad size gives quads of about the size wanted).
@@ -1271,10 +1270,11 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
     // A sound pure lattice competes with the split one of twice the spacing (its quads are as
     // large): on smooth closed shapes the coarser lattice has fewer dislocations (sphere 44
     // irregular vertices against 68), where it bridges a thin part the pure one is kept.
-    std::optional<std::pair<QuadMeshResult, FeatureTriangleMesh>> pure;
-    for (const auto& [mode, spacing_factor, edge] : attempts) {
-      if (pure && mode != Mode::kSplit) break;
-      if ((mode == Mode::kTriangles) != safe_net) continue;
+    // One attempt: the surface remeshed, its fields fitted and the lattice extracted, from \p r
+    // (the result so far: what the attempt does not set, it keeps).
+    auto attempt_at = [&](const Attempt& at, QuadMeshResult r) {
+      const auto& [mode, spacing_factor, edge] = at;
+      FeatureTriangleMesh remeshed;
       const double spacing = spacing_factor * r.size.size;
       remeshed = isotropic_remesh(input, edge * r.size.size, 5);
       const quads::Surface surface = quads::make_surface(remeshed.mesh);
@@ -1388,7 +1388,26 @@ QuadMeshResult make_quad_mesh_on(const TargetSurface& target, const Material& ma
                               irregular_vertices(c.quads) < irregular_vertices(best->quads)));
         if (better) best = std::move(c);
       }
-      r = std::move(*best);
+      return std::pair{std::move(*best), std::move(remeshed)};
+    };
+    // The pure lattice's attempt and the split one's after it are made side by side: the split
+    // one is made after every pure one (it competes with a sound one, and replaces one that is
+    // not), and each is most of the stage's time. Each is a function of the target alone; the
+    // split one keeps the pure one's count of unpaired triangles, as made after it.
+    QuadMeshResult r = sized;
+    FeatureTriangleMesh remeshed;
+    std::future<std::pair<QuadMeshResult, FeatureTriangleMesh>> split_ahead;
+    if (!safe_net) split_ahead = std::async(std::launch::async, attempt_at, attempts[1], r);
+    std::optional<std::pair<QuadMeshResult, FeatureTriangleMesh>> pure;
+    for (std::size_t i = 0; i < std::size(attempts); ++i) {
+      const auto& [mode, spacing_factor, edge] = attempts[i];
+      if (pure && mode != Mode::kSplit) break;
+      if ((mode == Mode::kTriangles) != safe_net) continue;
+      const double spacing = spacing_factor * r.size.size;
+      auto made = i == 1 && split_ahead.valid() ? split_ahead.get() : attempt_at(attempts[i], r);
+      if (i == 1) made.first.unpaired_triangles = r.unpaired_triangles;
+      remeshed = std::move(made.second);
+      r = std::move(made.first);
       if (progress)
         progress((mode == Mode::kPure    ? "lattice of "
                   : mode == Mode::kSplit ? "split lattice of "
