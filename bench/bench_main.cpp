@@ -1,5 +1,5 @@
-// Benchmarks: closest-point queries, the bending integer program, flattening, quad meshing,
-// nesting and whole runs from a triangle mesh on real meshes and on a thin rod.
+// Benchmarks: closest-point queries, the bending integer program, flattening, joints, quad
+// meshing, nesting and whole runs from a triangle mesh on real meshes and on a thin rod.
 // Run: build/bench/kerfab_bench  (speed targets live here, never in unit tests)
 #include <benchmark/benchmark.h>
 
@@ -11,6 +11,7 @@
 #include "kerfab/flatten/flatten.h"
 #include "kerfab/input/prepare.h"
 #include "kerfab/io/mesh_io.h"
+#include "kerfab/joints/joints.h"
 #include "kerfab/layout/layout.h"
 #include "kerfab/pipeline/pipeline.h"
 #include "kerfab/quads/quads.h"
@@ -114,6 +115,29 @@ void BM_FlattenSpot(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_FlattenSpot)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// Issue 18: the joints stage (teeth, slots, every part's outline drawn and its trial teeth) on
+// Spot's control mesh after `steps` Catmull-Clark steps at 500 mm in 3 mm MDF, its strips as the
+// bending program and the flattening give them (the CLI also splits parts larger than the sheet
+// first). Steps 3: 11,712 quads, about 360 long strips; the stage's time grows with the strips'
+// length (each trial tooth draws its two parts whole).
+void BM_JointsSpot(benchmark::State& state) {
+  kerfab::InputOptions opt;
+  opt.size = 500.0;
+  opt.subdivide = static_cast<int>(state.range(0));
+  const auto in = kerfab::prepare_input(kerfab::read_mesh(mesh_path("spot_triangulated.obj")),
+                                        kerfab::read_mesh(mesh_path("spot_control_mesh.obj")), opt);
+  const auto bending = kerfab::choose_bending_edges(in.quads, in.surface, {});
+  const auto strips = kerfab::build_strips(in.quads, bending, in.surface, {});
+  const auto flat = kerfab::flatten_patches(strips, {});
+  for (auto _ : state) {
+    const auto j = kerfab::make_joints(strips, flat, kerfab::Material{}, kerfab::Machine{}, {});
+    state.counters["parts"] = static_cast<double>(j.parts.size());
+    state.counters["teeth"] = j.teeth;
+    state.counters["quads"] = static_cast<double>(in.quads.n_faces());
+  }
+}
+BENCHMARK(BM_JointsSpot)->Arg(1)->Arg(3)->Unit(benchmark::kSecond)->Iterations(1);
 
 // Issue 15's speed targets. A triangle target to about `quads` quads (0: the size rule),
 // scaled to 250 mm: the quad meshing stage alone (target: a 70k-triangle mesh to ~1500 quads in
