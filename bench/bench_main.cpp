@@ -119,8 +119,8 @@ BENCHMARK(BM_FlattenSpot)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 // Issue 18: the joints stage (teeth, slots, every part's outline drawn and its trial teeth) on
 // Spot's control mesh after `steps` Catmull-Clark steps at 500 mm in 3 mm MDF, its strips as the
 // bending program and the flattening give them (the CLI also splits parts larger than the sheet
-// first). Steps 3: 11,712 quads, about 360 long strips; the stage's time grows with the strips'
-// length (each trial tooth draws its two parts whole).
+// first). Steps 3: 11,712 quads, 343 parts, most of them long strips; the stage's time grows with
+// the strips' length (each trial tooth draws its two parts whole).
 void BM_JointsSpot(benchmark::State& state) {
   kerfab::InputOptions opt;
   opt.size = 500.0;
