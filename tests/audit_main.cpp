@@ -1,9 +1,13 @@
 // kerfab_audit DIR [--quiet] [--kerf-width MM] [--min-cut-spacing MM]: the independent sheet
 // check of tests/sheet_audit.h on a run's cut/ folder, for looking at any output by hand, with
-// the laser the run was made for (its defaults: 0.15 mm kerf, cuts 0.9 mm apart). Prints the
-// counts and every finding.
+// the laser the run was made for: its kerf width, cut spacing and shortest cut as DIR/report.json
+// states them (options.kerf_width_mm, min_cut_spacing_mm, min_cut_length_mm), else kerfab's
+// defaults (0.15 mm kerf, cuts 0.9 mm apart and 2 mm long); the flags win over both. Prints the
+// laser it audits for, the counts and every finding.
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "sheet_audit.h"
@@ -16,6 +20,22 @@ int main(int argc, char** argv) {
     return 2;
   }
   kerfab::test::AuditLimits limits;
+  // The run's own laser, where its report says.
+  std::string source = "kerfab's defaults";
+  if (std::ifstream in(std::filesystem::path(argv[1]) / "report.json"); in) {
+    const auto report = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (report.is_object() && report.contains("options") && report["options"].is_object()) {
+      const auto& o = report["options"];
+      const auto take = [&](const char* key, double& value) {
+        if (o.contains(key) && o[key].is_number() && o[key].get<double>() >= 0)
+          value = o[key].get<double>();
+      };
+      take("kerf_width_mm", limits.kerf_width);
+      take("min_cut_spacing_mm", limits.min_cut_spacing);
+      take("min_cut_length_mm", limits.min_cut_length);
+      source = "report.json";
+    }
+  }
   bool quiet = false;
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -29,12 +49,17 @@ int main(int argc, char** argv) {
         return 2;
       }
       (arg == "--kerf-width" ? limits.kerf_width : limits.min_cut_spacing) = v;
+      source = "the flags";
     } else {
       std::cerr << usage;
       return 2;
     }
   }
   const auto a = kerfab::test::audit_sheets(std::filesystem::path(argv[1]) / "cut", limits);
+  if (!quiet)
+    std::cout << "laser (" << source << "): kerf " << limits.kerf_width << " mm, cuts "
+              << limits.min_cut_spacing << " mm apart, " << limits.min_cut_length
+              << " mm long at least\n";
   if (!quiet)
     for (const auto& f : a.findings) std::cout << f << "\n";
   std::cout << "sheets " << a.sheets << ", parts " << a.parts << ", cuts " << a.cuts
