@@ -62,12 +62,19 @@ int main(int argc, char** argv) {
               << " mm long at least\n";
   if (!quiet)
     for (const auto& f : a.findings) std::cout << f << "\n";
+  // Distances measured on no pair (no two cuts in one part; no two parts' boxes within the gap
+  // of each other) are said so, not printed as the 1e300 they start from.
+  const auto closest = [](double d, const char* none) {
+    return d < 1e299 ? std::to_string(d) + " mm" : std::string(none);
+  };
   std::cout << "sheets " << a.sheets << ", parts " << a.parts << ", cuts " << a.cuts
             << "; cut pairs closer than the spacing " << a.close_cut_pairs << " (closest "
-            << a.closest_cuts << " mm), short cuts " << a.short_cuts << ", small parts "
-            << a.small_parts << ", narrow parts " << a.narrow_parts << ", thin tails/slits "
-            << a.thin_features << ", engraving off part/over cuts " << a.labels_off_part
+            << closest(a.closest_cuts, "none: no part has two cuts") << "), short cuts "
+            << a.short_cuts << ", small parts " << a.small_parts << ", narrow parts "
+            << a.narrow_parts << ", thin tails/slits " << a.thin_features
+            << ", engraving off part/over cuts " << a.labels_off_part
             << ", parts closer than the gap " << a.close_part_pairs << " (closest "
-            << a.closest_parts << " mm)\n";
+            << closest(a.closest_parts, "none measured: no two parts' boxes within the gap")
+            << ")\n";
   return a.clean() ? 0 : 1;
 }
