@@ -20,6 +20,7 @@
 #include "cli_util.h"
 #include "kerfab/adapters/target_surface.h"
 #include "kerfab/io/mesh_io.h"
+#include "kerfab/layout/layout.h"
 #include "kerfab/pipeline/notes.h"
 #include "kerfab/pipeline/stages.h"
 #include "shapes.h"
@@ -635,6 +636,15 @@ TEST(Cli, ALowPolyShapeGetsQuadsFineEnoughForItsEdges) {
   expect_one_plate_per_face(out, 20, 30);
 }
 
+// A run's parts are \p plates flat plates and nothing else: every part a plate, no kerf cut,
+// every border jointed.
+void expect_all_plates(const nlohmann::json& report, int plates) {
+  EXPECT_EQ(report["resolve"]["parts_after"].get<int>(), plates);
+  EXPECT_EQ(test::resolve_changes(report, "plate"), plates);
+  EXPECT_EQ(report["kerf"]["cuts"].get<int>(), 0);
+  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+}
+
 // A square frame from its triangles (200 mm outside, a 120 mm hole, 40 mm deep: genus one, all
 // flat faces). Its walls were plates, but its top and bottom are rings, no disk, so no plate
 // either, and came out a part per quad: 97 parts. A flat face with a hole is now cut in two
@@ -665,12 +675,7 @@ TEST(Cli, AFrameFromItsTrianglesIsCutInPlates) {
   const CliRun r = run_cli("run --target " + target.string() + " --out " + out.string(), scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto report = read_report(out);
-  EXPECT_EQ(report["resolve"]["parts_after"].get<int>(), 12);
-  int plates = 0;
-  for (const auto& c : report["resolve"]["changes"]) plates += c["action"] == "plate" ? 1 : 0;
-  EXPECT_EQ(plates, 12);
-  EXPECT_EQ(report["kerf"]["cuts"].get<int>(), 0);
-  EXPECT_EQ(report["joints"]["borders_without_joint"].get<int>(), 0);
+  expect_all_plates(report, 12);
   int box = 0, tab = 0;
   for (const auto& b : report["joints"]["borders"]) {
     box += b["joint"] == "box" ? 1 : 0;
@@ -682,6 +687,42 @@ TEST(Cli, AFrameFromItsTrianglesIsCutInPlates) {
   const auto audit = test::audit_sheets(out / "cut");
   EXPECT_TRUE(audit.findings.empty()) << audit.findings.front();
   EXPECT_EQ(test::read_sheet_parts(out / "cut").size(), 12u);
+}
+
+// A box larger than the laser bed (a 250 mm box from its 12 triangles on a 300 x 200 mm bed,
+// 280 x 180 mm inside its margins): its faces are flat panels too large for a sheet. They had
+// been left as strips, 8 to a face, joined along their whole length by dovetail tabs (48 parts,
+// 886 box teeth and 3444 tabs, 60 min of cutting on 12 sheets); now each face is cut in plates
+// that fit, as few as take the fewest sheets: two of 250 x 125 mm, 12 parts on 12 sheets,
+// 20 min of cutting, nothing kerfed, every border jointed, every part on a sheet.
+TEST(Cli, ABoxLargerThanTheBedIsCutInPlatesThatFit) {
+  const fs::path scratch = test::fresh_dir();
+  const fs::path target = scratch / "box.obj";
+  {
+    std::ofstream f(target);
+    f << box_obj(Vec3(0, 0, 0), Vec3(250, 250, 250));
+  }
+  const fs::path out = scratch / "out";
+  const CliRun r = run_cli(
+      "run --target " + target.string() + " --sheet 300x200 --out " + out.string(), scratch);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto report = read_report(out);
+  expect_all_plates(report, 12);
+  EXPECT_TRUE(report["layout"]["unplaced"].empty());
+  EXPECT_LE(report["layout"]["sheets"].get<int>(), 12);
+  EXPECT_LT(report["quality"]["hausdorff_mm"].get<double>(), 0.01);
+  // Read back from the sheets: 12 parts, each within the bed's 280 x 180 mm inside its margins
+  // and no larger than half a face with its teeth (250 x 125 mm, teeth reaching 1.5 mm).
+  const auto parts = test::read_sheet_parts(out / "cut");
+  ASSERT_EQ(parts.size(), 12u);
+  for (const auto& part : parts) {
+    const MinRect rect = min_area_rect(part.outline);
+    EXPECT_LE(std::max(rect.width, rect.height), 256.0) << part.id;
+    EXPECT_LE(std::min(rect.width, rect.height), 131.0) << part.id;
+    EXPECT_GT(std::abs(polygon_area(part.outline)), 0.8 * 250 * 125) << part.id;
+  }
+  const auto audit = test::audit_sheets(out / "cut");
+  EXPECT_TRUE(audit.findings.empty()) << audit.findings.front();
 }
 
 // Paper sizes by name; paper models go on A4 pages of true size unless told otherwise. A 120 mm

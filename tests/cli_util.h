@@ -53,4 +53,11 @@ inline nlohmann::json read_report(const fs::path& dir) {
   return nlohmann::json::parse(std::ifstream(dir / "report.json"));
 }
 
+/// How many of the resolve stage's changes in \p report are \p action ("plate", "outline", ...).
+inline int resolve_changes(const nlohmann::json& report, const std::string& action) {
+  int n = 0;
+  for (const auto& c : report["resolve"]["changes"]) n += c["action"] == action ? 1 : 0;
+  return n;
+}
+
 }  // namespace kerfab::test

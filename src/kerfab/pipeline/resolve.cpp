@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -17,6 +18,7 @@
 #include "kerfab/core/errors.h"
 #include "kerfab/flatten/flatten.h"
 #include "kerfab/joints/tooth_offsets.h"
+#include "kerfab/layout/layout.h"
 
 namespace kerfab {
 namespace {
@@ -26,6 +28,12 @@ constexpr int kNone = -1;
 /// A flat region with holes is cut in two, and its pieces again, at most this many times deep
 /// (plates_for_flat_regions).
 constexpr int kPlateCuts = 3;
+/// A plate larger than the sheet is cut along each side of its smallest rectangle into at most
+/// this many pieces (fitting_pieces): a panel up to about 8 times the sheet each way.
+constexpr int kPlateGrid = 8;
+/// Of those grids, the one of fewest pieces whose pieces would take at most this share more
+/// sheets than the grid of fewest sheets [-] (fitting_pieces).
+constexpr double kPlateSheetSlack = 0.1;
 /// A flat region of the model (plates_for_flat_regions): every corner of its quads within this
 /// of the plane of the quad it grew from [mm], every quad facing within kPlateTilt of it [rad];
 /// cut as one plate where at least kPlateBounded of its outline's length lies on folds sharper
@@ -1135,7 +1143,7 @@ class Resolver {
     const int n = static_cast<int>(m_.n_faces());
     std::vector<char> seen(n, 0);
     Added trial = accepted_;
-    std::vector<std::set<int>> plates;
+    std::vector<std::vector<std::set<int>>> plates;  // per flat region, its plates
     // Whether a quad's middle lies on the model (within kPlateFlatness): asked once per quad,
     // though every seed beside it looks at it again.
     std::vector<signed char> model_under(n, -1);
@@ -1178,15 +1186,19 @@ class Resolver {
         }
       }
       if (group.size() < 2 || bounded_by_folds(group, normal) < kPlateBounded) continue;
-      std::vector<std::set<int>> pieces = plate_pieces(group, kPlateCuts);
-      bool handy = !pieces.empty();
-      for (const std::set<int>& piece : pieces)
-        handy = handy && big_enough(piece) && fits_sheet(plane_outline(piece), o_.usable);
-      if (!handy) continue;
-      for (std::set<int>& piece : pieces) {
-        add_facet({piece.begin(), piece.end()}, trial, nullptr);
-        plates.push_back(std::move(piece));
+      // Each piece a plate that fits the sheet, or the region stays as it is.
+      std::vector<std::set<int>> pieces;
+      bool handy = true;
+      for (std::set<int>& piece : plate_pieces(group, kPlateCuts)) {
+        std::vector<std::set<int>> fit = fitting_pieces(std::move(piece));
+        handy = handy && !fit.empty();
+        for (std::set<int>& f : fit) pieces.push_back(std::move(f));
       }
+      for (const std::set<int>& piece : pieces) handy = handy && big_enough(piece);
+      if (pieces.empty() || !handy) continue;
+      for (const std::set<int>& piece : pieces)
+        add_facet({piece.begin(), piece.end()}, trial, nullptr);
+      plates.push_back(std::move(pieces));
     }
     if (plates.empty()) return;
     // All at once; where that leaves more defects, one by one, each kept where it adds none
@@ -1201,21 +1213,25 @@ class Resolver {
         return std::nullopt;
       }
     };
+    // One by one: a flat region's plates (more than one where it was cut to fit the sheet)
+    // together.
     std::vector<std::set<int>> kept;
     if (std::optional<PartsBuild> all = try_build(trial)) {
       build_ = std::move(*all);
       accepted_ = std::move(trial);
-      kept = std::move(plates);
+      for (auto& region : plates)
+        for (std::set<int>& group : region) kept.push_back(std::move(group));
     } else if (plates.size() > 1) {
-      for (std::set<int>& group : plates) {
+      for (auto& region : plates) {
         if (out_of_time()) break;  // a rebuild each: a model of many faces could take minutes
         Added one = accepted_;
-        add_facet({group.begin(), group.end()}, one, nullptr);
+        for (const std::set<int>& group : region)
+          add_facet({group.begin(), group.end()}, one, nullptr);
         std::optional<PartsBuild> b = try_build(one);
         if (!b) continue;
         build_ = std::move(*b);
         accepted_ = std::move(one);
-        kept.push_back(std::move(group));
+        for (std::set<int>& group : region) kept.push_back(std::move(group));
       }
     }
     for (const std::set<int>& group : kept) {
@@ -1238,6 +1254,157 @@ class Resolver {
   std::vector<std::set<int>> plate_pieces(const std::set<int>& group, int cuts) const {
     if (plate(group)) return {group};
     if (cuts == 0 || disk(group)) return {};
+    std::vector<std::set<int>> out;
+    for (const std::set<int>& piece : halves(group)) {
+      std::vector<std::set<int>> more = plate_pieces(piece, cuts - 1);
+      if (more.empty()) return {};
+      for (std::set<int>& m : more) out.push_back(std::move(m));
+    }
+    return out;
+  }
+
+  /// The plate \p piece itself where it fits the sheet with room for its teeth
+  /// (with_room_for_teeth()), else in pieces that do, each a plate a maker can handle (plate(),
+  /// big_enough()); empty where none is found. The pieces are the cells of a grid of na x nb
+  /// along the sides of the plate's smallest rectangle on its plane (na, nb up to kPlateGrid),
+  /// cut between quads so that each cell holds as many of them as the next. Each grid's sheets
+  /// are estimated: each piece, grown by its teeth and the spacing, counts as one over as many
+  /// of its size as fit on a sheet in rows and columns. Of the grids whose pieces fit, the one
+  /// of fewest pieces within kPlateSheetSlack of the fewest sheets is taken (a piece per sheet
+  /// where smaller pieces would pack two or three to one costs sheets; smaller pieces than
+  /// needed cost parts, joints and cutting time). A 250 mm box on a 300 x 200 mm laser bed had its
+  /// faces (250 x 250 mm, over the bed's 280 x 180 inside its margins) cut as 48 strips, 8 to a
+  /// face, joined along their whole length by dovetail tabs; now each face is two plates of 250 x
+  /// 125 mm.
+  std::vector<std::set<int>> fitting_pieces(std::set<int> piece) const {
+    const LayoutOptions sheet = with_room_for_teeth();
+    const Plane pl = plane_of(piece);
+    const Polygon2 outline = plane_outline(piece, pl);
+    if (fits_sheet(outline, sheet)) return {std::move(piece)};
+    // The quads' middles in the frame of the smallest rectangle.
+    const MinRect rect = min_area_rect(outline);
+    const Vec2 a(std::cos(rect.angle), std::sin(rect.angle)), b(-a.y(), a.x());
+    std::vector<int> quads(piece.begin(), piece.end());
+    std::vector<double> along_a, along_b;
+    for (int q : quads) {
+      Vec3 c = Vec3::Zero();
+      for (int v : corners_of(q)) c += 0.25 * corner(v);
+      const Vec2 in_plane((c - pl.mean).dot(pl.u), (c - pl.mean).dot(pl.w));
+      along_a.push_back(in_plane.dot(a)), along_b.push_back(in_plane.dot(b));
+    }
+    // Thresholds between n cells along one side, each holding as many quads as the next as
+    // far as rows allow (a cut never runs through middles less than a micrometre apart).
+    const auto thresholds = [](std::vector<double> at,
+                               int n) -> std::optional<std::vector<double>> {
+      std::sort(at.begin(), at.end());
+      const int count = static_cast<int>(at.size());
+      std::vector<double> t;
+      for (int k = 1; k < n; ++k) {
+        int j = static_cast<int>(std::lround(static_cast<double>(k) * count / n));
+        while (j < count && j > 0 && at[j] - at[j - 1] < 1e-3) ++j;
+        if (j <= 0 || j >= count) return std::nullopt;
+        const double cut = 0.5 * (at[j - 1] + at[j]);
+        if (!t.empty() && cut <= t.back()) return std::nullopt;
+        t.push_back(cut);
+      }
+      return t;
+    };
+    const Vec2 stock = o_.usable.size_of(-1);
+    const double width = stock.x() - 2 * o_.usable.margin,
+                 height = stock.y() - 2 * o_.usable.margin;
+    const double grown = 2 * o_.material.thickness + sheet.spacing;  // teeth both sides, spacing
+    const auto share = [&](const Polygon2& poly) {                   // of a sheet [-]
+      const MinRect r = min_area_rect(poly);
+      const auto per_sheet = [&](double w, double h) {
+        return std::floor((width + sheet.spacing) / (w + grown)) *
+               std::floor((height + sheet.spacing) / (h + grown));
+      };
+      const double n = std::max(per_sheet(r.width, r.height), per_sheet(r.height, r.width));
+      return n >= 1 ? 1 / n : 1.0;
+    };
+    // Every grid whose pieces fit the sheet, with its pieces and sheets; then the qualifying one
+    // of fewest pieces within kPlateSheetSlack of the fewest sheets.
+    struct Grid {
+      double sheets;
+      std::vector<std::set<int>> pieces;
+    };
+    std::vector<Grid> grids;
+    for (int na = 1; na <= kPlateGrid; ++na)
+      for (int nb = 1; nb <= kPlateGrid; ++nb) {
+        if (na * nb == 1 || na * nb > static_cast<int>(quads.size())) continue;
+        const auto ta = thresholds(along_a, na), tb = thresholds(along_b, nb);
+        if (!ta || !tb) continue;
+        std::map<int, std::set<int>> cells;
+        for (std::size_t i = 0; i < quads.size(); ++i) {
+          const int ia =
+              static_cast<int>(std::upper_bound(ta->begin(), ta->end(), along_a[i]) - ta->begin());
+          const int ib =
+              static_cast<int>(std::upper_bound(tb->begin(), tb->end(), along_b[i]) - tb->begin());
+          cells[ia * kPlateGrid + ib].insert(quads[i]);
+        }
+        Grid g{0, {}};
+        for (auto& [cell, members] : cells)
+          for (std::set<int>& c : connected_pieces(members)) g.pieces.push_back(std::move(c));
+        bool fits = true;
+        for (const std::set<int>& c : g.pieces) {
+          const Polygon2 poly = plane_outline(c);
+          fits = fits && fits_sheet(poly, sheet);
+          if (!fits) break;
+          g.sheets += share(poly);
+        }
+        if (fits) grids.push_back(std::move(g));
+      }
+    if (grids.empty()) return {};
+    double fewest = std::numeric_limits<double>::infinity();
+    for (const Grid& g : grids) fewest = std::min(fewest, g.sheets);
+    std::sort(grids.begin(), grids.end(), [](const Grid& x, const Grid& y) {
+      return x.pieces.size() != y.pieces.size() ? x.pieces.size() < y.pieces.size()
+                                                : x.sheets < y.sheets;
+    });
+    for (Grid& g : grids) {
+      if (g.sheets > (1 + kPlateSheetSlack) * fewest + 1e-9) continue;
+      bool handy = true;
+      for (const std::set<int>& c : g.pieces) handy = handy && plate(c) && big_enough(c);
+      if (handy) return std::move(g.pieces);
+    }
+    return {};
+  }
+
+  /// The sheet less its margins and less what a facet's teeth may reach past its outline on
+  /// its plane (its margins grown by a sheet's thickness: box teeth reach half of it, dovetail
+  /// tabs half a tooth's width, both at most the thickness with the defaults).
+  LayoutOptions with_room_for_teeth() const {
+    LayoutOptions sheet = o_.usable;
+    sheet.margin += o_.material.thickness;
+    return sheet;
+  }
+  /// True when a facet whose outline on its plane is \p outline fits the sheet with its teeth
+  /// (with_room_for_teeth()): a facet is never split to fit, so facets join only so far.
+  bool fits_with_teeth(const Polygon2& outline) const {
+    return fits_sheet(outline, with_room_for_teeth());
+  }
+
+  /// The pieces of the quads \p group connected across their edges.
+  std::vector<std::set<int>> connected_pieces(std::set<int> left) const {
+    std::vector<std::set<int>> out;
+    while (!left.empty()) {
+      std::set<int> piece = {*left.begin()};
+      std::vector<int> todo = {*left.begin()};
+      left.erase(left.begin());
+      while (!todo.empty()) {
+        const int q = todo.back();
+        todo.pop_back();
+        for (auto f : m_.ff_range(m_.face_handle(q)))
+          if (left.erase(f.idx()) > 0) piece.insert(f.idx()), todo.push_back(f.idx());
+      }
+      out.push_back(std::move(piece));
+    }
+    return out;
+  }
+
+  /// The connected pieces of the quads \p group on either side of a line through its middle
+  /// (on its plane, the quads' centres) across its longer side.
+  std::vector<std::set<int>> halves(const std::set<int>& group) const {
     const Plane p = plane_of(group);
     auto centre = [&](int q) {
       Vec3 c = Vec3::Zero();
@@ -1254,23 +1421,8 @@ class Resolver {
     std::array<std::set<int>, 2> sides;
     for (int q : group) sides[(centre(q) - p.mean).dot(across) > 0 ? 1 : 0].insert(q);
     std::vector<std::set<int>> out;
-    for (const std::set<int>& side : sides) {
-      std::set<int> left = side;
-      while (!left.empty()) {  // each connected piece of the side
-        std::set<int> piece = {*left.begin()};
-        std::vector<int> todo = {*left.begin()};
-        left.erase(left.begin());
-        while (!todo.empty()) {
-          const int q = todo.back();
-          todo.pop_back();
-          for (auto f : m_.ff_range(m_.face_handle(q)))
-            if (left.erase(f.idx()) > 0) piece.insert(f.idx()), todo.push_back(f.idx());
-        }
-        std::vector<std::set<int>> more = plate_pieces(piece, cuts - 1);
-        if (more.empty()) return {};
-        for (std::set<int>& m : more) out.push_back(std::move(m));
-      }
-    }
+    for (const std::set<int>& side : sides)
+      for (std::set<int>& piece : connected_pieces(side)) out.push_back(std::move(piece));
     return out;
   }
 
@@ -2205,7 +2357,7 @@ class Resolver {
           [&](double e, const std::set<int>& quads) {
             if (e > 0.5 * tolerance && any_bent(quads)) return false;
             const auto outline = plate_outline(quads);
-            return outline && compact(*outline);
+            return outline && compact(*outline) && fits_with_teeth(*outline);
           });
       if (pick < 0) break;
       const int ba = met[pick].first, bb = met[pick].second;
