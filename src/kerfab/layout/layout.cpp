@@ -680,7 +680,8 @@ LayoutResult nest_parts(const std::vector<Polygon2>& outlines, const LayoutOptio
        << o.margin << " mm margins";
     if (need < 1e300)
       os << " (the narrowest part is " << std::ceil(need) << " mm wide, teeth included)";
-    os << "; use a larger --sheet";
+    os << "; use a larger --sheet, a smaller --size, or finer quads (a part larger than the "
+          "sheet is split between its quads, one quad is not)";
     throw InvalidInput(os.str());
   }
   double total = 0, whole = 0;
