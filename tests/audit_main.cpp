@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
         return 2;
       }
       (arg == "--kerf-width" ? limits.kerf_width : limits.min_cut_spacing) = v;
-      source = "the flags";
+      source = source == "report.json" ? "report.json and the flags" : "the flags";
     } else {
       std::cerr << usage;
       return 2;
