@@ -1148,11 +1148,8 @@ class Resolver {
     // though every seed beside it looks at it again.
     std::vector<signed char> model_under(n, -1);
     const auto on_model = [&](int q) {
-      if (model_under[q] < 0) {
-        Vec3 middle = Vec3::Zero();
-        for (int v : corners_of(q)) middle += 0.25 * corner(v);
-        model_under[q] = in_.surface.closest(middle).distance <= kPlateFlatness ? 1 : 0;
-      }
+      if (model_under[q] < 0)
+        model_under[q] = in_.surface.closest(middle(q)).distance <= kPlateFlatness ? 1 : 0;
       return model_under[q] == 1;
     };
     for (int seed = 0; seed < n; ++seed) {
@@ -1194,7 +1191,6 @@ class Resolver {
         handy = handy && !fit.empty();
         for (std::set<int>& f : fit) pieces.push_back(std::move(f));
       }
-      for (const std::set<int>& piece : pieces) handy = handy && big_enough(piece);
       if (pieces.empty() || !handy) continue;
       for (const std::set<int>& piece : pieces)
         add_facet({piece.begin(), piece.end()}, trial, nullptr);
@@ -1264,8 +1260,9 @@ class Resolver {
   }
 
   /// The plate \p piece itself where it fits the sheet with room for its teeth
-  /// (with_room_for_teeth()), else in pieces that do, each a plate a maker can handle (plate(),
-  /// big_enough()); empty where none is found. The pieces are the cells of a grid of na x nb
+  /// (with_room_for_teeth()), else in pieces that do, each a plate; empty where a piece would be
+  /// too small to handle (big_enough()) or no grid qualifies. The pieces are the cells of a grid
+  /// of na x nb
   /// along the sides of the plate's smallest rectangle on its plane (na, nb up to kPlateGrid),
   /// cut between quads so that each cell holds as many of them as the next. Each grid's sheets
   /// are estimated: each piece, grown by its teeth and the spacing, counts as one over as many
@@ -1280,15 +1277,16 @@ class Resolver {
     const LayoutOptions sheet = with_room_for_teeth();
     const Plane pl = plane_of(piece);
     const Polygon2 outline = plane_outline(piece, pl);
-    if (fits_sheet(outline, sheet)) return {std::move(piece)};
+    if (fits_sheet(outline, sheet))
+      return big_enough(piece) ? std::vector<std::set<int>>{std::move(piece)}
+                               : std::vector<std::set<int>>{};
     // The quads' middles in the frame of the smallest rectangle.
     const MinRect rect = min_area_rect(outline);
     const Vec2 a(std::cos(rect.angle), std::sin(rect.angle)), b(-a.y(), a.x());
     std::vector<int> quads(piece.begin(), piece.end());
     std::vector<double> along_a, along_b;
     for (int q : quads) {
-      Vec3 c = Vec3::Zero();
-      for (int v : corners_of(q)) c += 0.25 * corner(v);
+      const Vec3 c = middle(q);
       const Vec2 in_plane((c - pl.mean).dot(pl.u), (c - pl.mean).dot(pl.w));
       along_a.push_back(in_plane.dot(a)), along_b.push_back(in_plane.dot(b));
     }
@@ -1406,20 +1404,15 @@ class Resolver {
   /// (on its plane, the quads' centres) across its longer side.
   std::vector<std::set<int>> halves(const std::set<int>& group) const {
     const Plane p = plane_of(group);
-    auto centre = [&](int q) {
-      Vec3 c = Vec3::Zero();
-      for (int v : corners_of(q)) c += 0.25 * corner(v);
-      return c;
-    };
     double lo_u = std::numeric_limits<double>::infinity(), hi_u = -lo_u, lo_w = lo_u, hi_w = -lo_u;
     for (int q : group) {
-      const Vec3 d = centre(q) - p.mean;
+      const Vec3 d = middle(q) - p.mean;
       lo_u = std::min(lo_u, d.dot(p.u)), hi_u = std::max(hi_u, d.dot(p.u));
       lo_w = std::min(lo_w, d.dot(p.w)), hi_w = std::max(hi_w, d.dot(p.w));
     }
     const Vec3 across = hi_u - lo_u >= hi_w - lo_w ? p.u : p.w;
     std::array<std::set<int>, 2> sides;
-    for (int q : group) sides[(centre(q) - p.mean).dot(across) > 0 ? 1 : 0].insert(q);
+    for (int q : group) sides[(middle(q) - p.mean).dot(across) > 0 ? 1 : 0].insert(q);
     std::vector<std::set<int>> out;
     for (const std::set<int>& side : sides)
       for (std::set<int>& piece : connected_pieces(side)) out.push_back(std::move(piece));
@@ -1947,14 +1940,7 @@ class Resolver {
       at = next[at];
       ++steps;
     } while (at != next.begin()->first && steps <= static_cast<int>(next.size()));
-    std::set<int> seen = {*quads.begin()}, todo = seen;
-    while (!todo.empty()) {
-      const int q = *todo.begin();
-      todo.erase(todo.begin());
-      for (auto f : m_.ff_range(m_.face_handle(q)))
-        if (quads.count(f.idx()) && seen.insert(f.idx()).second) todo.insert(f.idx());
-    }
-    return steps == static_cast<int>(next.size()) && seen.size() == quads.size();
+    return steps == static_cast<int>(next.size()) && connected_pieces(quads).size() == 1;
   }
 
   /// Planar facets over the region's quads (those not yet in one): adjacent groups merge,
@@ -2274,6 +2260,13 @@ class Resolver {
     }
     make_counter_clockwise(poly);
     return cut.empty() ? std::vector<Polygon2>{poly} : polygon_difference({poly}, cut);
+  }
+
+  /// The middle of quad \p q: the mean of its corners [mm].
+  Vec3 middle(int q) const {
+    Vec3 c = Vec3::Zero();
+    for (int v : corners_of(q)) c += 0.25 * corner(v);
+    return c;
   }
 
   Vec3 quad_normal(int q) const {
