@@ -19,6 +19,7 @@
 #include "kerfab/pipeline/resolve.h"
 #include "polygon_probe.h"
 #include "shapes.h"
+#include "sheet_audit.h"
 #include "test_util.h"
 
 namespace kerfab {
@@ -1565,6 +1566,39 @@ TEST(Joints, NarrowTailsAreWhatTheAuditorCallsTails) {
   EXPECT_TRUE(narrow_tails(body_with(3, 4), 1.0).empty());
   EXPECT_TRUE(narrow_tails(body_with(0.6, 0.3), 1.0).empty());
   EXPECT_TRUE(narrow_tails(body_with(0.6, 4), 0.5).empty());  // wide enough for a 0.5 mm rule
+}
+
+// A finger exactly as wide as the smallest feature is allowed, by the stage and by the sheet
+// auditor alike (teeth are laid out exactly that far clear of the bands beside them: the 400 mm
+// cube on a 300 x 200 mm bed kept such a finger, 1.000 mm wide and 1.5 mm long as cut, at a
+// corner where a seam met a box-jointed edge, and the auditor, opening by exactly half the
+// width, counted it); one a hundredth of a millimetre narrower is a tail for both. Read back
+// from a sheet written here: the laser path half a 0.15 mm kerf outside the part.
+TEST(Joints, AFeatureExactlyAtTheLimitIsNoTail) {
+  auto body_with = [](double width, double grow) {  // a 20 x 10 mm body, a finger 1.5 mm long
+    const double lo = 5 - 0.5 * width - grow, hi = 5 + 0.5 * width + grow;
+    return Polygon2{{-grow, -grow},         {20 + grow, -grow}, {20 + grow, lo},
+                    {21.5 + grow, lo},      {21.5 + grow, hi},  {20 + grow, hi},
+                    {20 + grow, 10 + grow}, {-grow, 10 + grow}};
+  };
+  auto audited = [&](double width) {
+    const auto dir = test::fresh_dir();
+    std::filesystem::create_directories(dir / "cut");
+    std::ofstream svg(dir / "cut" / "sheet-001.svg");
+    svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"-10 -10 50 30\">\n"
+        << "<g class=\"part\" id=\"part-001\">\n<path class=\"outline\" d=\"";
+    svg.precision(10);
+    const Polygon2 path = body_with(width, 0.075);
+    for (std::size_t k = 0; k < path.size(); ++k)
+      svg << (k ? " L " : "M ") << path[k].x() << " " << path[k].y();
+    svg << " Z\"/>\n</g>\n</svg>\n";
+    svg.close();
+    return test::audit_sheets(dir / "cut").thin_features;
+  };
+  EXPECT_TRUE(narrow_tails(body_with(1.0, 0), 1.0).empty());
+  EXPECT_EQ(audited(1.0), 0);
+  EXPECT_EQ(narrow_tails(body_with(0.99, 0), 1.0).size(), 1u);
+  EXPECT_EQ(audited(0.99), 1);
 }
 
 // A slit whose widening would cut the part in two is left as it is (the part is named instead,

@@ -198,7 +198,14 @@ SheetAudit audit_sheets(const std::filesystem::path& cut_dir, const AuditLimits&
       a.findings.push_back("part narrower than " + std::to_string(lim.min_part_width) +
                            " mm: " + where(p, outline[0]));
     }
-    const double r = 0.5 * lim.min_feature;
+    // A feature exactly as wide as the limit is allowed (joints keep teeth exactly the smallest
+    // feature clear of the bands beside them: the 400 mm box on a 300 x 200 mm bed keeps a finger
+    // 1.000 mm wide as cut at a corner where a seam meets a box-jointed edge). An opening by
+    // exactly half that width erodes such a strip to a line of no area and would take it all,
+    // so the opening and closing go a micrometre under it: what they find is narrower than the
+    // limit by more than the SVG's rounding.
+    constexpr double kAtTheLimit = 1e-3;  // [mm]
+    const double r = 0.5 * lim.min_feature - kAtTheLimit;
     const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
     const auto closed = polygon_offset(polygon_offset({outline}, r), -r);
     // A feature counts when it holds more than a square of the minimum width, or reaches

@@ -56,6 +56,12 @@ constexpr double kOpeningArc = 0.01;
 /// Erosions that find necks go this much under half the smallest feature: a neck exactly that
 /// wide is none (two slots from both sides of a 4 mm strip leave exactly 1 mm between them) [mm].
 constexpr double kNeckSlack = 0.01;
+/// narrow_tails() and narrow_slits() (the sheet auditor's test) open and close this much under
+/// half the smallest feature: a feature exactly that wide is allowed (teeth are laid out exactly
+/// the smallest feature clear of the bands beside them), and an opening by exactly half of it
+/// erodes such a strip to a line of no area and takes it all [mm].
+constexpr double kAtTheLimit = 1e-3;
+
 /// Needles of material narrower than this along all their length are taken off an outline:
 /// nothing a cutter makes is that thin, and grown by half the kerf each would become a hair as
 /// wide as the beam [mm].
@@ -2184,14 +2190,14 @@ std::vector<Polygon2> features_among(std::vector<Polygon2> pieces,
 }  // namespace
 
 std::vector<Polygon2> narrow_tails(const Polygon2& outline, double min_feature) {
-  const double r = 0.5 * min_feature;
+  const double r = 0.5 * min_feature - kAtTheLimit;
   if (outline.size() < 3 || !(r > 0)) return {};
   const auto opened = polygon_offset(polygon_offset({outline}, -r), r);
   return features_among(polygon_difference({outline}, opened), opened, min_feature);
 }
 
 std::vector<Polygon2> narrow_slits(const Polygon2& outline, double min_feature) {
-  const double r = 0.5 * min_feature;
+  const double r = 0.5 * min_feature - kAtTheLimit;
   if (outline.size() < 3 || !(r > 0)) return {};
   Closing closing = closing_of(outline, r);
   return features_among(std::move(closing.gaps), closing.closed, min_feature);
