@@ -1290,16 +1290,29 @@ class Resolver {
       const Vec2 in_plane((c - pl.mean).dot(pl.u), (c - pl.mean).dot(pl.w));
       along_a.push_back(in_plane.dot(a)), along_b.push_back(in_plane.dot(b));
     }
-    // Thresholds between n cells along one side, each holding as many quads as the next as
-    // far as rows allow (a cut never runs through middles less than a micrometre apart).
-    const auto thresholds = [](std::vector<double> at,
-                               int n) -> std::optional<std::vector<double>> {
+    // Thresholds between n cells along one side, each holding about as many quads as the next:
+    // at the first gap between the sorted middles over a micrometre from the even split on. Where
+    // the quads of a row are not quite in line (the house's gable, its quads bent towards the
+    // roof) that one can cut through a row and leave one quad on the other piece, a bump 25 mm
+    // wide; \p straight: a gap of at least half a quad's size (the middles of two rows lie a
+    // quad apart) within a quarter of a cell's share of the even split from it on, where there
+    // is one, so that the cut runs between two rows. (Where the quads lie in rows the two are
+    // the same gap; quads in no rows, as round a disc, have no such gap.)
+    const double quad_size = std::sqrt(std::abs(polygon_area(outline)) / quads.size());
+    const auto thresholds = [quad_size](std::vector<double> at, int n,
+                                        bool straight) -> std::optional<std::vector<double>> {
       std::sort(at.begin(), at.end());
       const int count = static_cast<int>(at.size());
+      const int reach = std::max(1, count / (4 * n));
       std::vector<double> t;
       for (int k = 1; k < n; ++k) {
-        int j = static_cast<int>(std::lround(static_cast<double>(k) * count / n));
-        while (j < count && j > 0 && at[j] - at[j - 1] < 1e-3) ++j;
+        const int even = static_cast<int>(std::lround(static_cast<double>(k) * count / n));
+        int j = -1;
+        for (int i = std::max(even, 1); straight && i <= std::min(count - 1, even + reach) && j < 0;
+             ++i)
+          if (at[i] - at[i - 1] >= 0.5 * quad_size) j = i;
+        if (j < 0)
+          for (j = even; j < count && j > 0 && at[j] - at[j - 1] < 1e-3;) ++j;
         if (j <= 0 || j >= count) return std::nullopt;
         const double cut = 0.5 * (at[j - 1] + at[j]);
         if (!t.empty() && cut <= t.back()) return std::nullopt;
@@ -1320,44 +1333,50 @@ class Resolver {
       const double n = std::max(per_sheet(r.width, r.height), per_sheet(r.height, r.width));
       return n >= 1 ? 1 / n : 1.0;
     };
-    // Every grid whose pieces fit the sheet, with its pieces and sheets; then the qualifying one
-    // of fewest pieces within kPlateSheetSlack of the fewest sheets.
+    // Every grid whose pieces fit the sheet, cut between rows and as evenly as the middles
+    // allow (where the two differ), with its pieces and sheets; then the qualifying one of
+    // fewest pieces within kPlateSheetSlack of the fewest sheets, one cut between rows first.
     struct Grid {
       double sheets;
       std::vector<std::set<int>> pieces;
+      bool straight;
     };
     std::vector<Grid> grids;
     for (int na = 1; na <= kPlateGrid; ++na)
-      for (int nb = 1; nb <= kPlateGrid; ++nb) {
-        if (na * nb == 1 || na * nb > static_cast<int>(quads.size())) continue;
-        const auto ta = thresholds(along_a, na), tb = thresholds(along_b, nb);
-        if (!ta || !tb) continue;
-        std::map<int, std::set<int>> cells;
-        for (std::size_t i = 0; i < quads.size(); ++i) {
-          const int ia =
-              static_cast<int>(std::upper_bound(ta->begin(), ta->end(), along_a[i]) - ta->begin());
-          const int ib =
-              static_cast<int>(std::upper_bound(tb->begin(), tb->end(), along_b[i]) - tb->begin());
-          cells[ia * kPlateGrid + ib].insert(quads[i]);
+      for (int nb = 1; nb <= kPlateGrid; ++nb)
+        for (const bool straight : {true, false}) {
+          if (na * nb == 1 || na * nb > static_cast<int>(quads.size())) continue;
+          const auto ta = thresholds(along_a, na, straight), tb = thresholds(along_b, nb, straight);
+          if (!ta || !tb) continue;
+          if (!straight && ta == thresholds(along_a, na, true) &&
+              tb == thresholds(along_b, nb, true))
+            continue;  // the same grid
+          std::map<int, std::set<int>> cells;
+          for (std::size_t i = 0; i < quads.size(); ++i) {
+            const int ia = static_cast<int>(std::upper_bound(ta->begin(), ta->end(), along_a[i]) -
+                                            ta->begin());
+            const int ib = static_cast<int>(std::upper_bound(tb->begin(), tb->end(), along_b[i]) -
+                                            tb->begin());
+            cells[ia * kPlateGrid + ib].insert(quads[i]);
+          }
+          Grid g{0, {}, straight};
+          for (auto& [cell, members] : cells)
+            for (std::set<int>& c : connected_pieces(members)) g.pieces.push_back(std::move(c));
+          bool fits = true;
+          for (const std::set<int>& c : g.pieces) {
+            const Polygon2 poly = plane_outline(c);
+            fits = fits && fits_sheet(poly, sheet);
+            if (!fits) break;
+            g.sheets += share(poly);
+          }
+          if (fits) grids.push_back(std::move(g));
         }
-        Grid g{0, {}};
-        for (auto& [cell, members] : cells)
-          for (std::set<int>& c : connected_pieces(members)) g.pieces.push_back(std::move(c));
-        bool fits = true;
-        for (const std::set<int>& c : g.pieces) {
-          const Polygon2 poly = plane_outline(c);
-          fits = fits && fits_sheet(poly, sheet);
-          if (!fits) break;
-          g.sheets += share(poly);
-        }
-        if (fits) grids.push_back(std::move(g));
-      }
     if (grids.empty()) return {};
     double fewest = std::numeric_limits<double>::infinity();
     for (const Grid& g : grids) fewest = std::min(fewest, g.sheets);
     std::sort(grids.begin(), grids.end(), [](const Grid& x, const Grid& y) {
-      return x.pieces.size() != y.pieces.size() ? x.pieces.size() < y.pieces.size()
-                                                : x.sheets < y.sheets;
+      if (x.pieces.size() != y.pieces.size()) return x.pieces.size() < y.pieces.size();
+      return x.straight != y.straight ? x.straight : x.sheets < y.sheets;
     });
     for (Grid& g : grids) {
       if (g.sheets > (1 + kPlateSheetSlack) * fewest + 1e-9) continue;
