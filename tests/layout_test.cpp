@@ -485,6 +485,22 @@ TEST(Layout, CurvedStripsPackIntoFewerSheets) {
   EXPECT_LE(total, 25);
 }
 
+// Large plates two of which stand side by side on their short sides and no other way: four
+// 352 x 265 mm rectangles (a 700 mm box's face cut in plates, with their teeth) on 600 x 450
+// sheets (580 x 430 inside the margins; two on their long sides need 620 x 265 or 352 x 533).
+// Every pass but the narrowest laid the first on its long side, bottom-left, and so one to a
+// sheet: 4 sheets; standing two to a sheet, 2 (the spaced bound).
+TEST(Layout, PlatesStandSideBySideWhereThatHalvesTheSheets) {
+  const Polygon2 plate = {{0, 0}, {352, 0}, {352, 265}, {0, 265}};
+  const std::vector<Polygon2> parts(4, plate);
+  LayoutOptions o;
+  const LayoutResult l = nest_parts(parts, o);
+  EXPECT_EQ(l.sheets_lower_bound_spaced, 2);
+  EXPECT_EQ(l.sheets, 2);
+  ASSERT_TRUE(l.unplaced.empty());
+  expect_sound_nest(parts, l, o);
+}
+
 // Offcuts (--sheet 250x150,80x60,600x450): filled first, one each, in their order, then stock
 // sheets. 100 x 50 mm plates: 4 fit the 250 x 150 offcut inside its 10 mm margins and 3 mm
 // spacing (2 x 2: 203 x 103 of 230 x 130), none the 80 x 60 one (60 x 40 inside), so that one
