@@ -1262,9 +1262,10 @@ class Resolver {
   /// The plate \p piece itself where it fits the sheet with room for its teeth
   /// (with_room_for_teeth()), else in pieces that do, each a plate; empty where a piece would be
   /// too small to handle (big_enough()) or no grid qualifies. The pieces are the cells of a grid
-  /// of na x nb
-  /// along the sides of the plate's smallest rectangle on its plane (na, nb up to kPlateGrid),
-  /// cut between quads so that each cell holds as many of them as the next. Each grid's sheets
+  /// of na x nb along the sides of the plate's smallest rectangle on its plane (na, nb up to
+  /// kPlateGrid), cut between quads so that each cell holds about as many of them as the next,
+  /// each grid both cut between rows of quads and as evenly as the quads allow, where the two
+  /// differ (of as many pieces, one cut between rows is taken first). Each grid's sheets
   /// are estimated: each piece, grown by its teeth and the spacing, counts as one over as many
   /// of its size as fit on a sheet in rows and columns. Of the grids whose pieces fit, the one
   /// of fewest pieces within kPlateSheetSlack of the fewest sheets is taken (a piece per sheet
