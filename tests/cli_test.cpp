@@ -487,6 +487,9 @@ TEST(Cli, ASlabThinnerThanItsSheetsIsNamedWithTheSizeThatClearsIt) {
   }
 }
 
+// The bundled house (examples/house, README "Flat-faced models").
+fs::path house_obj() { return fs::path(KERFAB_EXAMPLE_DIR) / "house" / "house.obj"; }
+
 // A house from its 16 triangles (200 x 150 mm floor, walls 120 mm high, a gable roof along the
 // 200 mm side): with a steep roof (ridge at 240 mm) its eaves fold 28 degrees, at 190 mm 47,
 // with a flat roof (ridge at 150 mm) its ridge folds 44, all under --quad-feature-angle (60).
@@ -500,8 +503,7 @@ TEST(Cli, AHouseFromItsTrianglesIsCutAsOnePanelPerFace) {
   for (const double ridge : {240.0, 190.0, 150.0}) {
     SCOPED_TRACE(ridge);
     // The 190 mm one is the bundled example (README, "Flat-faced models").
-    const fs::path target = ridge == 190.0 ? fs::path(KERFAB_EXAMPLE_DIR) / "house" / "house.obj"
-                                           : scratch / "house.obj";
+    const fs::path target = ridge == 190.0 ? house_obj() : scratch / "house.obj";
     if (ridge != 190.0) {
       std::ofstream f(target);
       f << "v 0 0 0\nv 200 0 0\nv 200 150 0\nv 0 150 0\nv 0 0 120\nv 200 0 120\n"
@@ -521,10 +523,8 @@ TEST(Cli, AHouseFromItsTrianglesIsCutAsOnePanelPerFace) {
   // tried one by one (at least 3 plates, under 30 parts). With the lattice lines held on the
   // feature lines no quad crosses a fold: the seven plates.
   const fs::path small = scratch / "size150";
-  const CliRun r150 =
-      run_cli("run --target " + (fs::path(KERFAB_EXAMPLE_DIR) / "house" / "house.obj").string() +
-                  " --size 150 --out " + small.string(),
-              scratch);
+  const CliRun r150 = run_cli(
+      "run --target " + house_obj().string() + " --size 150 --out " + small.string(), scratch);
   ASSERT_EQ(r150.exit_code, 0) << r150.err;
   EXPECT_EQ(expect_one_plate_per_face(small, 7, 15).size(), 7u);
 }
@@ -734,32 +734,12 @@ TEST(Cli, ABoxLargerThanTheBedIsCutInPlatesThatFit) {
 TEST(Cli, AGableLargerThanTheBedIsCutAlongOneRowOfQuadEdges) {
   const fs::path scratch = test::fresh_dir();
   const fs::path out = scratch / "out";
-  const CliRun r =
-      run_cli("run --target " + (fs::path(KERFAB_EXAMPLE_DIR) / "house" / "house.obj").string() +
-                  " --size 300 --sheet 300x200 --out " + out.string(),
-              scratch);
+  const CliRun r = run_cli(
+      "run --target " + house_obj().string() + " --size 300 --sheet 300x200 --out " + out.string(),
+      scratch);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::vector<Vec3> v;
-  std::vector<std::vector<int>> faces;
-  {
-    std::ifstream in(out / "model" / "quads.obj");
-    std::string line;
-    while (std::getline(in, line)) {
-      std::istringstream ls(line);
-      std::string tag;
-      ls >> tag;
-      if (tag == "v") {
-        double x, y, z;
-        ls >> x >> y >> z;
-        v.emplace_back(x, y, z);
-      } else if (tag == "f") {
-        std::vector<int> f;
-        for (std::string c; ls >> c;) f.push_back(std::stoi(c) - 1);
-        faces.push_back(std::move(f));
-      }
-    }
-  }
-  ASSERT_GT(faces.size(), 100u);
+  const PolyMesh quads = read_mesh(out / "model" / "quads.obj");
+  ASSERT_GT(quads.n_faces(), 100u);
   const auto report = read_report(out);
   std::map<int, int> plate_of;  // quad -> the plate change that holds it
   int index = 0;
@@ -770,33 +750,34 @@ TEST(Cli, AGableLargerThanTheBedIsCutAlongOneRowOfQuadEdges) {
   }
   // The gables: the quads in the planes x = min and x = max of the model.
   double lo = 1e300, hi = -1e300;
-  for (const Vec3& p : v) lo = std::min(lo, p.x()), hi = std::max(hi, p.x());
+  for (auto v : quads.vertices())
+    lo = std::min(lo, quads.point(v)[0]), hi = std::max(hi, quads.point(v)[0]);
   for (const double x : {lo, hi}) {
     SCOPED_TRACE(x);
     std::set<int> gable, plates;
     double bottom = 1e300, top = -1e300;
-    for (std::size_t f = 0; f < faces.size(); ++f) {
+    for (auto f : quads.faces()) {
       bool on = true;
-      for (int i : faces[f]) on = on && std::abs(v[i].x() - x) < 1e-6;
+      for (auto v : quads.fv_range(f)) on = on && std::abs(quads.point(v)[0] - x) < 1e-6;
       if (!on) continue;
-      gable.insert(static_cast<int>(f));
-      ASSERT_TRUE(plate_of.count(static_cast<int>(f))) << f;
-      plates.insert(plate_of[static_cast<int>(f)]);
-      for (int i : faces[f]) bottom = std::min(bottom, v[i].z()), top = std::max(top, v[i].z());
+      gable.insert(f.idx());
+      ASSERT_TRUE(plate_of.count(f.idx())) << f.idx();
+      plates.insert(plate_of[f.idx()]);
+      for (auto v : quads.fv_range(f))
+        bottom = std::min(bottom, quads.point(v)[2]), top = std::max(top, quads.point(v)[2]);
     }
     ASSERT_EQ(plates.size(), 2u);
     // The quad edges between its two plates, and how far up and down they run.
-    std::map<std::pair<int, int>, std::vector<int>> edges;
-    for (int f : gable)
-      for (std::size_t k = 0; k < faces[f].size(); ++k) {
-        const int a = faces[f][k], b = faces[f][(k + 1) % faces[f].size()];
-        edges[{std::min(a, b), std::max(a, b)}].push_back(f);
-      }
     double low = 1e300, high = -1e300;
-    for (const auto& [e, fs] : edges)
-      if (fs.size() == 2 && plate_of[fs[0]] != plate_of[fs[1]])
-        for (int i : {e.first, e.second})
-          low = std::min(low, v[i].z()), high = std::max(high, v[i].z());
+    for (auto e : quads.edges()) {
+      if (quads.is_boundary(e)) continue;
+      const int f0 = quads.face_handle(quads.halfedge_handle(e, 0)).idx(),
+                f1 = quads.face_handle(quads.halfedge_handle(e, 1)).idx();
+      if (!gable.count(f0) || !gable.count(f1) || plate_of[f0] == plate_of[f1]) continue;
+      for (auto v : {quads.from_vertex_handle(quads.halfedge_handle(e, 0)),
+                     quads.to_vertex_handle(quads.halfedge_handle(e, 0))})
+        low = std::min(low, quads.point(v)[2]), high = std::max(high, quads.point(v)[2]);
+    }
     ASSERT_LT(low, high);
     EXPECT_LT(high - low, 0.05 * (top - bottom)) << low << " .. " << high;
   }

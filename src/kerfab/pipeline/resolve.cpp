@@ -1300,9 +1300,9 @@ class Resolver {
     // is one, so that the cut runs between two rows. (Where the quads lie in rows the two are
     // the same gap; quads in no rows, as round a disc, have no such gap.)
     const double quad_size = std::sqrt(std::abs(polygon_area(outline)) / quads.size());
-    const auto thresholds = [quad_size](std::vector<double> at, int n,
+    // \p at sorted.
+    const auto thresholds = [quad_size](const std::vector<double>& at, int n,
                                         bool straight) -> std::optional<std::vector<double>> {
-      std::sort(at.begin(), at.end());
       const int count = static_cast<int>(at.size());
       const int reach = std::max(1, count / (4 * n));
       std::vector<double> t;
@@ -1342,16 +1342,23 @@ class Resolver {
       std::vector<std::set<int>> pieces;
       bool straight;
     };
+    // The cuts along each side into 1 to kPlateGrid cells: [side][straight ? 0 : 1][cells].
+    using Cuts = std::optional<std::vector<double>>;
+    std::array<std::array<std::array<Cuts, kPlateGrid + 1>, 2>, 2> cuts;
+    for (int side = 0; side < 2; ++side) {
+      std::vector<double> at = side == 0 ? along_a : along_b;
+      std::sort(at.begin(), at.end());
+      for (int v = 0; v < 2; ++v)
+        for (int n = 1; n <= kPlateGrid; ++n) cuts[side][v][n] = thresholds(at, n, v == 0);
+    }
     std::vector<Grid> grids;
     for (int na = 1; na <= kPlateGrid; ++na)
       for (int nb = 1; nb <= kPlateGrid; ++nb)
         for (const bool straight : {true, false}) {
           if (na * nb == 1 || na * nb > static_cast<int>(quads.size())) continue;
-          const auto ta = thresholds(along_a, na, straight), tb = thresholds(along_b, nb, straight);
+          const Cuts &ta = cuts[0][straight ? 0 : 1][na], &tb = cuts[1][straight ? 0 : 1][nb];
           if (!ta || !tb) continue;
-          if (!straight && ta == thresholds(along_a, na, true) &&
-              tb == thresholds(along_b, nb, true))
-            continue;  // the same grid
+          if (!straight && ta == cuts[0][0][na] && tb == cuts[1][0][nb]) continue;  // the same grid
           std::map<int, std::set<int>> cells;
           for (std::size_t i = 0; i < quads.size(); ++i) {
             const int ia = static_cast<int>(std::upper_bound(ta->begin(), ta->end(), along_a[i]) -
